@@ -1,0 +1,171 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <memory>
+#include <ostream>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "core/parameter.h"
+#include "core/robust_kernel.h"
+#include "core/status.h"
+#include "core/token_reader.h"
+#include "core/vertex.h"
+
+namespace dualgraph {
+
+/// A measurement connecting one or more vertices: an error vector e(x) of `errorDim()` entries,
+/// an information matrix Ω (the edge's χ² is eᵀΩe, g2o's convention), Jacobians of e with respect
+/// to each vertex's tangent increment, and an optional robust kernel.
+/// The optimiser talks to edges only through this interface; raw data is column-major.
+class EdgeBase {
+ public:
+  explicit EdgeBase(size_t num_vertices) : vertices_(num_vertices, nullptr) {}
+  virtual ~EdgeBase() = default;
+  EdgeBase(const EdgeBase&) = delete;
+  EdgeBase& operator=(const EdgeBase&) = delete;
+
+  virtual int errorDim() const = 0;
+  size_t numVertices() const { return vertices_.size(); }
+  VertexBase* vertex(size_t i) const { return vertices_.at(i); }
+  const std::vector<VertexBase*>& vertices() const { return vertices_; }
+  /// Connects slot `i`. InvalidArgument when the slot does not exist or the vertex has the wrong type.
+  virtual Status setVertex(size_t i, VertexBase* vertex) = 0;
+
+  /// Recomputes the error from the connected vertices' estimates.
+  virtual void computeError() = 0;
+  /// Recomputes the error and the Jacobians (analytic where the type provides them, numeric otherwise).
+  virtual void linearize() = 0;
+  /// The error computed by the last computeError/linearize (errorDim() doubles).
+  virtual const double* errorData() const = 0;
+  /// Jacobian of the error w.r.t. vertex `i`'s increment: errorDim() × tangentDim, column-major.
+  virtual const double* jacobianData(size_t i) const = 0;
+  /// errorDim() × errorDim(), column-major, symmetric.
+  virtual const double* informationData() const = 0;
+  virtual double* mutableInformationData() = 0;
+
+  /// eᵀΩe of the last computed error (without robust kernel).
+  double chi2() const;
+  /// ρ(eᵀΩe) with the robust kernel, eᵀΩe without.
+  double robustChi2() const;
+
+  void setRobustKernel(std::shared_ptr<const RobustKernel> kernel) { kernel_ = std::move(kernel); }
+  const RobustKernel* robustKernel() const { return kernel_.get(); }
+
+  /// Central-difference Jacobian w.r.t. vertex `i` through the vertex's own `plus`, written to
+  /// `out` (errorDim() × tangentDim, column-major). Leaves estimates and the stored error unchanged.
+  void numericJacobian(size_t i, double* out, double step = 1e-6);
+
+  /// True when Ω is finite, symmetric (to 1e-9 relative) and positive definite.
+  bool informationIsValid() const;
+  /// Replaces Ω by the nearest symmetric matrix whose eigenvalues are at least
+  /// `relative_floor * max(|λ_max|, 1e-12)`; returns true if anything changed.
+  bool repairInformation(double relative_floor = 1e-9);
+
+  /// Reads the fields after `TAG id1 .. idN` (measurement, information, parameter ids).
+  virtual Status read(TokenReader& in, const ParameterContainer& parameters) = 0;
+  /// Writes the fields after the vertex ids, full precision.
+  virtual void write(std::ostream& out) const = 0;
+
+  /// 1-based line the edge was read from (0 when built in code); used in messages.
+  int sourceLine() const { return source_line_; }
+  void setSourceLine(int line) { source_line_ = line; }
+
+ protected:
+  std::vector<VertexBase*> vertices_;
+
+ private:
+  std::shared_ptr<const RobustKernel> kernel_;
+  int source_line_ = 0;
+};
+
+/// Base template for edge types with error dimension `E`, measurement type `MeasurementT` and the
+/// vertex types `VertexTs...` in slot order. A derived type implements `computeError()` (writing
+/// `error_`), `read`/`write`, and preferably `linearizeOplus()` filling `jacobianOplus<I>()`;
+/// without it the Jacobians come from central differences.
+template <int E, typename MeasurementT, typename... VertexTs>
+class BaseEdge : public EdgeBase {
+ public:
+  static constexpr int kErrorDim = E;
+  static constexpr size_t kNumVertices = sizeof...(VertexTs);
+  using Measurement = MeasurementT;
+  using ErrorVector = Eigen::Matrix<double, E, 1>;
+  using InformationMatrix = Eigen::Matrix<double, E, E>;
+  template <size_t I>
+  using VertexType = std::tuple_element_t<I, std::tuple<VertexTs...>>;
+  template <size_t I>
+  using Jacobian = Eigen::Matrix<double, E, VertexType<I>::kDim>;
+
+  BaseEdge() : EdgeBase(kNumVertices) {
+    error_.setZero();
+    information_.setIdentity();
+    setJacobianPointers(std::index_sequence_for<VertexTs...>{});
+  }
+
+  int errorDim() const final { return E; }
+
+  Status setVertex(size_t i, VertexBase* vertex) final {
+    if (i >= kNumVertices) {
+      return Status(StatusCode::kInvalidArgument, "edge has no vertex slot " + std::to_string(i));
+    }
+    const std::array<bool, kNumVertices> type_ok = {(dynamic_cast<VertexTs*>(vertex) != nullptr)...};
+    if (vertex != nullptr && !type_ok[i]) {
+      return Status(StatusCode::kInvalidArgument, "vertex " + std::to_string(vertex->id()) +
+                                                      " has the wrong type for edge slot " +
+                                                      std::to_string(i));
+    }
+    vertices_[i] = vertex;
+    return Status();
+  }
+
+  template <size_t I>
+  VertexType<I>* vertexAs() const { return static_cast<VertexType<I>*>(vertices_[I]); }
+
+  const Measurement& measurement() const { return measurement_; }
+  virtual void setMeasurement(const Measurement& measurement) { measurement_ = measurement; }
+  const InformationMatrix& information() const { return information_; }
+  void setInformation(const InformationMatrix& information) { information_ = information; }
+  const ErrorVector& error() const { return error_; }
+
+  template <size_t I>
+  Jacobian<I>& jacobianOplus() { return std::get<I>(jacobians_); }
+  template <size_t I>
+  const Jacobian<I>& jacobianOplus() const { return std::get<I>(jacobians_); }
+
+  void linearize() final {
+    computeError();
+    linearizeOplus();
+  }
+  const double* errorData() const final { return error_.data(); }
+  const double* jacobianData(size_t i) const final { return jacobian_ptrs_.at(i); }
+  const double* informationData() const final { return information_.data(); }
+  double* mutableInformationData() final { return information_.data(); }
+
+ protected:
+  /// Fills `jacobianOplus<I>()` at the current estimates; the error is already computed.
+  /// Default: central differences (override with analytic Jacobians).
+  virtual void linearizeOplus() {
+    for (size_t i = 0; i < kNumVertices; ++i) numericJacobian(i, jacobian_ptrs_[i]);
+  }
+
+  Measurement measurement_{};
+  InformationMatrix information_;
+  ErrorVector error_;
+
+ private:
+  template <size_t... I>
+  void setJacobianPointers(std::index_sequence<I...>) {
+    ((jacobian_ptrs_[I] = std::get<I>(jacobians_).data()), ...);
+  }
+
+  std::tuple<Eigen::Matrix<double, E, VertexTs::kDim>...> jacobians_;
+  std::array<double*, kNumVertices> jacobian_ptrs_{};
+
+ public:
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+}  // namespace dualgraph

@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "core/edge.h"
+#include "core/parameter.h"
+#include "core/status.h"
+#include "core/vertex.h"
+
+namespace dualgraph {
+
+/// Owns the vertices (keyed by id, iterated in increasing id order), the edges (in insertion
+/// order) and the parameters of one factor graph. Every mutation that changes the structure of
+/// the linear system (vertices, edges, fixed flags) bumps `structureVersion()`, so an optimiser
+/// knows when to rebuild its sparsity pattern.
+class Graph {
+ public:
+  Graph() = default;
+  Graph(const Graph&) = delete;
+  Graph& operator=(const Graph&) = delete;
+
+  /// AlreadyExists on a duplicate id, InvalidArgument on a null vertex or a negative id.
+  Status addVertex(std::unique_ptr<VertexBase> vertex);
+  /// Every slot must hold a vertex of this graph, and no vertex may appear twice (self-loop).
+  /// Returns the stored edge.
+  Result<EdgeBase*> addEdge(std::unique_ptr<EdgeBase> edge);
+  /// Removes the vertex and every edge attached to it. NotFound for an unknown id.
+  Status removeVertex(int id);
+  /// NotFound when the edge is not in this graph.
+  Status removeEdge(const EdgeBase* edge);
+  /// NotFound for an unknown id.
+  Status setFixed(int id, bool fixed);
+  void clear();
+
+  /// nullptr when the id is unknown.
+  VertexBase* vertex(int id) const;
+  /// nullptr when the id is unknown or the vertex is not a `V`.
+  template <typename V>
+  V* vertexAs(int id) const { return dynamic_cast<V*>(vertex(id)); }
+
+  const std::map<int, std::unique_ptr<VertexBase>>& vertices() const { return vertices_; }
+  const std::vector<std::unique_ptr<EdgeBase>>& edges() const { return edges_; }
+  size_t numVertices() const { return vertices_.size(); }
+  size_t numEdges() const { return edges_.size(); }
+  ParameterContainer& parameters() { return parameters_; }
+  const ParameterContainer& parameters() const { return parameters_; }
+
+  /// Recomputes every edge's error and returns Σ eᵀΩe (robust ρ applied when `robust`).
+  double chi2(bool robust = false) const;
+
+  uint64_t structureVersion() const { return structure_version_; }
+
+ private:
+  std::map<int, std::unique_ptr<VertexBase>> vertices_;
+  std::vector<std::unique_ptr<EdgeBase>> edges_;
+  ParameterContainer parameters_;
+  uint64_t structure_version_ = 0;
+};
+
+/// The vertex to fix when nothing is fixed (the gauge), as g2o's tool does: the lowest-id vertex
+/// of the largest tangent dimension among those attached to an edge. nullptr when some vertex is
+/// fixed already or the graph has no edges.
+VertexBase* chooseGaugeVertex(const Graph& graph);
+
+}  // namespace dualgraph

@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/graph.h"
+#include "core/linear_solver.h"
+#include "core/sparse_system.h"
+
+namespace dualgraph {
+
+enum class Algorithm { kLevenbergMarquardt, kGaussNewton };
+
+/// Why `Optimizer::optimize` stopped. The estimate is always left at the best accepted state.
+enum class TerminationReason {
+  kConverged,            ///< relative χ² decrease of an accepted step fell below the threshold
+  kMaxIterations,        ///< the iteration cap was reached
+  kNoDecrease,           ///< LM found no decreasing step within `max_trials` damping increases
+  kTimeBudget,           ///< the wall-time budget was used up
+  kNotPositiveDefinite,  ///< the system could not be factorised (GN, or LM at every damping level)
+  kInvalidInput,         ///< non-finite χ² at the start (an edge's error or information is NaN/Inf)
+  kNothingToOptimize,    ///< no free vertex is attached to an edge
+  kLinearSolverFailure,  ///< the linear solver failed for another reason (message says why)
+};
+const char* terminationReasonName(TerminationReason reason);
+
+/// One line of the optimiser's progress, passed to the verbosity callback after each iteration.
+struct IterationSummary {
+  int iteration = 0;          ///< 1-based
+  double chi2 = 0.0;          ///< robust χ² after the iteration
+  double lambda = 0.0;        ///< LM damping used by the accepted (or last) trial
+  int trials = 0;             ///< factorisations this iteration
+  bool step_accepted = false;
+  double iteration_ms = 0.0;
+};
+
+/// Parameters of `Optimizer::optimize`, with g2o-like defaults.
+struct OptimizerParams {
+  Algorithm algorithm = Algorithm::kLevenbergMarquardt;
+  int max_iterations = 100;
+  /// Stop when an accepted step lowers χ² by less than this fraction of the previous χ².
+  double relative_decrease_stop = 1e-9;
+  /// Wall-time budget in milliseconds; 0 = none. Checked between trials.
+  double time_budget_ms = 0.0;
+  /// LM: initial λ = tau · max diag(H) (g2o's default 1e-5); ignored when `initial_lambda` > 0.
+  double tau = 1e-5;
+  double initial_lambda = 0.0;
+  /// LM: damping increases allowed per iteration before giving up (g2o: 10).
+  int max_trials = 10;
+  /// Called after every iteration; must not modify the graph.
+  std::function<void(const IterationSummary&)> callback;
+};
+
+/// Outcome of `optimize`: termination, χ² (robust, g2o's convention Σ ρ(eᵀΩe)) and time per phase.
+struct SolverSummary {
+  TerminationReason termination = TerminationReason::kMaxIterations;
+  std::string message;  ///< human-readable detail (which edge was NaN, solver error, ...)
+  int iterations = 0;   ///< iterations performed (accepted or not)
+  double initial_chi2 = 0.0;
+  double final_chi2 = 0.0;
+  int vertices = 0;          ///< free vertices in the system
+  int edges = 0;             ///< edges in the system
+  int dimension = 0;         ///< rows of H
+  long nonzeros = 0;         ///< stored entries of H's upper triangle
+  int factorizations = 0;
+  bool structure_rebuilt = false;
+  double structure_ms = 0.0;  ///< pattern build + symbolic analysis (only when rebuilt)
+  double linearize_ms = 0.0;
+  double assemble_ms = 0.0;
+  double factorize_ms = 0.0;
+  double solve_ms = 0.0;
+  double update_ms = 0.0;     ///< applying steps and re-evaluating χ²
+  double total_ms = 0.0;
+  std::string linear_solver;
+  /// True for the reasons that mean "a usable optimum or the budget was reached".
+  bool usable() const;
+};
+
+/// Levenberg–Marquardt (Nielsen's damping update, as g2o) and Gauss–Newton over a `Graph`, with a
+/// pluggable linear solver. The sparsity pattern and the solver's symbolic analysis are cached and
+/// rebuilt only when the graph's structure (vertices, edges, fixed flags) changed, so repeated
+/// calls on a growing graph pay only for numeric work. The optimiser never prints.
+class Optimizer {
+ public:
+  /// `solver` must not be null.
+  Optimizer(Graph& graph, std::unique_ptr<LinearSolver> solver);
+
+  SolverSummary optimize(const OptimizerParams& params);
+
+  /// The system as of the last optimize (structure and values at the last linearisation).
+  const SparseSystem& system() const { return system_; }
+  LinearSolver& linearSolver() { return *solver_; }
+  /// Rebuilds the structure if stale; then linearises, assembles and factorises H at the current
+  /// estimate without damping (for marginal covariances).
+  Status factorizeAtCurrentEstimate();
+
+ private:
+  Status ensureStructure(SolverSummary& summary);
+  bool structureIsCurrent() const;
+  /// Recomputes every edge's error; Σ ρ(eᵀΩe). Names the first non-finite edge in `first_bad`.
+  double evaluateChi2(std::string* first_bad);
+  void linearizeAndAssemble(SolverSummary& summary);
+  void runLevenbergMarquardt(const OptimizerParams& params, SolverSummary& summary);
+  void runGaussNewton(const OptimizerParams& params, SolverSummary& summary);
+  /// Factorises the current values and solves for Δ into step_.
+  Status solveStep(SolverSummary& summary);
+
+  Graph& graph_;
+  std::unique_ptr<LinearSolver> solver_;
+  SparseSystem system_;
+  uint64_t built_version_ = ~uint64_t{0};
+  std::vector<std::pair<const VertexBase*, bool>> fixed_snapshot_;
+  Eigen::VectorXd step_;
+  double start_time_ms_ = 0.0;
+  bool errors_stale_ = false;  ///< edges hold errors of a rejected trial
+};
+
+}  // namespace dualgraph

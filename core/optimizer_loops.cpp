@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: MIT
+// The iteration loops of `Optimizer` (Levenberg–Marquardt and Gauss–Newton).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "core/optimizer.h"
+
+namespace dualgraph {
+namespace {
+
+double nowMs() {
+  using Clock = std::chrono::steady_clock;
+  return std::chrono::duration<double, std::milli>(Clock::now().time_since_epoch()).count();
+}
+
+void pushAll(const std::vector<VertexBase*>& vertices) {
+  for (VertexBase* v : vertices) v->push();
+}
+void popAll(const std::vector<VertexBase*>& vertices) {
+  for (VertexBase* v : vertices) v->pop();
+}
+void discardAll(const std::vector<VertexBase*>& vertices) {
+  for (VertexBase* v : vertices) v->discardTop();
+}
+
+}  // namespace
+
+void Optimizer::runLevenbergMarquardt(const OptimizerParams& params, SolverSummary& summary) {
+  const auto& active = system_.activeVertices();
+  const auto out_of_time = [&] {
+    return params.time_budget_ms > 0.0 && nowMs() - start_time_ms_ >= params.time_budget_ms;
+  };
+  double chi2 = summary.initial_chi2;
+  linearizeAndAssemble(summary);
+  double lambda = params.initial_lambda > 0.0 ? params.initial_lambda
+                                              : params.tau * std::max(system_.maxDiagonal(), 1e-12);
+  double nu = 2.0;
+  summary.termination = TerminationReason::kMaxIterations;
+
+  for (int iteration = 1; iteration <= params.max_iterations; ++iteration) {
+    const double iteration_start = nowMs();
+    summary.iterations = iteration;
+    IterationSummary progress;
+    progress.iteration = iteration;
+    Status last_failure;
+    double new_chi2 = chi2;
+    for (int trial = 0; trial < params.max_trials && !progress.step_accepted; ++trial) {
+      if (out_of_time()) break;
+      ++progress.trials;
+      progress.lambda = lambda;
+      system_.setDamping(lambda);
+      last_failure = solveStep(summary);
+      if (!last_failure.ok()) {
+        if (last_failure.code() != StatusCode::kNotPositiveDefinite &&
+            last_failure.code() != StatusCode::kNumericalError) {
+          summary.termination = TerminationReason::kLinearSolverFailure;
+          summary.message = last_failure.message();
+          return;
+        }
+        lambda *= nu;
+        nu *= 2.0;
+        continue;
+      }
+      const double update_start = nowMs();
+      pushAll(active);
+      system_.applyUpdate(step_.data());
+      new_chi2 = evaluateChi2(nullptr);
+      // Gain ratio: actual decrease over the decrease predicted by the damped model.
+      const double predicted = step_.dot(lambda * step_ + system_.rhs());
+      const double rho = (chi2 - new_chi2) / std::max(predicted, 1e-300);
+      if (std::isfinite(new_chi2) && rho > 0.0) {
+        discardAll(active);
+        const double a = 2.0 * rho - 1.0;
+        lambda *= std::max(1.0 / 3.0, 1.0 - a * a * a);
+        nu = 2.0;
+        progress.step_accepted = true;
+      } else {
+        popAll(active);
+        errors_stale_ = true;
+        last_failure = Status();
+        lambda *= nu;
+        nu *= 2.0;
+      }
+      summary.update_ms += nowMs() - update_start;
+    }
+    if (progress.step_accepted) {
+      const double previous = chi2;
+      chi2 = new_chi2;
+      summary.final_chi2 = chi2;
+      progress.chi2 = chi2;
+      progress.iteration_ms = nowMs() - iteration_start;
+      if (params.callback) params.callback(progress);
+      if (previous - chi2 <= params.relative_decrease_stop * previous) {
+        summary.termination = TerminationReason::kConverged;
+        return;
+      }
+      if (out_of_time()) {
+        summary.termination = TerminationReason::kTimeBudget;
+        return;
+      }
+      if (iteration < params.max_iterations) linearizeAndAssemble(summary);
+      continue;
+    }
+    progress.chi2 = chi2;
+    progress.iteration_ms = nowMs() - iteration_start;
+    if (params.callback) params.callback(progress);
+    if (out_of_time()) {
+      summary.termination = TerminationReason::kTimeBudget;
+    } else if (!last_failure.ok()) {
+      summary.termination = TerminationReason::kNotPositiveDefinite;
+      summary.message = last_failure.message();
+    } else {
+      summary.termination = TerminationReason::kNoDecrease;
+      summary.message = "no decreasing step after " + std::to_string(progress.trials) + " damping increases";
+    }
+    return;
+  }
+}
+
+void Optimizer::runGaussNewton(const OptimizerParams& params, SolverSummary& summary) {
+  const auto& active = system_.activeVertices();
+  double chi2 = summary.initial_chi2;
+  summary.termination = TerminationReason::kMaxIterations;
+  for (int iteration = 1; iteration <= params.max_iterations; ++iteration) {
+    const double iteration_start = nowMs();
+    summary.iterations = iteration;
+    linearizeAndAssemble(summary);
+    system_.setDamping(0.0);
+    const Status solved = solveStep(summary);
+    if (!solved.ok()) {
+      summary.termination = solved.code() == StatusCode::kNotPositiveDefinite ||
+                                    solved.code() == StatusCode::kNumericalError
+                                ? TerminationReason::kNotPositiveDefinite
+                                : TerminationReason::kLinearSolverFailure;
+      summary.message = solved.message();
+      return;
+    }
+    const double update_start = nowMs();
+    pushAll(active);
+    system_.applyUpdate(step_.data());
+    const double new_chi2 = evaluateChi2(nullptr);
+    summary.update_ms += nowMs() - update_start;
+    if (!std::isfinite(new_chi2)) {
+      popAll(active);
+      errors_stale_ = true;
+      summary.termination = TerminationReason::kNoDecrease;
+      summary.message = "Gauss-Newton step produced a non-finite χ²; kept the previous estimate";
+      return;
+    }
+    discardAll(active);
+    const double previous = chi2;
+    chi2 = new_chi2;
+    summary.final_chi2 = chi2;
+    IterationSummary progress;
+    progress.iteration = iteration;
+      progress.chi2 = chi2;
+    progress.trials = 1;
+    progress.step_accepted = true;
+    progress.iteration_ms = nowMs() - iteration_start;
+    if (params.callback) params.callback(progress);
+    if (std::fabs(previous - chi2) <= params.relative_decrease_stop * previous) {
+      summary.termination = TerminationReason::kConverged;
+      return;
+    }
+    if (params.time_budget_ms > 0.0 && nowMs() - start_time_ms_ >= params.time_budget_ms) {
+      summary.termination = TerminationReason::kTimeBudget;
+      return;
+    }
+  }
+}
+
+}  // namespace dualgraph

@@ -1,0 +1,204 @@
+// SPDX-License-Identifier: MIT
+#include "core/sparse_system.h"
+
+#include <algorithm>
+#include <string>
+
+namespace dualgraph {
+
+Status SparseSystem::build(const Graph& graph) {
+  *this = SparseSystem();
+  // Active vertices: not fixed and touched by an edge, in increasing id order (deterministic).
+  std::unordered_map<const VertexBase*, int> block_of;
+  for (const auto& edge : graph.edges()) {
+    for (VertexBase* v : edge->vertices()) {
+      if (v == nullptr) return Status(StatusCode::kFailedPrecondition, "edge with an empty vertex slot");
+      if (!v->fixed()) block_of.emplace(v, -1);
+    }
+  }
+  for (const auto& [id, vertex] : graph.vertices()) {
+    auto it = block_of.find(vertex.get());
+    if (it == block_of.end()) continue;
+    it->second = static_cast<int>(active_.size());
+    active_.push_back(vertex.get());
+    active_offset_.push_back(dim_);
+    offset_by_vertex_.emplace(vertex.get(), dim_);
+    dim_ += vertex->tangentDim();
+  }
+  const int num_blocks = static_cast<int>(active_.size());
+
+  // Block pattern: for each block column j, the sorted block rows i <= j.
+  std::vector<std::vector<int>> rows_of_column(num_blocks);
+  for (int k = 0; k < num_blocks; ++k) rows_of_column[k].push_back(k);
+  size_t max_edge_dim = 0;
+  for (const auto& edge : graph.edges()) {
+    std::vector<int> blocks;
+    size_t edge_dim = edge->errorDim();
+    for (VertexBase* v : edge->vertices()) {
+      if (!v->fixed()) blocks.push_back(block_of.at(v));
+      edge_dim = std::max<size_t>(edge_dim, v->tangentDim());
+    }
+    if (blocks.empty()) continue;
+    max_edge_dim = std::max(max_edge_dim, edge_dim);
+    for (size_t a = 0; a < blocks.size(); ++a) {
+      for (size_t b = a + 1; b < blocks.size(); ++b) {
+        const int i = std::min(blocks[a], blocks[b]);
+        const int j = std::max(blocks[a], blocks[b]);
+        rows_of_column[j].push_back(i);
+      }
+    }
+  }
+  for (auto& rows : rows_of_column) {
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  }
+
+  // Scalar CSC layout of the upper triangle; block_row_offset[j][r] = row offset of rows[r].
+  std::vector<std::vector<int>> block_row_offset(num_blocks);
+  col_ptr_.assign(dim_ + 1, 0);
+  for (int j = 0; j < num_blocks; ++j) {
+    const int dj = active_[j]->tangentDim();
+    int above = 0;
+    for (int i : rows_of_column[j]) {
+      block_row_offset[j].push_back(above);
+      if (i != j) above += active_[i]->tangentDim();
+    }
+    for (int c = 0; c < dj; ++c) {
+      const int col = active_offset_[j] + c;
+      col_ptr_[col + 1] = col_ptr_[col] + above + c + 1;
+    }
+  }
+  row_index_.resize(col_ptr_[dim_]);
+  diagonal_index_.resize(dim_);
+  for (int j = 0; j < num_blocks; ++j) {
+    for (int c = 0; c < active_[j]->tangentDim(); ++c) {
+      const int col = active_offset_[j] + c;
+      int pos = col_ptr_[col];
+      for (int i : rows_of_column[j]) {
+        const int rows = i == j ? c + 1 : active_[i]->tangentDim();
+        for (int r = 0; r < rows; ++r) row_index_[pos++] = active_offset_[i] + r;
+      }
+      diagonal_index_[col] = pos - 1;
+    }
+  }
+  values_.assign(row_index_.size(), 0.0);
+  undamped_diagonal_.assign(dim_, 0.0);
+  rhs_ = Eigen::VectorXd::Zero(dim_);
+
+  // Per-edge scatter slots.
+  auto slot_for = [&](int bi, int bj) {
+    const bool transposed = bi > bj;
+    const int i = std::min(bi, bj);
+    const int j = std::max(bi, bj);
+    const auto& rows = rows_of_column[j];
+    const size_t r = std::lower_bound(rows.begin(), rows.end(), i) - rows.begin();
+    return BlockSlot{active_offset_[j], block_row_offset[j][r], transposed, i == j};
+  };
+  for (const auto& edge : graph.edges()) {
+    const auto& vs = edge->vertices();
+    if (std::all_of(vs.begin(), vs.end(), [](const VertexBase* v) { return v->fixed(); })) continue;
+    active_edges_.push_back(edge.get());
+    edge_vertex_begin_.push_back(static_cast<int>(edge_vertex_offset_.size()));
+    edge_slot_begin_.push_back(static_cast<int>(slots_.size()));
+    for (size_t a = 0; a < vs.size(); ++a) {
+      edge_vertex_offset_.push_back(vs[a]->fixed() ? -1 : offset_by_vertex_.at(vs[a]));
+      if (vs[a]->fixed()) continue;
+      for (size_t b = a; b < vs.size(); ++b) {
+        if (!vs[b]->fixed()) slots_.push_back(slot_for(block_of.at(vs[a]), block_of.at(vs[b])));
+      }
+    }
+  }
+  edge_vertex_begin_.push_back(static_cast<int>(edge_vertex_offset_.size()));
+  edge_slot_begin_.push_back(static_cast<int>(slots_.size()));
+  scratch_.assign(3 * max_edge_dim * max_edge_dim + max_edge_dim, 0.0);
+  return Status();
+}
+
+SparseMatrixView SparseSystem::matrix() const {
+  SparseMatrixView view;
+  view.n = dim_;
+  view.col_ptr = col_ptr_.data();
+  view.row_index = row_index_.data();
+  view.values = values_.data();
+  return view;
+}
+
+int SparseSystem::offsetOf(const VertexBase* vertex) const {
+  const auto it = offset_by_vertex_.find(vertex);
+  return it == offset_by_vertex_.end() ? -1 : it->second;
+}
+
+double SparseSystem::maxDiagonal() const {
+  double m = 0.0;
+  for (double d : undamped_diagonal_) m = std::max(m, d);
+  return m;
+}
+
+void SparseSystem::assemble() {
+  std::fill(values_.begin(), values_.end(), 0.0);
+  rhs_.setZero();
+  for (size_t e = 0; e < active_edges_.size(); ++e) assembleEdge(e);
+  for (int k = 0; k < dim_; ++k) undamped_diagonal_[k] = values_[diagonal_index_[k]];
+}
+
+void SparseSystem::setDamping(double lambda) {
+  for (int k = 0; k < dim_; ++k) values_[diagonal_index_[k]] = undamped_diagonal_[k] + lambda;
+}
+
+void SparseSystem::assembleEdge(size_t edge_index) {
+  using MatrixMap = Eigen::Map<Eigen::MatrixXd>;
+  using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd>;
+  const EdgeBase& edge = *active_edges_[edge_index];
+  const int m = edge.errorDim();
+  const ConstMatrixMap information(edge.informationData(), m, m);
+  const Eigen::Map<const Eigen::VectorXd> error(edge.errorData(), m);
+  double weight = 1.0;
+  if (const RobustKernel* kernel = edge.robustKernel()) weight = kernel->robustify(edge.chi2())[1];
+
+  const size_t stride = scratch_.size() / 3;
+  MatrixMap weighted_error(scratch_.data() + 3 * stride, m, 1);
+  weighted_error.noalias() = weight * (information * error);
+
+  const int v_begin = edge_vertex_begin_[edge_index];
+  const int num_slots = edge_vertex_begin_[edge_index + 1] - v_begin;
+  int slot = edge_slot_begin_[edge_index];
+  for (int a = 0; a < num_slots; ++a) {
+    const int offset_a = edge_vertex_offset_[v_begin + a];
+    if (offset_a < 0) continue;
+    const int da = edge.vertex(a)->tangentDim();
+    const ConstMatrixMap jacobian_a(edge.jacobianData(a), m, da);
+    rhs_.segment(offset_a, da).noalias() -= jacobian_a.transpose() * weighted_error;
+    MatrixMap jt_w(scratch_.data(), da, m);  // J_aᵀ W
+    jt_w.noalias() = weight * (jacobian_a.transpose() * information);
+    for (int b = a; b < num_slots; ++b) {
+      if (edge_vertex_offset_[v_begin + b] < 0) continue;
+      const int db = edge.vertex(b)->tangentDim();
+      MatrixMap block(scratch_.data() + stride, da, db);
+      block.noalias() = jt_w * ConstMatrixMap(edge.jacobianData(b), m, db);
+      scatter(slots_[slot++], block.data(), da, db);
+    }
+  }
+}
+
+void SparseSystem::scatter(const BlockSlot& slot, const double* block, int rows, int cols) {
+  // `block` is rows × cols column-major for the edge's (a, b) order.
+  if (!slot.transposed) {
+    for (int c = 0; c < cols; ++c) {
+      double* column = values_.data() + col_ptr_[slot.first_column + c] + slot.row_offset;
+      const int row_end = slot.diagonal ? c + 1 : rows;
+      for (int r = 0; r < row_end; ++r) column[r] += block[c * rows + r];
+    }
+  } else {
+    // Stored block is the transpose: `cols` rows × `rows` columns.
+    for (int c = 0; c < rows; ++c) {
+      double* column = values_.data() + col_ptr_[slot.first_column + c] + slot.row_offset;
+      for (int r = 0; r < cols; ++r) column[r] += block[r * rows + c];
+    }
+  }
+}
+
+void SparseSystem::applyUpdate(const double* delta) const {
+  for (size_t k = 0; k < active_.size(); ++k) active_[k]->plus(delta + active_offset_[k]);
+}
+
+}  // namespace dualgraph

@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "core/graph.h"
+#include "core/linear_solver.h"
+
+namespace dualgraph {
+
+/// The normal equations H Δ = b of a graph, H = Σ Jᵀ W J and b = −Σ Jᵀ W e over the edges
+/// (W = ρ'(eᵀΩe)·Ω), in the block-sparse upper-triangular CSC layout of `SparseMatrixView`.
+///
+/// `build()` fixes the structure once per graph structure: the active vertices (not fixed and
+/// attached to at least one edge) get consecutive scalar offsets in increasing id order, the block
+/// pattern is laid out column by column, and every edge records where each of its blocks lands in
+/// the value array. `assemble()` then only refills values; `setDamping(λ)` adds λ to the diagonal
+/// without re-assembling.
+class SparseSystem {
+ public:
+  /// Builds the structure for the current graph. Fails when an edge's vertices are missing.
+  Status build(const Graph& graph);
+
+  /// Fills H and b from the edges' current errors and Jacobians (call `EdgeBase::linearize` first).
+  void assemble();
+  /// H ← H_undamped + λ I (the value array keeps the undamped diagonal aside).
+  void setDamping(double lambda);
+
+  /// x ← x ⊞ Δ for every active vertex; `delta` has `dim()` entries.
+  void applyUpdate(const double* delta) const;
+
+  int dim() const { return dim_; }
+  SparseMatrixView matrix() const;
+  /// b = −Σ Jᵀ W e
+  const Eigen::VectorXd& rhs() const { return rhs_; }
+  /// Largest diagonal entry of the undamped H (LM's initial damping scale).
+  double maxDiagonal() const;
+  const std::vector<VertexBase*>& activeVertices() const { return active_; }
+  /// Scalar offset of an active vertex in Δ, or -1 when the vertex is not active.
+  int offsetOf(const VertexBase* vertex) const;
+  /// Edges with at least one active vertex, in graph order.
+  const std::vector<EdgeBase*>& activeEdges() const { return active_edges_; }
+
+ private:
+  struct BlockSlot {
+    int first_column;  ///< scalar column of the block's first column
+    int row_offset;    ///< offset of the block's first row within each of those columns
+    bool transposed;   ///< the edge pair (a,b) lands as (b,a) in the upper triangle
+    bool diagonal;
+  };
+  void assembleEdge(size_t edge_index);
+  void scatter(const BlockSlot& slot, const double* block, int rows, int cols);
+
+  int dim_ = 0;
+  std::vector<VertexBase*> active_;
+  std::vector<int> active_offset_;           ///< scalar offset per active vertex
+  std::unordered_map<const VertexBase*, int> offset_by_vertex_;
+  std::vector<EdgeBase*> active_edges_;
+  std::vector<int> edge_vertex_offset_;      ///< per edge slot: scalar offset or -1 (fixed)
+  std::vector<int> edge_vertex_begin_;       ///< per edge: index into edge_vertex_offset_
+  std::vector<BlockSlot> slots_;             ///< per edge, pairs a ≤ b of active slots
+  std::vector<int> edge_slot_begin_;
+  std::vector<int> col_ptr_;
+  std::vector<int> row_index_;
+  std::vector<double> values_;
+  std::vector<int> diagonal_index_;          ///< position of H(k,k) in values_
+  std::vector<double> undamped_diagonal_;
+  Eigen::VectorXd rhs_;
+  std::vector<double> scratch_;              ///< per-edge products, sized to the largest edge
+};
+
+}  // namespace dualgraph

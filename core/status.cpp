@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: MIT
+#include "core/status.h"
+
+namespace dualgraph {
+
+const char* statusCodeName(StatusCode code) {
+  switch (code) {
+    case StatusCode::kOk: return "OK";
+    case StatusCode::kInvalidArgument: return "InvalidArgument";
+    case StatusCode::kParseError: return "ParseError";
+    case StatusCode::kNotFound: return "NotFound";
+    case StatusCode::kAlreadyExists: return "AlreadyExists";
+    case StatusCode::kIoError: return "IoError";
+    case StatusCode::kNotPositiveDefinite: return "NotPositiveDefinite";
+    case StatusCode::kNumericalError: return "NumericalError";
+    case StatusCode::kFailedPrecondition: return "FailedPrecondition";
+  }
+  return "Unknown";
+}
+
+std::string Status::toString() const {
+  if (ok()) return "OK";
+  return std::string(statusCodeName(code_)) + ": " + message_;
+}
+
+}  // namespace dualgraph

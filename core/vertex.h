@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+#include <ostream>
+#include <vector>
+
+#include "core/status.h"
+#include "core/token_reader.h"
+
+namespace dualgraph {
+
+/// A variable of the graph: an estimate on a manifold with a tangent-space increment `plus`
+/// (x ← x ⊞ δ, δ of `tangentDim()` entries). Identified by a non-negative id unique in its graph.
+/// Fixed vertices stay out of the linear system. `push`/`pop` keep a stack of estimates so the
+/// optimiser can undo a rejected step and numeric differentiation can restore the state.
+class VertexBase {
+ public:
+  explicit VertexBase(int id = -1) : id_(id) {}
+  virtual ~VertexBase() = default;
+  VertexBase(const VertexBase&) = delete;
+  VertexBase& operator=(const VertexBase&) = delete;
+
+  int id() const { return id_; }
+  /// Only valid before the vertex is added to a graph.
+  void setId(int id) { id_ = id; }
+  bool fixed() const { return fixed_; }
+  void setFixed(bool fixed) { fixed_ = fixed; }
+
+  virtual int tangentDim() const = 0;
+  /// x ← x ⊞ δ; `delta` points at `tangentDim()` doubles.
+  virtual void plus(const double* delta) = 0;
+  /// Saves the current estimate on a stack.
+  virtual void push() = 0;
+  /// Restores the most recently pushed estimate and removes it from the stack.
+  virtual void pop() = 0;
+  /// Removes the most recently pushed estimate, keeping the current one.
+  virtual void discardTop() = 0;
+  virtual size_t stackSize() const = 0;
+
+  /// Reads the estimate fields that follow `TAG id` on a g2o line.
+  virtual Status read(TokenReader& in) = 0;
+  /// Writes the estimate fields (without tag and id), full precision.
+  virtual void write(std::ostream& out) const = 0;
+
+ private:
+  int id_;
+  bool fixed_ = false;
+};
+
+/// Base template for vertex types: `D` is the tangent dimension, `EstimateT` the estimate.
+/// A derived type implements `oplusImpl`, `read` and `write`.
+template <int D, typename EstimateT>
+class BaseVertex : public VertexBase {
+ public:
+  static constexpr int kDim = D;
+  using Estimate = EstimateT;
+  using Tangent = Eigen::Matrix<double, D, 1>;
+
+  explicit BaseVertex(int id = -1) : VertexBase(id) {}
+
+  const Estimate& estimate() const { return estimate_; }
+  void setEstimate(const Estimate& estimate) { estimate_ = estimate; }
+
+  int tangentDim() const final { return D; }
+  void plus(const double* delta) final { oplusImpl(Eigen::Map<const Tangent>(delta)); }
+  void push() final { stack_.push_back(estimate_); }
+  void pop() final {
+    if (stack_.empty()) throw ContractViolation("VertexBase::pop on an empty stack");
+    estimate_ = stack_.back();
+    stack_.pop_back();
+  }
+  void discardTop() final {
+    if (stack_.empty()) throw ContractViolation("VertexBase::discardTop on an empty stack");
+    stack_.pop_back();
+  }
+  size_t stackSize() const final { return stack_.size(); }
+
+ protected:
+  /// The manifold increment x ← x ⊞ δ.
+  virtual void oplusImpl(const Tangent& delta) = 0;
+
+  Estimate estimate_{};
+
+ private:
+  std::vector<Estimate, Eigen::aligned_allocator<Estimate>> stack_;
+
+ public:
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+}  // namespace dualgraph

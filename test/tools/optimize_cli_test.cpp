@@ -1,0 +1,205 @@
+// SPDX-License-Identifier: MIT
+// `dualgraph optimize` as a user runs it: bad input gives one line naming file and line and a
+// non-zero exit, never a crash or a hang, and nothing is written to -o; good input optimises.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test/testing/shared_data.h"
+
+namespace dualgraph {
+namespace {
+
+struct Run {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string tempDir() {
+  static const std::string dir = [] {
+    char pattern[] = "/tmp/dualgraph_cli_XXXXXX";
+    const char* made = mkdtemp(pattern);
+    return std::string(made != nullptr ? made : "/tmp");
+  }();
+  return dir;
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string writeFile(const std::string& name, const std::string& content) {
+  const std::string path = tempDir() + "/" + name;
+  std::ofstream(path) << content;
+  return path;
+}
+
+/// The number after `"key": ` in a one-line JSON object; NaN when absent.
+double jsonNumber(const std::string& json, const std::string& key) {
+  const std::string needle = "\"" + key + "\": ";
+  const auto at = json.find(needle);
+  return at == std::string::npos ? std::nan("") : std::strtod(json.c_str() + at + needle.size(), nullptr);
+}
+
+Run runDualgraph(const std::string& args) {
+  const char* bin = std::getenv("DUALGRAPH_BIN_DIR");
+  const std::string err_path = tempDir() + "/stderr.txt";
+  const std::string command = "timeout 60 " + std::string(bin != nullptr ? bin : "build/bin") +
+                              "/dualgraph " + args + " 2>" + err_path;
+  Run run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  char buffer[4096];
+  size_t n = 0;
+  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) run.out.append(buffer, n);
+  const int status = pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  run.err = readFile(err_path);
+  return run;
+}
+
+const char kTwoPoses[] =
+    "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\n"
+    "VERTEX_SE3:QUAT 1 1.1 0.1 0 0 0 0.05 0.99875\n";
+const char kGoodEdge[] = "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 4 0 0 4 0 4\n";
+
+struct BadCase {
+  const char* name;
+  std::string content;
+  int line;              ///< line the message must name
+  const char* fragment;  ///< text the message must contain
+};
+
+std::vector<BadCase> badCases() {
+  const std::string poses = kTwoPoses;
+  return {
+      {"truncated_line", poses + "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 1 0\n", 3, "line ends before"},
+      {"non_numeric", poses + "EDGE_SE3:QUAT 0 1 1 0 zero 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 4 0 0 4 0 4\n", 3,
+       "not a number"},
+      {"unknown_vertex", poses + "EDGE_SE3:QUAT 0 7 1 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 4 0 0 4 0 4\n", 3,
+       "unknown vertex id 7"},
+      {"duplicate_id", poses + "VERTEX_SE3:QUAT 1 0 0 0 0 0 0 1\n", 3, "duplicate vertex id 1"},
+      {"self_loop", poses + "EDGE_SE3:QUAT 1 1 1 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 4 0 0 4 0 4\n", 3,
+       "self-loop"},
+      {"zero_norm_quaternion", "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 0\n", 1, "quaternion"},
+      {"wrong_vertex_types", poses + "VERTEX_SE2 2 0 0 0\nEDGE_SE2 0 2 1 0 0 1 0 0 1 0 1\n", 4, "wrong type"},
+      {"fix_missing_vertex", poses + kGoodEdge + "FIX 9\n", 4, "FIX of unknown vertex id 9"},
+      {"nan_value", poses + "EDGE_SE3:QUAT 0 1 nan 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 4 0 0 4 0 4\n", 3,
+       "not finite"},
+      {"inf_value", "VERTEX_SE3:QUAT 0 inf 0 0 0 0 0 1\n", 1, "not finite"},
+      {"huge_value", "VERTEX_SE3:QUAT 0 1e999 0 0 0 0 0 1\n", 1, "not finite"},
+      {"trailing_garbage", poses + "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 4 0 0 4 0 4 junk\n",
+       3, "trailing"},
+      {"unknown_tag", poses + "VERTEX_CAM 5 1 2 3\n", 3, "unknown tag 'VERTEX_CAM'"},
+      {"indefinite_information",
+       poses + "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 1 5 0 0 0 0 1 0 0 0 0 1 0 0 0 4 0 0 4 0 4\n", 3,
+       "1 edge(s) have an information matrix that is not symmetric positive definite"},
+  };
+}
+
+TEST(OptimizeCli, EveryBadInputGivesOneLineNamingFileAndLineAndWritesNothing) {
+  for (const BadCase& bad : badCases()) {
+    SCOPED_TRACE(bad.name);
+    const std::string input = writeFile(std::string(bad.name) + ".g2o", bad.content);
+    const std::string output = tempDir() + "/" + bad.name + ".out.g2o";
+    const Run run = runDualgraph("optimize " + input + " -o " + output);
+    EXPECT_EQ(run.exit_code, 1) << run.err;
+    EXPECT_NE(run.err.find(input + ":" + std::to_string(bad.line) + ":"), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find(bad.fragment), std::string::npos) << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    EXPECT_FALSE(testing::fileExists(output));
+  }
+}
+
+TEST(OptimizeCli, EmptyFileIsAnErrorNamingTheFile) {
+  const std::string input = writeFile("empty.g2o", "");
+  const Run run = runDualgraph("optimize " + input + " -o " + input + ".out");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find(input + ": no vertices"), std::string::npos) << run.err;
+  EXPECT_FALSE(testing::fileExists(input + ".out"));
+}
+
+TEST(OptimizeCli, MissingFileIsAnError) {
+  const Run run = runDualgraph("optimize " + tempDir() + "/does_not_exist.g2o");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("cannot open"), std::string::npos) << run.err;
+}
+
+TEST(OptimizeCli, BadFlagsAreUsageErrors) {
+  EXPECT_EQ(runDualgraph("optimize x.g2o --solver foo").exit_code, 2);
+  EXPECT_EQ(runDualgraph("optimize x.g2o -i -3").exit_code, 2);
+  EXPECT_EQ(runDualgraph("").exit_code, 2);
+  const std::string input = writeFile("robust.g2o", std::string(kTwoPoses) + kGoodEdge);
+  const Run run = runDualgraph("optimize " + input + " --robust huber:-1");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("DELTA"), std::string::npos) << run.err;
+}
+
+TEST(OptimizeCli, RepairInformationReportsTheCountAndConverges) {
+  const std::string content =
+      std::string(kTwoPoses) + "VERTEX_SE3:QUAT 2 2 0 0 0 0 0 1\n" +
+      "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 1 5 0 0 0 0 1 0 0 0 0 1 0 0 0 4 0 0 4 0 4\n" +
+      "EDGE_SE3:QUAT 1 2 1 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 4 0 0 4 0 4\n";
+  const std::string input = writeFile("repair.g2o", content);
+  const std::string output = tempDir() + "/repair.out.g2o";
+  const Run run = runDualgraph("optimize " + input + " --repair-information --json -o " + output);
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("\"repaired_information\": 1"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("\"termination\": \"converged\""), std::string::npos) << run.out;
+  EXPECT_TRUE(testing::fileExists(output));
+}
+
+TEST(OptimizeCli, JsonSummaryHasTheDocumentedKeys) {
+  const std::string input = writeFile("good.g2o", std::string(kTwoPoses) + kGoodEdge);
+  const Run run = runDualgraph("optimize " + input + " --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  for (const char* key : {"initial_chi2", "final_chi2", "iterations", "termination", "total_ms",
+                          "ms_per_iteration", "vertices", "edges"}) {
+    EXPECT_NE(run.out.find("\"" + std::string(key) + "\":"), std::string::npos) << key;
+  }
+  EXPECT_EQ(run.out.front(), '{');
+  EXPECT_LT(jsonNumber(run.out, "final_chi2"), 1e-12) << run.out;
+  EXPECT_GT(jsonNumber(run.out, "initial_chi2"), 1e-3) << run.out;
+}
+
+TEST(OptimizeCli, WritesTheOptimisedGraphWhichReadsBack) {
+  const std::string input = writeFile("chain.g2o", std::string(kTwoPoses) + kGoodEdge);
+  const std::string output = tempDir() + "/chain.out.g2o";
+  ASSERT_EQ(runDualgraph("optimize " + input + " -o " + output + " --linear eigen --solver gn").exit_code, 0);
+  const Run again = runDualgraph("optimize " + output + " --json");
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_LT(jsonNumber(again.out, "initial_chi2"), 1e-12) << again.out;
+  EXPECT_NE(readFile(output).find("FIX 0"), std::string::npos);
+}
+
+TEST(OptimizeCli, ListTypesShowsTheRegistry) {
+  const Run run = runDualgraph("optimize --list-types");
+  EXPECT_EQ(run.exit_code, 0);
+  for (const char* tag : {"VERTEX_SE3:QUAT", "EDGE_SE3:QUAT", "EDGE_SE3_PRIOR", "VERTEX_TRACKXYZ",
+                          "EDGE_SE3_TRACKXYZ", "EDGE_POINTXYZ_PRIOR", "VERTEX_SE2", "EDGE_SE2",
+                          "PARAMS_SE3OFFSET"}) {
+    EXPECT_NE(run.out.find(tag), std::string::npos) << tag;
+  }
+}
+
+TEST(OptimizeCli, BundledDemoDataOptimisesToG2oQuality) {
+  const std::string input = testing::sourcePath("data/posegraph/parking-garage.g2o");
+  const Run run = runDualgraph("optimize " + input + " --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_LE(jsonNumber(run.out, "final_chi2"), 1.238684 + 5e-7) << run.out;
+}
+
+}  // namespace
+}  // namespace dualgraph

@@ -1,0 +1,27 @@
+// SPDX-License-Identifier: MIT
+// `dualgraph`: one executable, one subcommand per task. Mains stay thin: parse, call the library,
+// map errors to exit codes (0 ok, 1 bad input or failed run, 2 usage).
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <iostream>
+
+#include "tools/optimize_command.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"dualgraph: drift-corrected localisation with a dual pose graph, and its graph engine"};
+  app.require_subcommand(1);
+  dualgraph::tools::OptimizeOptions optimize_options;
+  CLI::App* optimize = dualgraph::tools::addOptimizeCommand(app, optimize_options);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  try {
+    if (optimize->parsed()) return dualgraph::tools::runOptimizeCommand(optimize_options);
+  } catch (const std::exception& e) {
+    std::cerr << "dualgraph: internal error: " << e.what() << "\n";
+    return 1;
+  }
+  return 2;
+}

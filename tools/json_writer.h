@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace dualgraph::tools {
+
+/// Builds one flat JSON object, keys in insertion order; numbers with 17 significant digits,
+/// non-finite numbers as null (JSON has no NaN).
+class JsonObject {
+ public:
+  JsonObject& add(const std::string& key, double value);
+  JsonObject& add(const std::string& key, long value);
+  JsonObject& add(const std::string& key, int value) { return add(key, static_cast<long>(value)); }
+  JsonObject& add(const std::string& key, const std::string& value);
+  JsonObject& add(const std::string& key, const char* value) { return add(key, std::string(value)); }
+  JsonObject& add(const std::string& key, bool value);
+  std::string str() const;
+
+ private:
+  std::vector<std::pair<std::string, std::string>> fields_;
+};
+
+/// Escapes a string for a JSON string literal (without the quotes).
+std::string jsonEscape(const std::string& text);
+
+}  // namespace dualgraph::tools

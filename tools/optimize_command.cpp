@@ -1,0 +1,165 @@
+// SPDX-License-Identifier: MIT
+#include "tools/optimize_command.h"
+
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "core/g2o_io.h"
+#include "core/optimizer.h"
+#include "solvers/linear_solver_factory.h"
+#include "tools/json_writer.h"
+#include "types/register_types.h"
+
+namespace dualgraph::tools {
+namespace {
+
+double peakRssMiB() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is KiB on Linux
+}
+
+int fail(const std::string& message) {
+  std::cerr << "dualgraph optimize: " << message << "\n";
+  return 1;
+}
+
+void listTypes(const TypeRegistry& registry) {
+  const std::pair<TypeRegistry::Kind, const char*> kinds[] = {
+      {TypeRegistry::Kind::kVertex, "vertex"},
+      {TypeRegistry::Kind::kEdge, "edge"},
+      {TypeRegistry::Kind::kParameter, "parameter"}};
+  for (const auto& [kind, name] : kinds) {
+    for (const std::string& tag : registry.tags(kind)) std::cout << name << "\t" << tag << "\n";
+  }
+}
+
+}  // namespace
+
+CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& o) {
+  CLI::App* cmd = app.add_subcommand("optimize", "Optimise a g2o file and print a summary");
+  cmd->add_option("input", o.input, "Input graph (g2o text format)");
+  cmd->add_option("-o,--output", o.output, "Write the optimised graph here (only on success)");
+  cmd->add_option("-i,--iterations", o.iterations, "Maximum iterations")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--solver", o.algorithm, "lm (Levenberg-Marquardt) or gn (Gauss-Newton)")
+      ->check(CLI::IsMember({"lm", "gn"}));
+  cmd->add_option("--linear", o.linear, "Linear solver: cholmod or eigen")
+      ->check(CLI::IsMember({"cholmod", "eigen"}));
+  cmd->add_option("--robust", o.robust, "Robust kernel on every edge, e.g. huber:1.0 (huber|cauchy|tukey|dcs)");
+  cmd->add_option("--relative-decrease", o.relative_decrease,
+                  "Stop when an accepted step lowers chi2 by less than this fraction");
+  cmd->add_option("--time-budget-ms", o.time_budget_ms, "Wall-time budget for the optimisation (0 = none)");
+  cmd->add_flag("--json", o.json, "Print the summary as one JSON object");
+  cmd->add_flag("--list-types", o.list_types, "List the registered g2o tags and exit");
+  cmd->add_flag("--repair-information", o.repair_information,
+                "Replace non-positive-definite information matrices by the nearest positive-definite ones");
+  cmd->add_flag("--skip-unknown-tags", o.skip_unknown_tags, "Skip lines with unknown tags (default: error)");
+  cmd->add_flag("--no-gauge", o.no_gauge, "Do not fix a vertex when the file fixes none");
+  cmd->add_flag("-v,--verbose", o.verbose, "Print one line per iteration (to stderr)");
+  return cmd;
+}
+
+int runOptimizeCommand(const OptimizeOptions& o) {
+  TypeRegistry registry;
+  const Status registered = registerBuiltinTypes(registry);
+  if (!registered.ok()) return fail(registered.message());
+  if (o.list_types) {
+    listTypes(registry);
+    return 0;
+  }
+  if (o.input.empty()) return fail("an input file is required (or --list-types)");
+  const auto linear_kind = parseLinearSolverKind(o.linear);
+  if (!linear_kind.ok()) return fail(linear_kind.status().message());
+
+  const auto load_start = std::chrono::steady_clock::now();
+  Graph graph;
+  G2oReadOptions read_options;
+  read_options.repair_information = o.repair_information;
+  read_options.skip_unknown_tags = o.skip_unknown_tags;
+  const auto report = readG2o(o.input, registry, graph, read_options);
+  if (!report.ok()) return fail(report.status().message());
+  const double load_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - load_start).count();
+  for (const std::string& warning : report->warnings) std::cerr << "warning: " << warning << "\n";
+  if (report->repaired_information > 0 && !o.json) {
+    std::cout << "repaired " << report->repaired_information << " information matrices\n";
+  }
+  if (!o.robust.empty()) {
+    const auto kernel = makeRobustKernel(o.robust);
+    if (!kernel.ok()) return fail(kernel.status().message());
+    for (const auto& edge : graph.edges()) edge->setRobustKernel(*kernel);
+  }
+  int gauge_id = -1;
+  if (!o.no_gauge) {
+    if (VertexBase* gauge = chooseGaugeVertex(graph)) {
+      gauge_id = gauge->id();
+      (void)graph.setFixed(gauge_id, true);
+    }
+  }
+
+  OptimizerParams params;
+  params.algorithm = o.algorithm == "gn" ? Algorithm::kGaussNewton : Algorithm::kLevenbergMarquardt;
+  params.max_iterations = o.iterations;
+  params.relative_decrease_stop = o.relative_decrease;
+  params.time_budget_ms = o.time_budget_ms;
+  if (o.verbose) {
+    params.callback = [](const IterationSummary& it) {
+      std::fprintf(stderr, "iteration %3d  chi2 %.10g  lambda %.3g  trials %d  %s  %.2f ms\n", it.iteration,
+                   it.chi2, it.lambda, it.trials, it.step_accepted ? "accepted" : "rejected", it.iteration_ms);
+    };
+  }
+  Optimizer optimizer(graph, makeLinearSolver(*linear_kind));
+  const SolverSummary summary = optimizer.optimize(params);
+  const double ms_per_iteration = summary.iterations > 0 ? summary.total_ms / summary.iterations : 0.0;
+
+  if (o.json) {
+    JsonObject json;
+    json.add("initial_chi2", summary.initial_chi2)
+        .add("final_chi2", summary.final_chi2)
+        .add("iterations", summary.iterations)
+        .add("termination", terminationReasonName(summary.termination))
+        .add("total_ms", summary.total_ms)
+        .add("ms_per_iteration", ms_per_iteration)
+        .add("vertices", static_cast<long>(graph.numVertices()))
+        .add("edges", static_cast<long>(graph.numEdges()))
+        .add("message", summary.message)
+        .add("gauge_vertex", gauge_id)
+        .add("repaired_information", report->repaired_information)
+        .add("linear_solver", summary.linear_solver)
+        .add("load_ms", load_ms)
+        .add("structure_ms", summary.structure_ms)
+        .add("linearize_ms", summary.linearize_ms)
+        .add("assemble_ms", summary.assemble_ms)
+        .add("factorize_ms", summary.factorize_ms)
+        .add("solve_ms", summary.solve_ms)
+        .add("update_ms", summary.update_ms)
+        .add("factorizations", summary.factorizations)
+        .add("peak_rss_mib", peakRssMiB());
+    std::cout << json.str() << "\n";
+  } else {
+    std::printf("%s: %zu vertices, %zu edges (loaded in %.1f ms)%s\n", o.input.c_str(), graph.numVertices(),
+                graph.numEdges(), load_ms,
+                gauge_id >= 0 ? (", gauge: fixed vertex " + std::to_string(gauge_id)).c_str() : "");
+    std::printf("initial chi2   %.10f\nfinal chi2     %.10f\n", summary.initial_chi2, summary.final_chi2);
+    std::printf("iterations     %d (%s%s%s)\n", summary.iterations, terminationReasonName(summary.termination),
+                summary.message.empty() ? "" : ": ", summary.message.c_str());
+    std::printf("time           %.1f ms total, %.2f ms per iteration (linearize %.1f, assemble %.1f, "
+                "factorize %.1f, solve %.1f, update %.1f, structure %.1f) [%s]\n",
+                summary.total_ms, ms_per_iteration, summary.linearize_ms, summary.assemble_ms,
+                summary.factorize_ms, summary.solve_ms, summary.update_ms, summary.structure_ms,
+                summary.linear_solver.c_str());
+    std::printf("peak memory    %.1f MiB\n", peakRssMiB());
+  }
+  if (!summary.usable()) return fail(std::string("optimisation failed: ") + terminationReasonName(summary.termination) +
+                                     (summary.message.empty() ? "" : ": " + summary.message));
+  if (!o.output.empty()) {
+    const Status written = writeG2o(o.output, registry, graph);
+    if (!written.ok()) return fail(written.message());
+  }
+  return 0;
+}
+
+}  // namespace dualgraph::tools

@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace dualgraph::tools {
+
+/// Options of `dualgraph optimize`.
+struct OptimizeOptions {
+  std::string input;
+  std::string output;
+  int iterations = 100;
+  std::string algorithm = "lm";
+  std::string linear = "cholmod";
+  std::string robust;
+  bool json = false;
+  bool list_types = false;
+  bool repair_information = false;
+  bool skip_unknown_tags = false;
+  bool no_gauge = false;
+  bool verbose = false;
+  double relative_decrease = 1e-9;
+  double time_budget_ms = 0.0;
+};
+
+/// Registers the subcommand and its flags on `app`.
+CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& options);
+/// Runs it; returns the process exit code.
+int runOptimizeCommand(const OptimizeOptions& options);
+
+}  // namespace dualgraph::tools

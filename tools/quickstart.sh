@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# The README's quick start. On a fresh Debian bookworm machine (as root it installs what is missing):
+#   bash tools/quickstart.sh demo   -> builds (Release) and runs the main job on bundled data
+#   bash tools/quickstart.sh test   -> builds (Release) and runs the whole test suite
+# Build folder: ./build (override with BUILD_DIR=...). Extra CMake flags: CMAKE_ARGS="...".
+set -euo pipefail
+mode=${1:-}
+case "$mode" in demo|test) ;; *) echo "usage: bash tools/quickstart.sh demo|test" >&2; exit 2;; esac
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${BUILD_DIR:-$root/build}
+
+packages=(build-essential cmake libeigen3-dev libsuitesparse-dev libopenblas-dev libgtest-dev
+          libbenchmark-dev libcli11-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  if [ "$(id -u)" -ne 0 ]; then
+    echo "quickstart: missing packages: ${missing[*]} (run as root, or: sudo apt-get install ${missing[*]})" >&2
+    exit 1
+  fi
+  echo "quickstart: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq && apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+jobs=$(nproc 2>/dev/null || echo 2)
+# shellcheck disable=SC2086
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release ${CMAKE_ARGS:-} >/dev/null
+cmake --build "$build" -j "$jobs"
+
+if [ "$mode" = demo ]; then
+  out="$build/demo"
+  mkdir -p "$out"
+  "$build/bin/dualgraph" optimize "$root/data/posegraph/parking-garage.g2o" -o "$out/parking-garage.optimized.g2o"
+  echo "optimised graph written to $out/parking-garage.optimized.g2o"
+else
+  ctest --test-dir "$build" --output-on-failure -j "$jobs"
+fi
