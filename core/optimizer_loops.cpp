@@ -71,8 +71,9 @@ void Optimizer::runLevenbergMarquardt(const OptimizerParams& params, SolverSumma
       const double rho = (chi2 - new_chi2) / std::max(predicted, 1e-300);
       if (std::isfinite(new_chi2) && rho > 0.0) {
         discardAll(active);
+        // Nielsen's update with g2o's bounds: a good step shrinks λ by a factor in [1/3, 2/3].
         const double a = 2.0 * rho - 1.0;
-        lambda *= std::max(1.0 / 3.0, 1.0 - a * a * a);
+        lambda *= std::clamp(1.0 - a * a * a, 1.0 / 3.0, 2.0 / 3.0);
         nu = 2.0;
         progress.step_accepted = true;
       } else {

@@ -110,7 +110,8 @@ Status SparseSystem::build(const Graph& graph) {
   }
   edge_vertex_begin_.push_back(static_cast<int>(edge_vertex_offset_.size()));
   edge_slot_begin_.push_back(static_cast<int>(slots_.size()));
-  scratch_.assign(3 * max_edge_dim * max_edge_dim + max_edge_dim, 0.0);
+  scratch_stride_ = max_edge_dim * max_edge_dim;
+  scratch_.assign(2 * scratch_stride_ + max_edge_dim, 0.0);
   return Status();
 }
 
@@ -155,8 +156,8 @@ void SparseSystem::assembleEdge(size_t edge_index) {
   double weight = 1.0;
   if (const RobustKernel* kernel = edge.robustKernel()) weight = kernel->robustify(edge.chi2())[1];
 
-  const size_t stride = scratch_.size() / 3;
-  MatrixMap weighted_error(scratch_.data() + 3 * stride, m, 1);
+  const size_t stride = scratch_stride_;
+  MatrixMap weighted_error(scratch_.data() + 2 * stride, m, 1);
   weighted_error.noalias() = weight * (information * error);
 
   const int v_begin = edge_vertex_begin_[edge_index];

@@ -69,7 +69,8 @@ class SparseSystem {
   std::vector<int> diagonal_index_;          ///< position of H(k,k) in values_
   std::vector<double> undamped_diagonal_;
   Eigen::VectorXd rhs_;
-  std::vector<double> scratch_;              ///< per-edge products, sized to the largest edge
+  std::vector<double> scratch_;              ///< [J_aᵀW | block | We], sized to the largest edge
+  size_t scratch_stride_ = 0;
 };
 
 }  // namespace dualgraph

@@ -25,19 +25,22 @@ class TypeRegistry {
   /// AlreadyExists when the tag or the C++ type is registered already.
   template <typename V>
   Status registerVertex(const std::string& tag) {
-    Entry entry{Kind::kVertex};
+    Entry entry;
+    entry.kind = Kind::kVertex;
     entry.make_vertex = [] { return std::unique_ptr<VertexBase>(new V()); };
     return add(tag, typeid(V), std::move(entry));
   }
   template <typename E>
   Status registerEdge(const std::string& tag) {
-    Entry entry{Kind::kEdge};
+    Entry entry;
+    entry.kind = Kind::kEdge;
     entry.make_edge = [] { return std::unique_ptr<EdgeBase>(new E()); };
     return add(tag, typeid(E), std::move(entry));
   }
   template <typename P>
   Status registerParameter(const std::string& tag) {
-    Entry entry{Kind::kParameter};
+    Entry entry;
+    entry.kind = Kind::kParameter;
     entry.make_parameter = [] { return std::unique_ptr<ParameterBase>(new P()); };
     return add(tag, typeid(P), std::move(entry));
   }
@@ -59,7 +62,7 @@ class TypeRegistry {
 
  private:
   struct Entry {
-    Kind kind;
+    Kind kind = Kind::kVertex;
     std::function<std::unique_ptr<VertexBase>()> make_vertex;
     std::function<std::unique_ptr<EdgeBase>()> make_edge;
     std::function<std::unique_ptr<ParameterBase>()> make_parameter;

@@ -18,7 +18,7 @@
 namespace dualgraph {
 namespace {
 
-struct Run {
+struct CommandRun {
   int exit_code = -1;
   std::string out;
   std::string err;
@@ -53,12 +53,12 @@ double jsonNumber(const std::string& json, const std::string& key) {
   return at == std::string::npos ? std::nan("") : std::strtod(json.c_str() + at + needle.size(), nullptr);
 }
 
-Run runDualgraph(const std::string& args) {
+CommandRun runDualgraph(const std::string& args) {
   const char* bin = std::getenv("DUALGRAPH_BIN_DIR");
   const std::string err_path = tempDir() + "/stderr.txt";
   const std::string command = "timeout 60 " + std::string(bin != nullptr ? bin : "build/bin") +
                               "/dualgraph " + args + " 2>" + err_path;
-  Run run;
+  CommandRun run;
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return run;
   char buffer[4096];
@@ -114,7 +114,7 @@ TEST(OptimizeCli, EveryBadInputGivesOneLineNamingFileAndLineAndWritesNothing) {
     SCOPED_TRACE(bad.name);
     const std::string input = writeFile(std::string(bad.name) + ".g2o", bad.content);
     const std::string output = tempDir() + "/" + bad.name + ".out.g2o";
-    const Run run = runDualgraph("optimize " + input + " -o " + output);
+    const CommandRun run = runDualgraph("optimize " + input + " -o " + output);
     EXPECT_EQ(run.exit_code, 1) << run.err;
     EXPECT_NE(run.err.find(input + ":" + std::to_string(bad.line) + ":"), std::string::npos) << run.err;
     EXPECT_NE(run.err.find(bad.fragment), std::string::npos) << run.err;
@@ -125,14 +125,14 @@ TEST(OptimizeCli, EveryBadInputGivesOneLineNamingFileAndLineAndWritesNothing) {
 
 TEST(OptimizeCli, EmptyFileIsAnErrorNamingTheFile) {
   const std::string input = writeFile("empty.g2o", "");
-  const Run run = runDualgraph("optimize " + input + " -o " + input + ".out");
+  const CommandRun run = runDualgraph("optimize " + input + " -o " + input + ".out");
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_NE(run.err.find(input + ": no vertices"), std::string::npos) << run.err;
   EXPECT_FALSE(testing::fileExists(input + ".out"));
 }
 
 TEST(OptimizeCli, MissingFileIsAnError) {
-  const Run run = runDualgraph("optimize " + tempDir() + "/does_not_exist.g2o");
+  const CommandRun run = runDualgraph("optimize " + tempDir() + "/does_not_exist.g2o");
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_NE(run.err.find("cannot open"), std::string::npos) << run.err;
 }
@@ -142,7 +142,7 @@ TEST(OptimizeCli, BadFlagsAreUsageErrors) {
   EXPECT_EQ(runDualgraph("optimize x.g2o -i -3").exit_code, 2);
   EXPECT_EQ(runDualgraph("").exit_code, 2);
   const std::string input = writeFile("robust.g2o", std::string(kTwoPoses) + kGoodEdge);
-  const Run run = runDualgraph("optimize " + input + " --robust huber:-1");
+  const CommandRun run = runDualgraph("optimize " + input + " --robust huber:-1");
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_NE(run.err.find("DELTA"), std::string::npos) << run.err;
 }
@@ -154,7 +154,7 @@ TEST(OptimizeCli, RepairInformationReportsTheCountAndConverges) {
       "EDGE_SE3:QUAT 1 2 1 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 4 0 0 4 0 4\n";
   const std::string input = writeFile("repair.g2o", content);
   const std::string output = tempDir() + "/repair.out.g2o";
-  const Run run = runDualgraph("optimize " + input + " --repair-information --json -o " + output);
+  const CommandRun run = runDualgraph("optimize " + input + " --repair-information --json -o " + output);
   EXPECT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("\"repaired_information\": 1"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("\"termination\": \"converged\""), std::string::npos) << run.out;
@@ -163,7 +163,7 @@ TEST(OptimizeCli, RepairInformationReportsTheCountAndConverges) {
 
 TEST(OptimizeCli, JsonSummaryHasTheDocumentedKeys) {
   const std::string input = writeFile("good.g2o", std::string(kTwoPoses) + kGoodEdge);
-  const Run run = runDualgraph("optimize " + input + " --json");
+  const CommandRun run = runDualgraph("optimize " + input + " --json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   for (const char* key : {"initial_chi2", "final_chi2", "iterations", "termination", "total_ms",
                           "ms_per_iteration", "vertices", "edges"}) {
@@ -178,14 +178,14 @@ TEST(OptimizeCli, WritesTheOptimisedGraphWhichReadsBack) {
   const std::string input = writeFile("chain.g2o", std::string(kTwoPoses) + kGoodEdge);
   const std::string output = tempDir() + "/chain.out.g2o";
   ASSERT_EQ(runDualgraph("optimize " + input + " -o " + output + " --linear eigen --solver gn").exit_code, 0);
-  const Run again = runDualgraph("optimize " + output + " --json");
+  const CommandRun again = runDualgraph("optimize " + output + " --json");
   EXPECT_EQ(again.exit_code, 0) << again.err;
   EXPECT_LT(jsonNumber(again.out, "initial_chi2"), 1e-12) << again.out;
   EXPECT_NE(readFile(output).find("FIX 0"), std::string::npos);
 }
 
 TEST(OptimizeCli, ListTypesShowsTheRegistry) {
-  const Run run = runDualgraph("optimize --list-types");
+  const CommandRun run = runDualgraph("optimize --list-types");
   EXPECT_EQ(run.exit_code, 0);
   for (const char* tag : {"VERTEX_SE3:QUAT", "EDGE_SE3:QUAT", "EDGE_SE3_PRIOR", "VERTEX_TRACKXYZ",
                           "EDGE_SE3_TRACKXYZ", "EDGE_POINTXYZ_PRIOR", "VERTEX_SE2", "EDGE_SE2",
@@ -196,7 +196,7 @@ TEST(OptimizeCli, ListTypesShowsTheRegistry) {
 
 TEST(OptimizeCli, BundledDemoDataOptimisesToG2oQuality) {
   const std::string input = testing::sourcePath("data/posegraph/parking-garage.g2o");
-  const Run run = runDualgraph("optimize " + input + " --json");
+  const CommandRun run = runDualgraph("optimize " + input + " --json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_LE(jsonNumber(run.out, "final_chi2"), 1.238684 + 5e-7) << run.out;
 }

@@ -1,0 +1,29 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+
+#include "core/edge.h"
+#include "types/vertex_point_xyz.h"
+
+namespace dualgraph {
+
+/// Absolute position prior on one VertexPointXYZ `p_world` (g2o tag `EDGE_POINTXYZ_PRIOR`,
+/// g2o's EdgeXYZPrior). Measurement m = expected `p_world` in metres. Residual: e = p_world − m.
+/// Information Ω (3×3) in m⁻², world axes. File fields after the id: `mx my mz` + 6
+/// upper-triangular Ω entries. Jacobian: the identity.
+class EdgePointXYZPrior final : public BaseEdge<3, Eigen::Vector3d, VertexPointXYZ> {
+ public:
+  static constexpr const char* kTag = "EDGE_POINTXYZ_PRIOR";
+
+  EdgePointXYZPrior() { measurement_.setZero(); }
+
+  void computeError() override { error_ = vertexAs<0>()->estimate() - measurement_; }
+  Status read(TokenReader& in, const ParameterContainer& parameters) override;
+  void write(std::ostream& out) const override;
+
+ protected:
+  void linearizeOplus() override { jacobianOplus<0>().setIdentity(); }
+};
+
+}  // namespace dualgraph

@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include "core/edge.h"
+#include "types/g2o_text.h"
+#include "types/vertex_se3.h"
+
+namespace dualgraph {
+
+/// Relative pose between two VertexSE3 (g2o tag `EDGE_SE3:QUAT`), e.g. odometry or a loop
+/// closure. Vertices: slot 0 `world_T_i`, slot 1 `world_T_j`; measurement Z = `i_T_j`.
+/// Residual (g2o's, exactly): e = g2oChart(Z⁻¹ · world_T_i⁻¹ · world_T_j) = [t; q.vec] of the
+/// error pose with the quaternion's sign chosen so that w ≥ 0, order [t; q.vec].
+/// Information Ω (6×6, [t; q.vec] order) is in g2o units: m⁻² for t and (q.vec)⁻² ≈ 4 rad⁻²
+/// for the rotation; convert a metric [t; θ] information with informationMetricToG2o().
+/// File fields after the ids: `x y z qx qy qz qw` (quaternion normalised on read, as g2o does)
+/// and the 21 upper-triangular entries of Ω. Analytic Jacobians.
+class EdgeSE3 final : public BaseEdge<6, Eigen::Isometry3d, VertexSE3, VertexSE3> {
+ public:
+  static constexpr const char* kTag = "EDGE_SE3:QUAT";
+
+  EdgeSE3() { setMeasurement(Eigen::Isometry3d::Identity()); }
+
+  /// Stores Z = `i_T_j` and caches Z⁻¹.
+  void setMeasurement(const Eigen::Isometry3d& i_T_j) override;
+  const Eigen::Isometry3d& inverseMeasurement() const { return j_T_i_measured_; }
+
+  void computeError() override;
+  Status read(TokenReader& in, const ParameterContainer& parameters) override;
+  void write(std::ostream& out) const override;
+
+ protected:
+  void linearizeOplus() override;
+
+ private:
+  Eigen::Isometry3d j_T_i_measured_ = Eigen::Isometry3d::Identity();
+  G2oPoseText text_{QuaternionReading::kNormalise};
+};
+
+}  // namespace dualgraph

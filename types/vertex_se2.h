@@ -1,0 +1,25 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include "core/vertex.h"
+#include "types/se2.h"
+
+namespace dualgraph {
+
+/// A planar pose `world_T_body` (g2o tag `VERTEX_SE2`). Tangent [δx; δy; δθ] (metres in world
+/// axes, radians), additive as in g2o: (x, y, θ) ← (x + δx, y + δy, wrap(θ + δθ)), θ ∈ (−π, π].
+/// File fields: `x y theta`.
+class VertexSE2 final : public BaseVertex<3, SE2> {
+ public:
+  static constexpr const char* kTag = "VERTEX_SE2";
+
+  explicit VertexSE2(int id = -1) : BaseVertex(id) {}
+
+  Status read(TokenReader& in) override;
+  void write(std::ostream& out) const override;
+
+ protected:
+  void oplusImpl(const Tangent& delta) override;
+};
+
+}  // namespace dualgraph

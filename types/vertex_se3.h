@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include "core/vertex.h"
+#include "types/g2o_text.h"
+#include "types/se3_math.h"
+
+namespace dualgraph {
+
+/// A 3-D pose `world_T_body` (g2o tag `VERTEX_SE3:QUAT`): maps points from the body frame to the
+/// world frame. Tangent: g2o's 6-vector [δt; δq] (δq ≈ δθ/2, see se3_math.h), applied on the
+/// right: x ← x · g2oIncrement(δ), so δt is in metres along the body axes.
+/// File fields: `x y z qx qy qz qw` (Hamilton quaternion). As in g2o the quaternion is used as
+/// written when it is within 1e-3 of unit norm (keeps χ² equal to g2o's), normalised otherwise;
+/// a zero-norm quaternion is an error. The rotation is re-orthonormalised every 1000 increments.
+class VertexSE3 final : public BaseVertex<6, Eigen::Isometry3d> {
+ public:
+  static constexpr const char* kTag = "VERTEX_SE3:QUAT";
+  /// Increments between two re-orthonormalisations of the rotation block.
+  static constexpr int kOrthonormaliseEvery = 1000;
+
+  explicit VertexSE3(int id = -1) : BaseVertex(id) { estimate_.setIdentity(); }
+
+  Status read(TokenReader& in) override;
+  void write(std::ostream& out) const override;
+
+ protected:
+  void oplusImpl(const Tangent& delta) override;
+
+ private:
+  int increments_since_orthonormalise_ = 0;
+  G2oPoseText text_{QuaternionReading::kAsWrittenNearUnit};
+};
+
+}  // namespace dualgraph
