@@ -44,7 +44,7 @@ Problem& problem(const std::string& name) {
     p.error = report.status().message();
     return p;
   }
-  if (VertexBase* gauge = chooseGaugeVertex(p.graph)) (void)p.graph.setFixed(gauge->id(), true);
+  if (VertexBase* gauge = chooseGaugeVertex(p.graph, GaugeChoice::kHighestId)) (void)p.graph.setFixed(gauge->id(), true);
   p.optimizer = std::make_unique<Optimizer>(p.graph, makeLinearSolver(LinearSolverKind::kCholmod));
   // Builds the structure and the symbolic analysis outside the timed loops.
   p.ok = p.optimizer->factorizeAtCurrentEstimate().ok();

@@ -100,14 +100,16 @@ double Graph::chi2(bool robust) const {
   return sum;
 }
 
-VertexBase* chooseGaugeVertex(const Graph& graph) {
+VertexBase* chooseGaugeVertex(const Graph& graph, GaugeChoice choice) {
   std::unordered_set<const VertexBase*> attached;
   for (const auto& edge : graph.edges()) attached.insert(edge->vertices().begin(), edge->vertices().end());
   VertexBase* best = nullptr;
   for (const auto& [id, vertex] : graph.vertices()) {
     if (vertex->fixed()) return nullptr;
     if (attached.count(vertex.get()) == 0) continue;
-    if (best == nullptr || vertex->tangentDim() > best->tangentDim()) best = vertex.get();
+    const bool better = best == nullptr || vertex->tangentDim() > best->tangentDim() ||
+                        (choice == GaugeChoice::kHighestId && vertex->tangentDim() == best->tangentDim());
+    if (better) best = vertex.get();
   }
   return best;
 }

@@ -61,9 +61,15 @@ class Graph {
   uint64_t structure_version_ = 0;
 };
 
-/// The vertex to fix when nothing is fixed (the gauge), as g2o's tool does: the lowest-id vertex
-/// of the largest tangent dimension among those attached to an edge. nullptr when some vertex is
-/// fixed already or the graph has no edges.
-VertexBase* chooseGaugeVertex(const Graph& graph);
+/// Which vertex `chooseGaugeVertex` fixes among those of the largest tangent dimension.
+enum class GaugeChoice {
+  kLowestId,   ///< the conventional first pose
+  kHighestId,  ///< what g2o's command-line tool ends up fixing on the public datasets (see README)
+};
+
+/// The vertex to fix when nothing is fixed (the gauge): among the vertices attached to an edge and
+/// of the largest tangent dimension, the lowest or highest id. nullptr when some vertex is fixed
+/// already or the graph has no edges.
+VertexBase* chooseGaugeVertex(const Graph& graph, GaugeChoice choice = GaugeChoice::kLowestId);
 
 }  // namespace dualgraph

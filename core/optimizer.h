@@ -16,7 +16,7 @@ enum class Algorithm { kLevenbergMarquardt, kGaussNewton };
 
 /// Why `Optimizer::optimize` stopped. The estimate is always left at the best accepted state.
 enum class TerminationReason {
-  kConverged,            ///< relative χ² decrease of an accepted step fell below the threshold
+  kConverged,            ///< an accepted step decreased χ² (relatively) or moved less than the thresholds
   kMaxIterations,        ///< the iteration cap was reached
   kNoDecrease,           ///< LM found no decreasing step within `max_trials` damping increases
   kTimeBudget,           ///< the wall-time budget was used up
@@ -43,6 +43,9 @@ struct OptimizerParams {
   int max_iterations = 100;
   /// Stop when an accepted step lowers χ² by less than this fraction of the previous χ².
   double relative_decrease_stop = 1e-9;
+  /// Also stop when the largest entry of an accepted step is below this (tangent units); this ends
+  /// zero-residual problems, whose χ² keeps falling by large fractions down to round-off.
+  double step_norm_stop = 1e-12;
   /// Wall-time budget in milliseconds; 0 = none. Checked between trials.
   double time_budget_ms = 0.0;
   /// LM: initial λ = tau · max diag(H) (g2o's default 1e-5); ignored when `initial_lambda` > 0.

@@ -92,7 +92,8 @@ void Optimizer::runLevenbergMarquardt(const OptimizerParams& params, SolverSumma
       progress.chi2 = chi2;
       progress.iteration_ms = nowMs() - iteration_start;
       if (params.callback) params.callback(progress);
-      if (previous - chi2 <= params.relative_decrease_stop * previous) {
+      if (previous - chi2 <= params.relative_decrease_stop * previous ||
+          step_.lpNorm<Eigen::Infinity>() < params.step_norm_stop) {
         summary.termination = TerminationReason::kConverged;
         return;
       }
@@ -160,7 +161,8 @@ void Optimizer::runGaussNewton(const OptimizerParams& params, SolverSummary& sum
     progress.step_accepted = true;
     progress.iteration_ms = nowMs() - iteration_start;
     if (params.callback) params.callback(progress);
-    if (std::fabs(previous - chi2) <= params.relative_decrease_stop * previous) {
+    if (std::fabs(previous - chi2) <= params.relative_decrease_stop * previous ||
+        step_.lpNorm<Eigen::Infinity>() < params.step_norm_stop) {
       summary.termination = TerminationReason::kConverged;
       return;
     }

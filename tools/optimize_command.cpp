@@ -57,7 +57,10 @@ CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& o) {
   cmd->add_flag("--repair-information", o.repair_information,
                 "Replace non-positive-definite information matrices by the nearest positive-definite ones");
   cmd->add_flag("--skip-unknown-tags", o.skip_unknown_tags, "Skip lines with unknown tags (default: error)");
-  cmd->add_flag("--no-gauge", o.no_gauge, "Do not fix a vertex when the file fixes none");
+  cmd->add_option("--gauge", o.gauge,
+                  "Vertex fixed when the file fixes none: highest (id, as g2o's tool ends up doing), "
+                  "lowest, or none")
+      ->check(CLI::IsMember({"highest", "lowest", "none"}));
   cmd->add_flag("-v,--verbose", o.verbose, "Print one line per iteration (to stderr)");
   return cmd;
 }
@@ -93,8 +96,9 @@ int runOptimizeCommand(const OptimizeOptions& o) {
     for (const auto& edge : graph.edges()) edge->setRobustKernel(*kernel);
   }
   int gauge_id = -1;
-  if (!o.no_gauge) {
-    if (VertexBase* gauge = chooseGaugeVertex(graph)) {
+  if (o.gauge != "none") {
+    const GaugeChoice choice = o.gauge == "lowest" ? GaugeChoice::kLowestId : GaugeChoice::kHighestId;
+    if (VertexBase* gauge = chooseGaugeVertex(graph, choice)) {
       gauge_id = gauge->id();
       (void)graph.setFixed(gauge_id, true);
     }

@@ -18,7 +18,7 @@ struct OptimizeOptions {
   bool list_types = false;
   bool repair_information = false;
   bool skip_unknown_tags = false;
-  bool no_gauge = false;
+  std::string gauge = "highest";
   bool verbose = false;
   double relative_decrease = 1e-9;
   double time_budget_ms = 0.0;

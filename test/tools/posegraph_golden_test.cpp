@@ -54,7 +54,10 @@ TEST_P(PoseGraphGolden, InitialChi2EqualsG2oAndFinalChi2IsAtOrBelowG2o) {
     // g2o prints 6 decimals: allow that rounding on top of the 1e-9 relative requirement.
     EXPECT_NEAR(initial, golden.g2o_initial_chi2, 1e-9 * golden.g2o_initial_chi2 + 5e-7);
 
-    VertexBase* gauge = chooseGaugeVertex(graph);
+    // g2o's tool fixes the first vertex of its hash-map iteration, the highest id on these files.
+    // The gauge matters at the 1e-8 level because g2o (and we, to match its χ² to 1e-9) keep the
+    // files' 6-digit quaternions as written, so vertex rotations are not exactly orthonormal.
+    VertexBase* gauge = chooseGaugeVertex(graph, GaugeChoice::kHighestId);
     ASSERT_NE(gauge, nullptr);
     ASSERT_TRUE(graph.setFixed(gauge->id(), true).ok());
     Optimizer optimizer(graph, makeLinearSolver(*parseLinearSolverKind(linear)));
