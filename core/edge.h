@@ -39,6 +39,9 @@ class EdgeBase {
   virtual void computeError() = 0;
   /// Recomputes the error and the Jacobians (analytic where the type provides them, numeric otherwise).
   virtual void linearize() = 0;
+  /// Recomputes only the Jacobians; the stored error must be current (the optimiser calls this
+  /// right after evaluating χ² at the same estimate, so the error is not computed twice).
+  virtual void computeJacobians() = 0;
   /// The error computed by the last computeError/linearize (errorDim() doubles).
   virtual const double* errorData() const = 0;
   /// Jacobian of the error w.r.t. vertex `i`'s increment: errorDim() × tangentDim, column-major.
@@ -139,6 +142,7 @@ class BaseEdge : public EdgeBase {
     computeError();
     linearizeOplus();
   }
+  void computeJacobians() final { linearizeOplus(); }
   const double* errorData() const final { return error_.data(); }
   const double* jacobianData(size_t i) const final { return jacobian_ptrs_.at(i); }
   const double* informationData() const final { return information_.data(); }

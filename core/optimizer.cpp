@@ -95,7 +95,8 @@ double Optimizer::evaluateChi2(std::string* first_bad) {
 void Optimizer::linearizeAndAssemble(SolverSummary& summary) {
   {
     PhaseTimer timer(summary.linearize_ms);
-    for (EdgeBase* edge : system_.activeEdges()) edge->linearize();
+    // Every caller evaluated χ² (hence every error) at the current estimate just before.
+    for (EdgeBase* edge : system_.activeEdges()) edge->computeJacobians();
   }
   PhaseTimer timer(summary.assemble_ms);
   system_.assemble();
@@ -117,6 +118,7 @@ Status Optimizer::factorizeAtCurrentEstimate() {
   SolverSummary summary;
   DG_RETURN_IF_ERROR(ensureStructure(summary));
   if (system_.dim() == 0) return Status(StatusCode::kFailedPrecondition, "no free vertex in the system");
+  evaluateChi2(nullptr);
   linearizeAndAssemble(summary);
   system_.setDamping(0.0);
   return solver_->factorize(system_.matrix());

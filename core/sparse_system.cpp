@@ -98,6 +98,14 @@ Status SparseSystem::build(const Graph& graph) {
     const auto& vs = edge->vertices();
     if (std::all_of(vs.begin(), vs.end(), [](const VertexBase* v) { return v->fixed(); })) continue;
     active_edges_.push_back(edge.get());
+    const int m = edge->errorDim();
+    const bool uniform = std::all_of(vs.begin(), vs.end(), [m](const VertexBase* v) {
+      return v->fixed() || v->tangentDim() == m;
+    });
+    edge_kernel_.push_back(!uniform ? EdgeKernel::kDynamic
+                           : m == 6 ? EdgeKernel::kFixed6
+                           : m == 3 ? EdgeKernel::kFixed3
+                                    : EdgeKernel::kDynamic);
     edge_vertex_begin_.push_back(static_cast<int>(edge_vertex_offset_.size()));
     edge_slot_begin_.push_back(static_cast<int>(slots_.size()));
     for (size_t a = 0; a < vs.size(); ++a) {
@@ -146,7 +154,45 @@ void SparseSystem::setDamping(double lambda) {
   for (int k = 0; k < dim_; ++k) values_[diagonal_index_[k]] = undamped_diagonal_[k] + lambda;
 }
 
+/// Fixed-size kernel for edges whose error and active vertices all have dimension N (SE(3) and
+/// SE(2) pose graphs): the products vectorise and nothing is sized at run time.
+template <int N>
+void SparseSystem::assembleEdgeFixed(size_t edge_index) {
+  using Square = Eigen::Matrix<double, N, N>;
+  const EdgeBase& edge = *active_edges_[edge_index];
+  const Eigen::Map<const Square> information(edge.informationData());
+  const Eigen::Map<const Eigen::Matrix<double, N, 1>> error(edge.errorData());
+  double weight = 1.0;
+  if (const RobustKernel* kernel = edge.robustKernel()) weight = kernel->robustify(edge.chi2())[1];
+  const Square w_information = weight * information;
+  const Eigen::Matrix<double, N, 1> weighted_error = w_information * error;
+
+  const int v_begin = edge_vertex_begin_[edge_index];
+  const int num_slots = edge_vertex_begin_[edge_index + 1] - v_begin;
+  int slot = edge_slot_begin_[edge_index];
+  for (int a = 0; a < num_slots; ++a) {
+    const int offset_a = edge_vertex_offset_[v_begin + a];
+    if (offset_a < 0) continue;
+    const Eigen::Map<const Square> jacobian_a(edge.jacobianData(a));
+    rhs_.template segment<N>(offset_a).noalias() -= jacobian_a.transpose() * weighted_error;
+    const Square jt_w = jacobian_a.transpose() * w_information;
+    for (int b = a; b < num_slots; ++b) {
+      if (edge_vertex_offset_[v_begin + b] < 0) continue;
+      const Square block = jt_w * Eigen::Map<const Square>(edge.jacobianData(b));
+      scatter(slots_[slot++], block.data(), N, N);
+    }
+  }
+}
+
 void SparseSystem::assembleEdge(size_t edge_index) {
+  switch (edge_kernel_[edge_index]) {
+    case EdgeKernel::kFixed6: return assembleEdgeFixed<6>(edge_index);
+    case EdgeKernel::kFixed3: return assembleEdgeFixed<3>(edge_index);
+    case EdgeKernel::kDynamic: return assembleEdgeDynamic(edge_index);
+  }
+}
+
+void SparseSystem::assembleEdgeDynamic(size_t edge_index) {
   using MatrixMap = Eigen::Map<Eigen::MatrixXd>;
   using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd>;
   const EdgeBase& edge = *active_edges_[edge_index];

@@ -51,7 +51,11 @@ class SparseSystem {
     bool transposed;   ///< the edge pair (a,b) lands as (b,a) in the upper triangle
     bool diagonal;
   };
+  enum class EdgeKernel : unsigned char { kDynamic, kFixed6, kFixed3 };
   void assembleEdge(size_t edge_index);
+  void assembleEdgeDynamic(size_t edge_index);
+  template <int N>
+  void assembleEdgeFixed(size_t edge_index);
   void scatter(const BlockSlot& slot, const double* block, int rows, int cols);
 
   int dim_ = 0;
@@ -59,6 +63,7 @@ class SparseSystem {
   std::vector<int> active_offset_;           ///< scalar offset per active vertex
   std::unordered_map<const VertexBase*, int> offset_by_vertex_;
   std::vector<EdgeBase*> active_edges_;
+  std::vector<EdgeKernel> edge_kernel_;      ///< per active edge: which assembly kernel fits it
   std::vector<int> edge_vertex_offset_;      ///< per edge slot: scalar offset or -1 (fixed)
   std::vector<int> edge_vertex_begin_;       ///< per edge: index into edge_vertex_offset_
   std::vector<BlockSlot> slots_;             ///< per edge, pairs a ≤ b of active slots

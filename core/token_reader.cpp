@@ -21,7 +21,8 @@ std::string quoted(std::string_view token) {
 }  // namespace
 
 TokenReader::TokenReader(std::string_view line, std::string source, int line_number)
-    : source_(std::move(source)), line_number_(line_number) {
+    : line_(line), source_(std::move(source)), line_number_(line_number) {
+  line = line_;
   size_t i = 0;
   while (i < line.size()) {
     while (i < line.size() && isSpace(line[i])) ++i;

@@ -16,7 +16,10 @@ namespace dualgraph {
 class TokenReader {
  public:
   /// `source` is the file name (or "<string>") and `line_number` is 1-based, for messages.
+  /// The line is copied, so a temporary string may be passed.
   TokenReader(std::string_view line, std::string source, int line_number);
+  TokenReader(const TokenReader&) = delete;  // tokens point into line_
+  TokenReader& operator=(const TokenReader&) = delete;
 
   /// The next raw token; error if the line has ended.
   Status readToken(std::string& out, std::string_view field);
@@ -60,6 +63,7 @@ class TokenReader {
   static std::string indexedField(std::string_view field, int index);
 
  private:
+  std::string line_;
   std::vector<std::string_view> tokens_;
   size_t next_ = 0;
   std::string source_;
