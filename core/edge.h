@@ -39,6 +39,11 @@ class EdgeBase {
   virtual void computeError() = 0;
   /// Recomputes the error and the Jacobians (analytic where the type provides them, numeric otherwise).
   virtual void linearize() = 0;
+  /// True when `linearize`/`computeJacobians` only read the vertices (analytic Jacobians), so the
+  /// optimiser may linearise this edge concurrently with others. Numeric differentiation perturbs
+  /// the shared vertices, hence the safe default `false`; types with analytic Jacobians override it.
+  /// (`computeError` must never modify vertices: it is always evaluated concurrently.)
+  virtual bool hasAnalyticJacobians() const { return false; }
   /// Recomputes only the Jacobians; the stored error must be current (the optimiser calls this
   /// right after evaluating χ² at the same estimate, so the error is not computed twice).
   virtual void computeJacobians() = 0;

@@ -8,6 +8,9 @@
 namespace dualgraph {
 namespace {
 
+/// Below this many edges the per-edge loops stay on one thread.
+constexpr long kParallelEdgeThreshold = 512;
+
 double nowMs() {
   using Clock = std::chrono::steady_clock;
   return std::chrono::duration<double, std::milli>(Clock::now().time_since_epoch()).count();
@@ -77,14 +80,22 @@ Status Optimizer::ensureStructure(SolverSummary& summary) {
 
 double Optimizer::evaluateChi2(std::string* first_bad) {
   errors_stale_ = false;
+  const auto& edges = graph_.edges();
+  const long n = static_cast<long>(edges.size());
+  edge_chi2_.resize(edges.size());
+  // Errors in parallel, then a serial sum, so χ² does not depend on the thread count.
+#pragma omp parallel for schedule(static) if (n >= kParallelEdgeThreshold)
+  for (long k = 0; k < n; ++k) {
+    edges[k]->computeError();
+    edge_chi2_[k] = edges[k]->robustChi2();
+  }
   double sum = 0.0;
-  for (const auto& edge : graph_.edges()) {
-    edge->computeError();
-    const double chi2 = edge->robustChi2();
+  for (long k = 0; k < n; ++k) {
+    const double chi2 = edge_chi2_[k];
     if (!std::isfinite(chi2) && first_bad != nullptr && first_bad->empty()) {
       *first_bad = "edge between vertices";
-      for (const VertexBase* v : edge->vertices()) *first_bad += " " + std::to_string(v->id());
-      if (edge->sourceLine() > 0) *first_bad += " (line " + std::to_string(edge->sourceLine()) + ")";
+      for (const VertexBase* v : edges[k]->vertices()) *first_bad += " " + std::to_string(v->id());
+      if (edges[k]->sourceLine() > 0) *first_bad += " (line " + std::to_string(edges[k]->sourceLine()) + ")";
       *first_bad += " has a non-finite χ²";
     }
     sum += chi2;
@@ -96,7 +107,17 @@ void Optimizer::linearizeAndAssemble(SolverSummary& summary) {
   {
     PhaseTimer timer(summary.linearize_ms);
     // Every caller evaluated χ² (hence every error) at the current estimate just before.
-    for (EdgeBase* edge : system_.activeEdges()) edge->computeJacobians();
+    // Analytic Jacobians only read the vertices and run in parallel; numeric ones perturb shared
+    // vertices and run serially.
+    const auto& edges = system_.activeEdges();
+    const long n = static_cast<long>(edges.size());
+#pragma omp parallel for schedule(static) if (n >= kParallelEdgeThreshold)
+    for (long k = 0; k < n; ++k) {
+      if (edges[k]->hasAnalyticJacobians()) edges[k]->computeJacobians();
+    }
+    for (long k = 0; k < n; ++k) {
+      if (!edges[k]->hasAnalyticJacobians()) edges[k]->computeJacobians();
+    }
   }
   PhaseTimer timer(summary.assemble_ms);
   system_.assemble();

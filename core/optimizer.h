@@ -118,7 +118,8 @@ class Optimizer {
   std::vector<std::pair<const VertexBase*, bool>> fixed_snapshot_;
   Eigen::VectorXd step_;
   double start_time_ms_ = 0.0;
-  bool errors_stale_ = false;  ///< edges hold errors of a rejected trial
+  bool errors_stale_ = false;
+  std::vector<double> edge_chi2_;  ///< per-edge robust χ² of the last evaluation  ///< edges hold errors of a rejected trial
 };
 
 }  // namespace dualgraph

@@ -120,6 +120,21 @@ Status SparseSystem::build(const Graph& graph) {
   edge_slot_begin_.push_back(static_cast<int>(slots_.size()));
   scratch_stride_ = max_edge_dim * max_edge_dim;
   scratch_.assign(2 * scratch_stride_ + max_edge_dim, 0.0);
+  // Per-edge products: the rhs part of every active vertex, then every block, in slot order.
+  edge_buffer_begin_.assign(1, 0);
+  for (size_t e = 0; e < active_edges_.size(); ++e) {
+    size_t size = 0;
+    const auto& vs = active_edges_[e]->vertices();
+    for (size_t a = 0; a < vs.size(); ++a) {
+      if (vs[a]->fixed()) continue;
+      size += vs[a]->tangentDim();
+      for (size_t b = a; b < vs.size(); ++b) {
+        if (!vs[b]->fixed()) size += static_cast<size_t>(vs[a]->tangentDim()) * vs[b]->tangentDim();
+      }
+    }
+    edge_buffer_begin_.push_back(edge_buffer_begin_.back() + size);
+  }
+  edge_buffer_.assign(edge_buffer_begin_.back(), 0.0);
   return Status();
 }
 
@@ -146,7 +161,18 @@ double SparseSystem::maxDiagonal() const {
 void SparseSystem::assemble() {
   std::fill(values_.begin(), values_.end(), 0.0);
   rhs_.setZero();
-  for (size_t e = 0; e < active_edges_.size(); ++e) assembleEdge(e);
+  // Phase 1: every edge's Jᵀ W J blocks and Jᵀ W e into its own buffer slice (independent, so the
+  // fixed-size kernels run in parallel). Phase 2: scatter serially into H and b.
+  const long num_edges = static_cast<long>(active_edges_.size());
+#pragma omp parallel for schedule(static) if (num_edges >= kParallelEdgeThreshold)
+  for (long e = 0; e < num_edges; ++e) {
+    if (edge_kernel_[e] == EdgeKernel::kFixed6) computeEdgeFixed<6>(e);
+    if (edge_kernel_[e] == EdgeKernel::kFixed3) computeEdgeFixed<3>(e);
+  }
+  for (long e = 0; e < num_edges; ++e) {
+    if (edge_kernel_[e] == EdgeKernel::kDynamic) computeEdgeDynamic(e);
+  }
+  for (long e = 0; e < num_edges; ++e) scatterEdge(e);
   for (int k = 0; k < dim_; ++k) undamped_diagonal_[k] = values_[diagonal_index_[k]];
 }
 
@@ -157,7 +183,7 @@ void SparseSystem::setDamping(double lambda) {
 /// Fixed-size kernel for edges whose error and active vertices all have dimension N (SE(3) and
 /// SE(2) pose graphs): the products vectorise and nothing is sized at run time.
 template <int N>
-void SparseSystem::assembleEdgeFixed(size_t edge_index) {
+void SparseSystem::computeEdgeFixed(size_t edge_index) {
   using Square = Eigen::Matrix<double, N, N>;
   const EdgeBase& edge = *active_edges_[edge_index];
   const Eigen::Map<const Square> information(edge.informationData());
@@ -167,32 +193,24 @@ void SparseSystem::assembleEdgeFixed(size_t edge_index) {
   const Square w_information = weight * information;
   const Eigen::Matrix<double, N, 1> weighted_error = w_information * error;
 
+  double* out = edge_buffer_.data() + edge_buffer_begin_[edge_index];
   const int v_begin = edge_vertex_begin_[edge_index];
   const int num_slots = edge_vertex_begin_[edge_index + 1] - v_begin;
-  int slot = edge_slot_begin_[edge_index];
   for (int a = 0; a < num_slots; ++a) {
-    const int offset_a = edge_vertex_offset_[v_begin + a];
-    if (offset_a < 0) continue;
+    if (edge_vertex_offset_[v_begin + a] < 0) continue;
     const Eigen::Map<const Square> jacobian_a(edge.jacobianData(a));
-    rhs_.template segment<N>(offset_a).noalias() -= jacobian_a.transpose() * weighted_error;
+    Eigen::Map<Eigen::Matrix<double, N, 1>>(out).noalias() = -(jacobian_a.transpose() * weighted_error);
+    out += N;
     const Square jt_w = jacobian_a.transpose() * w_information;
     for (int b = a; b < num_slots; ++b) {
       if (edge_vertex_offset_[v_begin + b] < 0) continue;
-      const Square block = jt_w * Eigen::Map<const Square>(edge.jacobianData(b));
-      scatter(slots_[slot++], block.data(), N, N);
+      Eigen::Map<Square>(out).noalias() = jt_w * Eigen::Map<const Square>(edge.jacobianData(b));
+      out += N * N;
     }
   }
 }
 
-void SparseSystem::assembleEdge(size_t edge_index) {
-  switch (edge_kernel_[edge_index]) {
-    case EdgeKernel::kFixed6: return assembleEdgeFixed<6>(edge_index);
-    case EdgeKernel::kFixed3: return assembleEdgeFixed<3>(edge_index);
-    case EdgeKernel::kDynamic: return assembleEdgeDynamic(edge_index);
-  }
-}
-
-void SparseSystem::assembleEdgeDynamic(size_t edge_index) {
+void SparseSystem::computeEdgeDynamic(size_t edge_index) {
   using MatrixMap = Eigen::Map<Eigen::MatrixXd>;
   using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd>;
   const EdgeBase& edge = *active_edges_[edge_index];
@@ -202,10 +220,31 @@ void SparseSystem::assembleEdgeDynamic(size_t edge_index) {
   double weight = 1.0;
   if (const RobustKernel* kernel = edge.robustKernel()) weight = kernel->robustify(edge.chi2())[1];
 
-  const size_t stride = scratch_stride_;
-  MatrixMap weighted_error(scratch_.data() + 2 * stride, m, 1);
+  MatrixMap weighted_error(scratch_.data() + 2 * scratch_stride_, m, 1);
   weighted_error.noalias() = weight * (information * error);
+  double* out = edge_buffer_.data() + edge_buffer_begin_[edge_index];
+  const int v_begin = edge_vertex_begin_[edge_index];
+  const int num_slots = edge_vertex_begin_[edge_index + 1] - v_begin;
+  for (int a = 0; a < num_slots; ++a) {
+    if (edge_vertex_offset_[v_begin + a] < 0) continue;
+    const int da = edge.vertex(a)->tangentDim();
+    const ConstMatrixMap jacobian_a(edge.jacobianData(a), m, da);
+    MatrixMap(out, da, 1).noalias() = -(jacobian_a.transpose() * weighted_error);
+    out += da;
+    MatrixMap jt_w(scratch_.data(), da, m);  // J_aᵀ W
+    jt_w.noalias() = weight * (jacobian_a.transpose() * information);
+    for (int b = a; b < num_slots; ++b) {
+      if (edge_vertex_offset_[v_begin + b] < 0) continue;
+      const int db = edge.vertex(b)->tangentDim();
+      MatrixMap(out, da, db).noalias() = jt_w * ConstMatrixMap(edge.jacobianData(b), m, db);
+      out += da * db;
+    }
+  }
+}
 
+void SparseSystem::scatterEdge(size_t edge_index) {
+  const EdgeBase& edge = *active_edges_[edge_index];
+  const double* in = edge_buffer_.data() + edge_buffer_begin_[edge_index];
   const int v_begin = edge_vertex_begin_[edge_index];
   const int num_slots = edge_vertex_begin_[edge_index + 1] - v_begin;
   int slot = edge_slot_begin_[edge_index];
@@ -213,16 +252,13 @@ void SparseSystem::assembleEdgeDynamic(size_t edge_index) {
     const int offset_a = edge_vertex_offset_[v_begin + a];
     if (offset_a < 0) continue;
     const int da = edge.vertex(a)->tangentDim();
-    const ConstMatrixMap jacobian_a(edge.jacobianData(a), m, da);
-    rhs_.segment(offset_a, da).noalias() -= jacobian_a.transpose() * weighted_error;
-    MatrixMap jt_w(scratch_.data(), da, m);  // J_aᵀ W
-    jt_w.noalias() = weight * (jacobian_a.transpose() * information);
+    for (int r = 0; r < da; ++r) rhs_[offset_a + r] += in[r];
+    in += da;
     for (int b = a; b < num_slots; ++b) {
       if (edge_vertex_offset_[v_begin + b] < 0) continue;
       const int db = edge.vertex(b)->tangentDim();
-      MatrixMap block(scratch_.data() + stride, da, db);
-      block.noalias() = jt_w * ConstMatrixMap(edge.jacobianData(b), m, db);
-      scatter(slots_[slot++], block.data(), da, db);
+      scatter(slots_[slot++], in, da, db);
+      in += da * db;
     }
   }
 }

@@ -52,10 +52,12 @@ class SparseSystem {
     bool diagonal;
   };
   enum class EdgeKernel : unsigned char { kDynamic, kFixed6, kFixed3 };
-  void assembleEdge(size_t edge_index);
-  void assembleEdgeDynamic(size_t edge_index);
+  /// Below this many edges assembly stays on one thread (threads cost more than they save).
+  static constexpr long kParallelEdgeThreshold = 512;
   template <int N>
-  void assembleEdgeFixed(size_t edge_index);
+  void computeEdgeFixed(size_t edge_index);
+  void computeEdgeDynamic(size_t edge_index);
+  void scatterEdge(size_t edge_index);
   void scatter(const BlockSlot& slot, const double* block, int rows, int cols);
 
   int dim_ = 0;
@@ -74,6 +76,8 @@ class SparseSystem {
   std::vector<int> diagonal_index_;          ///< position of H(k,k) in values_
   std::vector<double> undamped_diagonal_;
   Eigen::VectorXd rhs_;
+  std::vector<size_t> edge_buffer_begin_;    ///< per edge: its slice of edge_buffer_
+  std::vector<double> edge_buffer_;          ///< per-edge Jᵀ W e and Jᵀ W J blocks before scattering
   std::vector<double> scratch_;              ///< [J_aᵀW | block | We], sized to the largest edge
   size_t scratch_stride_ = 0;
 };

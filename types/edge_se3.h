@@ -19,6 +19,7 @@ namespace dualgraph {
 /// and the 21 upper-triangular entries of Ω. Analytic Jacobians.
 class EdgeSE3 final : public BaseEdge<6, Eigen::Isometry3d, VertexSE3, VertexSE3> {
  public:
+  bool hasAnalyticJacobians() const override { return true; }
   static constexpr const char* kTag = "EDGE_SE3:QUAT";
 
   EdgeSE3() { setMeasurement(Eigen::Isometry3d::Identity()); }
