@@ -84,7 +84,7 @@ double Optimizer::evaluateChi2(std::string* first_bad) {
   const long n = static_cast<long>(edges.size());
   edge_chi2_.resize(edges.size());
   // Errors in parallel, then a serial sum, so χ² does not depend on the thread count.
-#pragma omp parallel for schedule(static) if (n >= kParallelEdgeThreshold)
+#pragma omp parallel for schedule(static) num_threads(num_threads_) if (num_threads_ > 1 && n >= kParallelEdgeThreshold)
   for (long k = 0; k < n; ++k) {
     edges[k]->computeError();
     edge_chi2_[k] = edges[k]->robustChi2();
@@ -111,7 +111,7 @@ void Optimizer::linearizeAndAssemble(SolverSummary& summary) {
     // vertices and run serially.
     const auto& edges = system_.activeEdges();
     const long n = static_cast<long>(edges.size());
-#pragma omp parallel for schedule(static) if (n >= kParallelEdgeThreshold)
+#pragma omp parallel for schedule(static) num_threads(num_threads_) if (num_threads_ > 1 && n >= kParallelEdgeThreshold)
     for (long k = 0; k < n; ++k) {
       if (edges[k]->hasAnalyticJacobians()) edges[k]->computeJacobians();
     }
@@ -120,7 +120,7 @@ void Optimizer::linearizeAndAssemble(SolverSummary& summary) {
     }
   }
   PhaseTimer timer(summary.assemble_ms);
-  system_.assemble();
+  system_.assemble(num_threads_);
 }
 
 Status Optimizer::solveStep(SolverSummary& summary) {
@@ -148,6 +148,7 @@ Status Optimizer::factorizeAtCurrentEstimate() {
 SolverSummary Optimizer::optimize(const OptimizerParams& params) {
   SolverSummary summary;
   start_time_ms_ = nowMs();
+  num_threads_ = std::max(1, params.num_threads);
   summary.linear_solver = solver_->name();
   const Status structure = ensureStructure(summary);
   summary.vertices = static_cast<int>(system_.activeVertices().size());

@@ -158,13 +158,13 @@ double SparseSystem::maxDiagonal() const {
   return m;
 }
 
-void SparseSystem::assemble() {
+void SparseSystem::assemble(int num_threads) {
   std::fill(values_.begin(), values_.end(), 0.0);
   rhs_.setZero();
   // Phase 1: every edge's Jᵀ W J blocks and Jᵀ W e into its own buffer slice (independent, so the
   // fixed-size kernels run in parallel). Phase 2: scatter serially into H and b.
   const long num_edges = static_cast<long>(active_edges_.size());
-#pragma omp parallel for schedule(static) if (num_edges >= kParallelEdgeThreshold)
+#pragma omp parallel for schedule(static) num_threads(num_threads) if (num_threads > 1 && num_edges >= kParallelEdgeThreshold)
   for (long e = 0; e < num_edges; ++e) {
     if (edge_kernel_[e] == EdgeKernel::kFixed6) computeEdgeFixed<6>(e);
     if (edge_kernel_[e] == EdgeKernel::kFixed3) computeEdgeFixed<3>(e);

@@ -24,8 +24,9 @@ class SparseSystem {
   /// Builds the structure for the current graph. Fails when an edge's vertices are missing.
   Status build(const Graph& graph);
 
-  /// Fills H and b from the edges' current errors and Jacobians (call `EdgeBase::linearize` first).
-  void assemble();
+  /// Fills H and b from the edges' current errors and Jacobians (call `EdgeBase::linearize` first),
+  /// computing the per-edge products on `num_threads` threads when the graph is large.
+  void assemble(int num_threads = 1);
   /// H ← H_undamped + λ I (the value array keeps the undamped diagonal aside).
   void setDamping(double lambda);
 
