@@ -39,11 +39,6 @@ class EdgeBase {
   virtual void computeError() = 0;
   /// Recomputes the error and the Jacobians (analytic where the type provides them, numeric otherwise).
   virtual void linearize() = 0;
-  /// True when `linearize`/`computeJacobians` only read the vertices (analytic Jacobians), so the
-  /// optimiser may linearise this edge concurrently with others. Numeric differentiation perturbs
-  /// the shared vertices, hence the safe default `false`; types with analytic Jacobians override it.
-  /// (`computeError` must never modify vertices: it is always evaluated concurrently.)
-  virtual bool hasAnalyticJacobians() const { return false; }
   /// Recomputes only the Jacobians; the stored error must be current (the optimiser calls this
   /// right after evaluating χ² at the same estimate, so the error is not computed twice).
   virtual void computeJacobians() = 0;
@@ -56,7 +51,7 @@ class EdgeBase {
   virtual double* mutableInformationData() = 0;
 
   /// eᵀΩe of the last computed error (without robust kernel).
-  double chi2() const;
+  virtual double chi2() const;
   /// ρ(eᵀΩe) with the robust kernel, eᵀΩe without.
   double robustChi2() const;
 
@@ -151,6 +146,7 @@ class BaseEdge : public EdgeBase {
   const double* errorData() const final { return error_.data(); }
   const double* jacobianData(size_t i) const final { return jacobian_ptrs_.at(i); }
   const double* informationData() const final { return information_.data(); }
+  double chi2() const final { return error_.dot(information_ * error_); }
   double* mutableInformationData() final { return information_.data(); }
 
  protected:

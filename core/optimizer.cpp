@@ -8,9 +8,6 @@
 namespace dualgraph {
 namespace {
 
-/// Below this many edges the per-edge loops stay on one thread.
-constexpr long kParallelEdgeThreshold = 512;
-
 double nowMs() {
   using Clock = std::chrono::steady_clock;
   return std::chrono::duration<double, std::milli>(Clock::now().time_since_epoch()).count();
@@ -81,17 +78,10 @@ Status Optimizer::ensureStructure(SolverSummary& summary) {
 double Optimizer::evaluateChi2(std::string* first_bad) {
   errors_stale_ = false;
   const auto& edges = graph_.edges();
-  const long n = static_cast<long>(edges.size());
-  edge_chi2_.resize(edges.size());
-  // Errors in parallel, then a serial sum, so χ² does not depend on the thread count.
-#pragma omp parallel for schedule(static) num_threads(num_threads_) if (num_threads_ > 1 && n >= kParallelEdgeThreshold)
-  for (long k = 0; k < n; ++k) {
-    edges[k]->computeError();
-    edge_chi2_[k] = edges[k]->robustChi2();
-  }
   double sum = 0.0;
-  for (long k = 0; k < n; ++k) {
-    const double chi2 = edge_chi2_[k];
+  for (size_t k = 0; k < edges.size(); ++k) {
+    edges[k]->computeError();
+    const double chi2 = edges[k]->robustChi2();
     if (!std::isfinite(chi2) && first_bad != nullptr && first_bad->empty()) {
       *first_bad = "edge between vertices";
       for (const VertexBase* v : edges[k]->vertices()) *first_bad += " " + std::to_string(v->id());
@@ -107,20 +97,10 @@ void Optimizer::linearizeAndAssemble(SolverSummary& summary) {
   {
     PhaseTimer timer(summary.linearize_ms);
     // Every caller evaluated χ² (hence every error) at the current estimate just before.
-    // Analytic Jacobians only read the vertices and run in parallel; numeric ones perturb shared
-    // vertices and run serially.
-    const auto& edges = system_.activeEdges();
-    const long n = static_cast<long>(edges.size());
-#pragma omp parallel for schedule(static) num_threads(num_threads_) if (num_threads_ > 1 && n >= kParallelEdgeThreshold)
-    for (long k = 0; k < n; ++k) {
-      if (edges[k]->hasAnalyticJacobians()) edges[k]->computeJacobians();
-    }
-    for (long k = 0; k < n; ++k) {
-      if (!edges[k]->hasAnalyticJacobians()) edges[k]->computeJacobians();
-    }
+    for (EdgeBase* edge : system_.activeEdges()) edge->computeJacobians();
   }
   PhaseTimer timer(summary.assemble_ms);
-  system_.assemble(num_threads_);
+  system_.assemble();
 }
 
 Status Optimizer::solveStep(SolverSummary& summary) {
@@ -148,7 +128,6 @@ Status Optimizer::factorizeAtCurrentEstimate() {
 SolverSummary Optimizer::optimize(const OptimizerParams& params) {
   SolverSummary summary;
   start_time_ms_ = nowMs();
-  num_threads_ = std::max(1, params.num_threads);
   summary.linear_solver = solver_->name();
   const Status structure = ensureStructure(summary);
   summary.vertices = static_cast<int>(system_.activeVertices().size());

@@ -53,11 +53,6 @@ struct OptimizerParams {
   double initial_lambda = 0.0;
   /// LM: damping increases allowed per iteration before giving up (g2o: 10).
   int max_trials = 10;
-  /// Threads for the per-edge work (errors, analytic Jacobians, Hessian blocks) on graphs of
-  /// ≥ 512 edges; 1 = serial. More than one helps on an otherwise idle machine, but on a loaded
-  /// one (onboard, beside VIO and detection) OpenMP's barriers can cost more than they save, and
-  /// a multi-threaded BLAS competes for the same cores: measure before raising it.
-  int num_threads = 1;
   /// Called after every iteration; must not modify the graph.
   std::function<void(const IterationSummary&)> callback;
 };
@@ -110,7 +105,6 @@ class Optimizer {
   bool structureIsCurrent() const;
   /// Recomputes every edge's error; Σ ρ(eᵀΩe). Names the first non-finite edge in `first_bad`.
   double evaluateChi2(std::string* first_bad);
-  int num_threads_ = 1;  ///< of the running optimize()
   void linearizeAndAssemble(SolverSummary& summary);
   void runLevenbergMarquardt(const OptimizerParams& params, SolverSummary& summary);
   void runGaussNewton(const OptimizerParams& params, SolverSummary& summary);
@@ -124,8 +118,7 @@ class Optimizer {
   std::vector<std::pair<const VertexBase*, bool>> fixed_snapshot_;
   Eigen::VectorXd step_;
   double start_time_ms_ = 0.0;
-  bool errors_stale_ = false;
-  std::vector<double> edge_chi2_;  ///< per-edge robust χ² of the last evaluation  ///< edges hold errors of a rejected trial
+  bool errors_stale_ = false;  ///< edges hold errors of a rejected trial
 };
 
 }  // namespace dualgraph

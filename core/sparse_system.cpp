@@ -121,7 +121,7 @@ Status SparseSystem::build(const Graph& graph) {
   scratch_stride_ = max_edge_dim * max_edge_dim;
   scratch_.assign(2 * scratch_stride_ + max_edge_dim, 0.0);
   // Per-edge products: the rhs part of every active vertex, then every block, in slot order.
-  edge_buffer_begin_.assign(1, 0);
+  size_t max_edge_buffer = 0;
   for (size_t e = 0; e < active_edges_.size(); ++e) {
     size_t size = 0;
     const auto& vs = active_edges_[e]->vertices();
@@ -132,9 +132,9 @@ Status SparseSystem::build(const Graph& graph) {
         if (!vs[b]->fixed()) size += static_cast<size_t>(vs[a]->tangentDim()) * vs[b]->tangentDim();
       }
     }
-    edge_buffer_begin_.push_back(edge_buffer_begin_.back() + size);
+    max_edge_buffer = std::max(max_edge_buffer, size);
   }
-  edge_buffer_.assign(edge_buffer_begin_.back(), 0.0);
+  edge_buffer_.assign(max_edge_buffer, 0.0);
   return Status();
 }
 
@@ -158,21 +158,18 @@ double SparseSystem::maxDiagonal() const {
   return m;
 }
 
-void SparseSystem::assemble(int num_threads) {
+void SparseSystem::assemble() {
   std::fill(values_.begin(), values_.end(), 0.0);
   rhs_.setZero();
-  // Phase 1: every edge's Jᵀ W J blocks and Jᵀ W e into its own buffer slice (independent, so the
-  // fixed-size kernels run in parallel). Phase 2: scatter serially into H and b.
-  const long num_edges = static_cast<long>(active_edges_.size());
-#pragma omp parallel for schedule(static) num_threads(num_threads) if (num_threads > 1 && num_edges >= kParallelEdgeThreshold)
-  for (long e = 0; e < num_edges; ++e) {
-    if (edge_kernel_[e] == EdgeKernel::kFixed6) computeEdgeFixed<6>(e);
-    if (edge_kernel_[e] == EdgeKernel::kFixed3) computeEdgeFixed<3>(e);
+  // Each edge's products go to a small cache-resident buffer and are scattered right away.
+  for (size_t e = 0; e < active_edges_.size(); ++e) {
+    switch (edge_kernel_[e]) {
+      case EdgeKernel::kFixed6: computeEdgeFixed<6>(e, edge_buffer_.data()); break;
+      case EdgeKernel::kFixed3: computeEdgeFixed<3>(e, edge_buffer_.data()); break;
+      case EdgeKernel::kDynamic: computeEdgeDynamic(e, edge_buffer_.data()); break;
+    }
+    scatterEdge(e, edge_buffer_.data());
   }
-  for (long e = 0; e < num_edges; ++e) {
-    if (edge_kernel_[e] == EdgeKernel::kDynamic) computeEdgeDynamic(e);
-  }
-  for (long e = 0; e < num_edges; ++e) scatterEdge(e);
   for (int k = 0; k < dim_; ++k) undamped_diagonal_[k] = values_[diagonal_index_[k]];
 }
 
@@ -181,9 +178,9 @@ void SparseSystem::setDamping(double lambda) {
 }
 
 /// Fixed-size kernel for edges whose error and active vertices all have dimension N (SE(3) and
-/// SE(2) pose graphs): the products vectorise and nothing is sized at run time.
+/// SE(2) pose graphs): the products are unrolled and nothing is sized at run time.
 template <int N>
-void SparseSystem::computeEdgeFixed(size_t edge_index) {
+void SparseSystem::computeEdgeFixed(size_t edge_index, double* out) {
   using Square = Eigen::Matrix<double, N, N>;
   const EdgeBase& edge = *active_edges_[edge_index];
   const Eigen::Map<const Square> information(edge.informationData());
@@ -193,7 +190,6 @@ void SparseSystem::computeEdgeFixed(size_t edge_index) {
   const Square w_information = weight * information;
   const Eigen::Matrix<double, N, 1> weighted_error = w_information * error;
 
-  double* out = edge_buffer_.data() + edge_buffer_begin_[edge_index];
   const int v_begin = edge_vertex_begin_[edge_index];
   const int num_slots = edge_vertex_begin_[edge_index + 1] - v_begin;
   for (int a = 0; a < num_slots; ++a) {
@@ -210,7 +206,7 @@ void SparseSystem::computeEdgeFixed(size_t edge_index) {
   }
 }
 
-void SparseSystem::computeEdgeDynamic(size_t edge_index) {
+void SparseSystem::computeEdgeDynamic(size_t edge_index, double* out) {
   using MatrixMap = Eigen::Map<Eigen::MatrixXd>;
   using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd>;
   const EdgeBase& edge = *active_edges_[edge_index];
@@ -222,7 +218,6 @@ void SparseSystem::computeEdgeDynamic(size_t edge_index) {
 
   MatrixMap weighted_error(scratch_.data() + 2 * scratch_stride_, m, 1);
   weighted_error.noalias() = weight * (information * error);
-  double* out = edge_buffer_.data() + edge_buffer_begin_[edge_index];
   const int v_begin = edge_vertex_begin_[edge_index];
   const int num_slots = edge_vertex_begin_[edge_index + 1] - v_begin;
   for (int a = 0; a < num_slots; ++a) {
@@ -242,9 +237,8 @@ void SparseSystem::computeEdgeDynamic(size_t edge_index) {
   }
 }
 
-void SparseSystem::scatterEdge(size_t edge_index) {
+void SparseSystem::scatterEdge(size_t edge_index, const double* in) {
   const EdgeBase& edge = *active_edges_[edge_index];
-  const double* in = edge_buffer_.data() + edge_buffer_begin_[edge_index];
   const int v_begin = edge_vertex_begin_[edge_index];
   const int num_slots = edge_vertex_begin_[edge_index + 1] - v_begin;
   int slot = edge_slot_begin_[edge_index];

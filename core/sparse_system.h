@@ -24,9 +24,8 @@ class SparseSystem {
   /// Builds the structure for the current graph. Fails when an edge's vertices are missing.
   Status build(const Graph& graph);
 
-  /// Fills H and b from the edges' current errors and Jacobians (call `EdgeBase::linearize` first),
-  /// computing the per-edge products on `num_threads` threads when the graph is large.
-  void assemble(int num_threads = 1);
+  /// Fills H and b from the edges' current errors and Jacobians (call `EdgeBase::linearize` first).
+  void assemble();
   /// H ← H_undamped + λ I (the value array keeps the undamped diagonal aside).
   void setDamping(double lambda);
 
@@ -53,12 +52,12 @@ class SparseSystem {
     bool diagonal;
   };
   enum class EdgeKernel : unsigned char { kDynamic, kFixed6, kFixed3 };
-  /// Below this many edges assembly stays on one thread (threads cost more than they save).
-  static constexpr long kParallelEdgeThreshold = 512;
+  /// Writes the edge's Jᵀ W e parts and Jᵀ W J blocks (slot order) to `out`.
   template <int N>
-  void computeEdgeFixed(size_t edge_index);
-  void computeEdgeDynamic(size_t edge_index);
-  void scatterEdge(size_t edge_index);
+  void computeEdgeFixed(size_t edge_index, double* out);
+  void computeEdgeDynamic(size_t edge_index, double* out);
+  /// Adds what `computeEdge*` wrote into H and b.
+  void scatterEdge(size_t edge_index, const double* in);
   void scatter(const BlockSlot& slot, const double* block, int rows, int cols);
 
   int dim_ = 0;
@@ -77,8 +76,7 @@ class SparseSystem {
   std::vector<int> diagonal_index_;          ///< position of H(k,k) in values_
   std::vector<double> undamped_diagonal_;
   Eigen::VectorXd rhs_;
-  std::vector<size_t> edge_buffer_begin_;    ///< per edge: its slice of edge_buffer_
-  std::vector<double> edge_buffer_;          ///< per-edge Jᵀ W e and Jᵀ W J blocks before scattering
+  std::vector<double> edge_buffer_;          ///< one edge's Jᵀ W e and Jᵀ W J blocks before scattering
   std::vector<double> scratch_;              ///< [J_aᵀW | block | We], sized to the largest edge
   size_t scratch_stride_ = 0;
 };

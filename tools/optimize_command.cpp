@@ -52,8 +52,6 @@ CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& o) {
   cmd->add_option("--relative-decrease", o.relative_decrease,
                   "Stop when an accepted step lowers chi2 by less than this fraction");
   cmd->add_option("--time-budget-ms", o.time_budget_ms, "Wall-time budget for the optimisation (0 = none)");
-  cmd->add_option("--threads", o.threads, "Threads for the per-edge work on large graphs (default 1)")
-      ->check(CLI::PositiveNumber);
   cmd->add_flag("--json", o.json, "Print the summary as one JSON object");
   cmd->add_flag("--list-types", o.list_types, "List the registered g2o tags and exit");
   cmd->add_flag("--repair-information", o.repair_information,
@@ -111,7 +109,6 @@ int runOptimizeCommand(const OptimizeOptions& o) {
   params.max_iterations = o.iterations;
   params.relative_decrease_stop = o.relative_decrease;
   params.time_budget_ms = o.time_budget_ms;
-  params.num_threads = o.threads;
   if (o.verbose) {
     params.callback = [](const IterationSummary& it) {
       std::fprintf(stderr, "iteration %3d  chi2 %.10g  lambda %.3g  trials %d  %s  %.2f ms\n", it.iteration,

@@ -22,7 +22,6 @@ struct OptimizeOptions {
   bool verbose = false;
   double relative_decrease = 1e-9;
   double time_budget_ms = 0.0;
-  int threads = 1;
 };
 
 /// Registers the subcommand and its flags on `app`.

@@ -14,7 +14,6 @@ namespace dualgraph {
 /// upper-triangular Ω entries. Jacobian: the identity.
 class EdgePointXYZPrior final : public BaseEdge<3, Eigen::Vector3d, VertexPointXYZ> {
  public:
-  bool hasAnalyticJacobians() const override { return true; }
   static constexpr const char* kTag = "EDGE_POINTXYZ_PRIOR";
 
   EdgePointXYZPrior() { measurement_.setZero(); }

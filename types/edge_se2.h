@@ -15,7 +15,6 @@ namespace dualgraph {
 /// entries. Analytic Jacobians.
 class EdgeSE2 final : public BaseEdge<3, SE2, VertexSE2, VertexSE2> {
  public:
-  bool hasAnalyticJacobians() const override { return true; }
   static constexpr const char* kTag = "EDGE_SE2";
 
   /// Stores Z = `i_T_j` and caches Z⁻¹.

@@ -8,6 +8,7 @@ namespace dualgraph {
 void EdgeSE3::setMeasurement(const Eigen::Isometry3d& i_T_j) {
   measurement_ = i_T_j;
   j_T_i_measured_ = i_T_j.inverse();
+  q_j_i_measured_ = quatFromRotation(j_T_i_measured_.linear());
 }
 
 void EdgeSE3::computeError() {
@@ -21,9 +22,12 @@ void EdgeSE3::linearizeOplus() {
   // Right increments Δ on both poses:
   //   world_T_j ← world_T_j · Δ:  E = (Z⁻¹ · i_T_j) · Δ · I
   //   world_T_i ← world_T_i · Δ:  E = Z⁻¹ · Δ⁻¹ · i_T_j, and Δ(δ)⁻¹ = Δ(−δ) to first order.
+  // One quaternion extraction per edge: Z⁻¹'s is cached, the error's is the product.
   const Eigen::Isometry3d i_T_j = vertexAs<0>()->estimate().inverse() * vertexAs<1>()->estimate();
-  jacobianOplus<0>() = -g2oChartJacobianOfProduct(j_T_i_measured_, i_T_j);
-  jacobianOplus<1>() = g2oChartJacobianOfProduct(j_T_i_measured_ * i_T_j, Eigen::Isometry3d::Identity());
+  const Eigen::Quaterniond q_i_j = quatFromRotation(i_T_j.linear());
+  jacobianOplus<0>() = -g2oChartJacobianOfProduct(j_T_i_measured_, q_j_i_measured_, i_T_j.translation(), q_i_j);
+  jacobianOplus<1>() = g2oChartJacobianOfProduct(j_T_i_measured_ * i_T_j, q_j_i_measured_ * q_i_j,
+                                                 Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
 }
 
 Status EdgeSE3::read(TokenReader& in, const ParameterContainer& /*parameters*/) {

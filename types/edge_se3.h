@@ -19,7 +19,6 @@ namespace dualgraph {
 /// and the 21 upper-triangular entries of Ω. Analytic Jacobians.
 class EdgeSE3 final : public BaseEdge<6, Eigen::Isometry3d, VertexSE3, VertexSE3> {
  public:
-  bool hasAnalyticJacobians() const override { return true; }
   static constexpr const char* kTag = "EDGE_SE3:QUAT";
 
   EdgeSE3() { setMeasurement(Eigen::Isometry3d::Identity()); }
@@ -37,6 +36,7 @@ class EdgeSE3 final : public BaseEdge<6, Eigen::Isometry3d, VertexSE3, VertexSE3
 
  private:
   Eigen::Isometry3d j_T_i_measured_ = Eigen::Isometry3d::Identity();
+  Eigen::Quaterniond q_j_i_measured_ = Eigen::Quaterniond::Identity();  ///< rotation of Z⁻¹
   G2oPoseText text_{QuaternionReading::kNormalise};
 };
 

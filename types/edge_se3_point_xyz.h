@@ -20,7 +20,6 @@ namespace dualgraph {
 /// w.r.t. the pose's g2o increment and the point.
 class EdgeSE3PointXYZ final : public BaseEdge<3, Eigen::Vector3d, VertexSE3, VertexPointXYZ> {
  public:
-  bool hasAnalyticJacobians() const override { return true; }
   static constexpr const char* kTag = "EDGE_SE3_TRACKXYZ";
 
   EdgeSE3PointXYZ() { measurement_.setZero(); }

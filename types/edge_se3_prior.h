@@ -22,7 +22,6 @@ namespace dualgraph {
 /// back. Analytic Jacobian.
 class EdgeSE3Prior final : public BaseEdge<6, Eigen::Isometry3d, VertexSE3> {
  public:
-  bool hasAnalyticJacobians() const override { return true; }
   static constexpr const char* kTag = "EDGE_SE3_PRIOR";
 
   EdgeSE3Prior() { setMeasurement(Eigen::Isometry3d::Identity()); }

@@ -172,14 +172,18 @@ Matrix6d g2oChartJacobianOfProduct(const Eigen::Isometry3d& A, const Eigen::Isom
   //   q_E = q_A ⊗ (1, δq) ⊗ q_B = L(q_A) R(q_B) (1, δq)  →  ∂vec/∂δq = (L(q_A) R(q_B))[1:4, 1:4],
   // times the sign that the chart applies to make w_E ≥ 0. Normalisation does not contribute
   // at first order because q_A ⊗ (0, u) ⊗ q_B is orthogonal to q_A ⊗ q_B.
+  return g2oChartJacobianOfProduct(A, quatFromRotation(A.linear()), B.translation(),
+                                   quatFromRotation(B.linear()));
+}
+
+Matrix6d g2oChartJacobianOfProduct(const Eigen::Isometry3d& A, const Eigen::Quaterniond& q_a,
+                                   const Eigen::Vector3d& t_b, const Eigen::Quaterniond& q_b) {
   const Eigen::Matrix3d rotation_a = A.linear();
-  const Eigen::Quaterniond q_a = quatFromRotation(rotation_a);
-  const Eigen::Quaterniond q_b = quatFromRotation(B.linear());
   const double sign = (q_a * q_b).w() >= 0.0 ? 1.0 : -1.0;
   const Eigen::Matrix4d product = quatLeftMatrix(q_a) * quatRightMatrix(q_b);
   Matrix6d J = Matrix6d::Zero();
   J.topLeftCorner<3, 3>() = rotation_a;
-  J.topRightCorner<3, 3>() = -2.0 * rotation_a * skew(B.translation());
+  J.topRightCorner<3, 3>() = -2.0 * rotation_a * skew(t_b);
   J.bottomRightCorner<3, 3>() = sign * product.bottomRightCorner<3, 3>();
   return J;
 }

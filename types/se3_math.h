@@ -66,6 +66,9 @@ Vector6d g2oChart(const Eigen::Isometry3d& pose);
 /// d g2oChart(A · g2oIncrement(δ) · B) / dδ at δ = 0, a 6×6 matrix (rows [t; q.vec], columns
 /// [δt; δq]). The shared building block of every analytic Jacobian of the SE(3) edges.
 Matrix6d g2oChartJacobianOfProduct(const Eigen::Isometry3d& A, const Eigen::Isometry3d& B);
+/// The same with the rotations' unit quaternions given (hot paths cache them).
+Matrix6d g2oChartJacobianOfProduct(const Eigen::Isometry3d& A, const Eigen::Quaterniond& q_a,
+                                   const Eigen::Vector3d& t_b, const Eigen::Quaterniond& q_b);
 /// Unit quaternion of a rotation matrix's upper-left 3×3 block as g2o extracts it, normalised,
 /// sign not changed (w may be negative).
 Eigen::Quaterniond quatFromRotation(const Eigen::Matrix3d& rotation);
