@@ -161,14 +161,16 @@ double SparseSystem::maxDiagonal() const {
 void SparseSystem::assemble() {
   std::fill(values_.begin(), values_.end(), 0.0);
   rhs_.setZero();
-  // Each edge's products go to a small cache-resident buffer and are scattered right away.
+  // Fixed-size edges scatter straight from registers; others through a small per-edge buffer.
   for (size_t e = 0; e < active_edges_.size(); ++e) {
     switch (edge_kernel_[e]) {
-      case EdgeKernel::kFixed6: computeEdgeFixed<6>(e, edge_buffer_.data()); break;
-      case EdgeKernel::kFixed3: computeEdgeFixed<3>(e, edge_buffer_.data()); break;
-      case EdgeKernel::kDynamic: computeEdgeDynamic(e, edge_buffer_.data()); break;
+      case EdgeKernel::kFixed6: assembleEdgeFixed<6>(e); break;
+      case EdgeKernel::kFixed3: assembleEdgeFixed<3>(e); break;
+      case EdgeKernel::kDynamic:
+        computeEdgeDynamic(e, edge_buffer_.data());
+        scatterEdge(e, edge_buffer_.data());
+        break;
     }
-    scatterEdge(e, edge_buffer_.data());
   }
   for (int k = 0; k < dim_; ++k) undamped_diagonal_[k] = values_[diagonal_index_[k]];
 }
@@ -180,7 +182,7 @@ void SparseSystem::setDamping(double lambda) {
 /// Fixed-size kernel for edges whose error and active vertices all have dimension N (SE(3) and
 /// SE(2) pose graphs): the products are unrolled and nothing is sized at run time.
 template <int N>
-void SparseSystem::computeEdgeFixed(size_t edge_index, double* out) {
+void SparseSystem::assembleEdgeFixed(size_t edge_index) {
   using Square = Eigen::Matrix<double, N, N>;
   const EdgeBase& edge = *active_edges_[edge_index];
   const Eigen::Map<const Square> information(edge.informationData());
@@ -192,16 +194,31 @@ void SparseSystem::computeEdgeFixed(size_t edge_index, double* out) {
 
   const int v_begin = edge_vertex_begin_[edge_index];
   const int num_slots = edge_vertex_begin_[edge_index + 1] - v_begin;
+  int slot = edge_slot_begin_[edge_index];
   for (int a = 0; a < num_slots; ++a) {
-    if (edge_vertex_offset_[v_begin + a] < 0) continue;
+    const int offset_a = edge_vertex_offset_[v_begin + a];
+    if (offset_a < 0) continue;
     const Eigen::Map<const Square> jacobian_a(edge.jacobianData(a));
-    Eigen::Map<Eigen::Matrix<double, N, 1>>(out).noalias() = -(jacobian_a.transpose() * weighted_error);
-    out += N;
+    rhs_.template segment<N>(offset_a).noalias() -= jacobian_a.transpose() * weighted_error;
     const Square jt_w = jacobian_a.transpose() * w_information;
     for (int b = a; b < num_slots; ++b) {
       if (edge_vertex_offset_[v_begin + b] < 0) continue;
-      Eigen::Map<Square>(out).noalias() = jt_w * Eigen::Map<const Square>(edge.jacobianData(b));
-      out += N * N;
+      const Square block = jt_w * Eigen::Map<const Square>(edge.jacobianData(b));
+      scatterFixed<N>(slots_[slot++], block);
+    }
+  }
+}
+
+template <int N>
+void SparseSystem::scatterFixed(const BlockSlot& slot, const Eigen::Matrix<double, N, N>& block) {
+  for (int c = 0; c < N; ++c) {
+    double* column = values_.data() + col_ptr_[slot.first_column + c] + slot.row_offset;
+    if (slot.diagonal) {
+      for (int r = 0; r <= c; ++r) column[r] += block(r, c);
+    } else if (slot.transposed) {
+      for (int r = 0; r < N; ++r) column[r] += block(c, r);
+    } else {
+      for (int r = 0; r < N; ++r) column[r] += block(r, c);
     }
   }
 }

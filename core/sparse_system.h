@@ -52,9 +52,12 @@ class SparseSystem {
     bool diagonal;
   };
   enum class EdgeKernel : unsigned char { kDynamic, kFixed6, kFixed3 };
-  /// Writes the edge's Jᵀ W e parts and Jᵀ W J blocks (slot order) to `out`.
+  /// Adds an edge whose error and free vertices all have dimension N straight into H and b.
   template <int N>
-  void computeEdgeFixed(size_t edge_index, double* out);
+  void assembleEdgeFixed(size_t edge_index);
+  template <int N>
+  void scatterFixed(const BlockSlot& slot, const Eigen::Matrix<double, N, N>& block);
+  /// Writes any other edge's Jᵀ W e parts and Jᵀ W J blocks (slot order) to `out`.
   void computeEdgeDynamic(size_t edge_index, double* out);
   /// Adds what `computeEdge*` wrote into H and b.
   void scatterEdge(size_t edge_index, const double* in);
