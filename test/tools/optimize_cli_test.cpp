@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -24,13 +25,16 @@ struct CommandRun {
   std::string err;
 };
 
+/// A fresh folder per test process, removed when the process exits.
 std::string tempDir() {
-  static const std::string dir = [] {
-    char pattern[] = "/tmp/dualgraph_cli_XXXXXX";
-    const char* made = mkdtemp(pattern);
-    return std::string(made != nullptr ? made : "/tmp");
+  // A plain char array outlives every static destructor, so the exit handler can still read it.
+  static char pattern[] = "/tmp/dualgraph_cli_XXXXXX";
+  static const bool made = [] {
+    if (mkdtemp(pattern) == nullptr) return false;
+    std::atexit([] { std::filesystem::remove_all(pattern); });
+    return true;
   }();
-  return dir;
+  return made ? std::string(pattern) : std::string("/tmp");
 }
 
 std::string readFile(const std::string& path) {
