@@ -2,29 +2,11 @@
 #include "core/optimizer.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
+#include "core/wall_clock.h"
+
 namespace dualgraph {
-namespace {
-
-double nowMs() {
-  using Clock = std::chrono::steady_clock;
-  return std::chrono::duration<double, std::milli>(Clock::now().time_since_epoch()).count();
-}
-
-/// Adds the time since `start` to `total` when destroyed.
-class PhaseTimer {
- public:
-  explicit PhaseTimer(double& total) : total_(total), start_(nowMs()) {}
-  ~PhaseTimer() { total_ += nowMs() - start_; }
-
- private:
-  double& total_;
-  double start_;
-};
-
-}  // namespace
 
 const char* terminationReasonName(TerminationReason reason) {
   switch (reason) {

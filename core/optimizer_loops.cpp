@@ -1,18 +1,13 @@
 // SPDX-License-Identifier: MIT
 // The iteration loops of `Optimizer` (Levenberg–Marquardt and Gauss–Newton).
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "core/optimizer.h"
+#include "core/wall_clock.h"
 
 namespace dualgraph {
 namespace {
-
-double nowMs() {
-  using Clock = std::chrono::steady_clock;
-  return std::chrono::duration<double, std::milli>(Clock::now().time_since_epoch()).count();
-}
 
 void pushAll(const std::vector<VertexBase*>& vertices) {
   for (VertexBase* v : vertices) v->push();
