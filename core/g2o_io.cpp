@@ -47,7 +47,7 @@ Status G2oLoader::readLine(const std::string& raw, int line_number) {
   if (tag == "FIX") return readFix(in);
   const TypeRegistry::Kind* kind = registry_.kindOf(tag);
   if (kind == nullptr) {
-    if (!options_.skip_unknown_tags) return in.error("unknown tag '" + tag + "'");
+    if (!options_.skip_unknown_tags) return in.error("unknown tag " + TokenReader::quoted(tag));
     unknown_tags_.emplace(tag, line_number);
     ++report_.skipped_lines;
     return Status();
@@ -152,8 +152,8 @@ Status G2oLoader::finish() {
                       " on this line); repair them with --repair-information");
   }
   for (const auto& [tag, line] : unknown_tags_) {
-    report_.warnings.push_back(source_ + ":" + std::to_string(line) + ": skipped unknown tag '" +
-                               tag + "'");
+    report_.warnings.push_back(source_ + ":" + std::to_string(line) + ": skipped unknown tag " +
+                               TokenReader::quoted(tag));
   }
   if (report_.vertices == 0 && report_.edges == 0 && report_.parameters == 0) {
     return Status(StatusCode::kParseError, source_ + ": no vertices, edges or parameters");

@@ -11,13 +11,6 @@ namespace {
 
 bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
 
-std::string quoted(std::string_view token) {
-  constexpr size_t kMaxShown = 40;
-  std::string shown(token.substr(0, kMaxShown));
-  if (token.size() > kMaxShown) shown += "...";
-  return "'" + shown + "'";
-}
-
 }  // namespace
 
 TokenReader::TokenReader(std::string_view line, std::string source, int line_number)
@@ -34,6 +27,24 @@ TokenReader::TokenReader(std::string_view line, std::string source, int line_num
 
 std::string TokenReader::indexedField(std::string_view field, int index) {
   return std::string(field) + "[" + std::to_string(index) + "]";
+}
+
+std::string TokenReader::quoted(std::string_view token) {
+  constexpr size_t kMaxShown = 40;
+  std::string shown;
+  for (size_t i = 0; i < token.size() && i < kMaxShown; ++i) {
+    const auto c = static_cast<unsigned char>(token[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      shown += static_cast<char>(c);
+    } else {
+      static const char kHex[] = "0123456789abcdef";
+      shown += "\\x";
+      shown += kHex[c >> 4];
+      shown += kHex[c & 15];
+    }
+  }
+  if (token.size() > kMaxShown) shown += "...";
+  return "'" + shown + "'";
 }
 
 std::string TokenReader::location() const { return source_ + ":" + std::to_string(line_number_); }

@@ -61,6 +61,8 @@ class TokenReader {
   int lineNumber() const { return line_number_; }
 
   static std::string indexedField(std::string_view field, int index);
+  /// `token` quoted for a message: at most 40 characters, non-printable bytes as \xNN.
+  static std::string quoted(std::string_view token);
 
  private:
   std::string line_;

@@ -105,6 +105,7 @@ std::vector<BadCase> badCases() {
       {"trailing_garbage", poses + "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 4 0 0 4 0 4 junk\n",
        3, "trailing"},
       {"unknown_tag", poses + "VERTEX_CAM 5 1 2 3\n", 3, "unknown tag 'VERTEX_CAM'"},
+      {"binary_garbage", std::string("\x01\x02\xff\x7f 1 2\n"), 1, "unknown tag '\\x01\\x02\\xff\\x7f'"},
       {"indefinite_information",
        poses + "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 1 5 0 0 0 0 1 0 0 0 0 1 0 0 0 4 0 0 4 0 4\n", 3,
        "1 edge(s) have an information matrix that is not symmetric positive definite"},
