@@ -63,7 +63,11 @@ double Optimizer::evaluateChi2(std::string* first_bad) {
   double sum = 0.0;
   for (size_t k = 0; k < edges.size(); ++k) {
     edges[k]->computeError();
-    const double chi2 = edges[k]->robustChi2();
+    // A kernel can map an infinite eᵀΩe to a finite ρ (Tukey's plateau); the error is still
+    // unusable (its weight 0 times ∞ poisons b), so the plain χ² decides finiteness.
+    double chi2 = edges[k]->chi2();
+    const RobustKernel* kernel = edges[k]->robustKernel();
+    if (kernel != nullptr && std::isfinite(chi2)) chi2 = kernel->robustify(chi2)[0];
     if (!std::isfinite(chi2) && first_bad != nullptr && first_bad->empty()) {
       *first_bad = "edge between vertices";
       for (const VertexBase* v : edges[k]->vertices()) *first_bad += " " + std::to_string(v->id());

@@ -40,6 +40,7 @@ void Optimizer::runLevenbergMarquardt(const OptimizerParams& params, SolverSumma
     progress.iteration = iteration;
     Status last_failure;
     double new_chi2 = chi2;
+    bool at_minimum = false;
     for (int trial = 0; trial < params.max_trials && !progress.step_accepted; ++trial) {
       if (out_of_time()) break;
       ++progress.trials;
@@ -75,10 +76,15 @@ void Optimizer::runLevenbergMarquardt(const OptimizerParams& params, SolverSumma
         popAll(active);
         errors_stale_ = true;
         last_failure = Status();
+        // The model itself predicts less than the relative threshold and the step did not realise
+        // even that: χ² is at its round-off floor (e.g. a linear problem solved by the previous
+        // step), which is convergence, not a failure to find a decreasing step.
+        at_minimum = std::isfinite(new_chi2) && predicted <= params.relative_decrease_stop * chi2;
         lambda *= nu;
         nu *= 2.0;
       }
       summary.update_ms += nowMs() - update_start;
+      if (at_minimum) break;
     }
     if (progress.step_accepted) {
       const double previous = chi2;
@@ -102,7 +108,9 @@ void Optimizer::runLevenbergMarquardt(const OptimizerParams& params, SolverSumma
     progress.chi2 = chi2;
     progress.iteration_ms = nowMs() - iteration_start;
     if (params.callback) params.callback(progress);
-    if (out_of_time()) {
+    if (at_minimum) {
+      summary.termination = TerminationReason::kConverged;
+    } else if (out_of_time()) {
       summary.termination = TerminationReason::kTimeBudget;
     } else if (!last_failure.ok()) {
       summary.termination = TerminationReason::kNotPositiveDefinite;

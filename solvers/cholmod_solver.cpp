@@ -4,71 +4,140 @@
 #include <cholmod.h>
 
 #include <cstring>
+#include <vector>
+
+#include "solvers/sparse_pattern.h"
 
 namespace dualgraph {
 
+namespace {
+
+// CHOLMOD reports through a global callback without a user pointer. Each call into CHOLMOD runs
+// inside a MessageScope that points this at the calling solver's message, so the handler records
+// the first message (the root cause) instead of printing it, and solvers on other threads do not mix.
+thread_local std::string* t_cholmod_message = nullptr;
+
+void recordCholmodMessage(int status, const char* file, int line, const char* message) noexcept {
+  if (t_cholmod_message == nullptr || !t_cholmod_message->empty()) return;
+  try {
+    const char* base = file != nullptr ? std::strrchr(file, '/') : nullptr;
+    *t_cholmod_message = std::string(message != nullptr ? message : "(no message)") + " [CHOLMOD status " +
+                         std::to_string(status) + ", " + (base != nullptr ? base + 1 : (file ? file : "?")) +
+                         ":" + std::to_string(line) + "]";
+  } catch (...) {  // out of memory while recording: the status code still tells what happened
+  }
+}
+
+class MessageScope {
+ public:
+  explicit MessageScope(std::string& message) : previous_(t_cholmod_message) {
+    message.clear();
+    t_cholmod_message = &message;
+  }
+  ~MessageScope() { t_cholmod_message = previous_; }
+  MessageScope(const MessageScope&) = delete;
+  MessageScope& operator=(const MessageScope&) = delete;
+
+ private:
+  std::string* previous_;
+};
+
+const char* cholmodStatusName(int status) {
+  switch (status) {
+    case CHOLMOD_OK: return "ok";
+    case CHOLMOD_NOT_INSTALLED: return "method not installed";
+    case CHOLMOD_OUT_OF_MEMORY: return "out of memory";
+    case CHOLMOD_TOO_LARGE: return "problem too large (integer overflow)";
+    case CHOLMOD_INVALID: return "invalid input";
+    case CHOLMOD_GPU_PROBLEM: return "GPU error";
+    case CHOLMOD_NOT_POSDEF: return "not positive definite";
+    case CHOLMOD_DSMALL: return "tiny diagonal";
+    default: return "unknown status";
+  }
+}
+
+const char* orderingName(int ordering) {
+  switch (ordering) {
+    case CHOLMOD_NATURAL: return "natural";
+    case CHOLMOD_GIVEN: return "given";
+    case CHOLMOD_AMD: return "amd";
+    case CHOLMOD_METIS: return "metis";
+    case CHOLMOD_NESDIS: return "nesdis";
+    case CHOLMOD_COLAMD: return "colamd";
+    case CHOLMOD_POSTORDERED: return "natural-postordered";
+    default: return "unknown";
+  }
+}
+
+}  // namespace
+
 struct CholmodSolver::Impl {
   cholmod_common common{};
-  cholmod_factor* factor = nullptr;
-  cholmod_dense* rhs = nullptr;
-  cholmod_dense* x = nullptr;
-  cholmod_dense* y_workspace = nullptr;
-  cholmod_dense* e_workspace = nullptr;
-  int n = -1;
-  int nnz = -1;
+  cholmod_factor* factor = nullptr;  // symbolic after analyze, numeric after factorize
+  cholmod_dense* rhs = nullptr;      // n×1, allocated by analyze
+  cholmod_dense* x = nullptr;        // solve2 workspaces: allocated by the first solve, then reused
+  cholmod_dense* y = nullptr;
+  cholmod_dense* e = nullptr;
+  std::vector<int> col_ptr;  // the analysed pattern, to reject a factorize with another one
+  std::vector<int> row_index;
+  int n = 0;
+  bool analyzed = false;
   bool factorized = false;
-  std::string last_error;
+  double factor_nnz = 0.0;
+  double factor_flops = 0.0;
+  std::string message;  // CHOLMOD's first message during the current call
 
-  /// A header over the caller's arrays; never freed by CHOLMOD.
-  static cholmod_sparse wrap(const SparseMatrixView& m) {
+  /// A header over the caller's arrays, never freed by CHOLMOD (so never cholmod_free_sparse).
+  static cholmod_sparse wrap(const SparseMatrixView& m, bool with_values) {
     cholmod_sparse a{};
     a.nrow = a.ncol = static_cast<size_t>(m.n);
     a.nzmax = static_cast<size_t>(m.nnz());
-    a.p = const_cast<int*>(m.col_ptr);
+    a.p = const_cast<int*>(m.col_ptr);  // CHOLMOD's API is not const-correct; it only reads A
     a.i = const_cast<int*>(m.row_index);
-    a.x = const_cast<double*>(m.values);
-    a.stype = 1;  // upper triangle
+    a.x = with_values ? const_cast<double*>(m.values) : nullptr;
+    a.stype = 1;  // symmetric, upper triangle stored
     a.itype = CHOLMOD_INT;
-    a.xtype = CHOLMOD_REAL;
+    a.xtype = with_values ? CHOLMOD_REAL : CHOLMOD_PATTERN;
     a.dtype = CHOLMOD_DOUBLE;
     a.sorted = 1;
     a.packed = 1;
     return a;
   }
 
-  void freeAll() {
-    if (factor) cholmod_free_factor(&factor, &common);
-    if (rhs) cholmod_free_dense(&rhs, &common);
-    if (x) cholmod_free_dense(&x, &common);
-    if (y_workspace) cholmod_free_dense(&y_workspace, &common);
-    if (e_workspace) cholmod_free_dense(&e_workspace, &common);
-    factorized = false;
+  Status failure(StatusCode code, const std::string& what) const {
+    return Status(code, "CHOLMOD " + what + " failed: " +
+                            (message.empty() ? std::string(cholmodStatusName(common.status)) : message));
+  }
+
+  void freeFactorAndWorkspaces() {
+    if (factor != nullptr) cholmod_free_factor(&factor, &common);
+    if (rhs != nullptr) cholmod_free_dense(&rhs, &common);
+    if (x != nullptr) cholmod_free_dense(&x, &common);
+    if (y != nullptr) cholmod_free_dense(&y, &common);
+    if (e != nullptr) cholmod_free_dense(&e, &common);
+    analyzed = factorized = false;
+    factor_nnz = factor_flops = 0.0;
   }
 };
 
-namespace {
-
-// CHOLMOD reports through a global callback without a user pointer; the library must not print,
-// so the handler stays silent and the status in cholmod_common is inspected after each call.
-void silentErrorHandler(int /*status*/, const char* /*file*/, int /*line*/, const char* /*message*/) {}
-
-}  // namespace
-
 CholmodSolver::CholmodSolver(const CholmodOptions& options) : impl_(std::make_unique<Impl>()) {
-  cholmod_start(&impl_->common);
-  impl_->common.print = 0;
-  impl_->common.error_handler = silentErrorHandler;
-  impl_->common.supernodal = options.supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
-  impl_->common.final_ll = 1;  // keep LLᵀ (no conversion back to LDLᵀ after a simplicial factor)
-  if (options.amd_only) {
-    impl_->common.nmethods = 1;
-    impl_->common.method[0].ordering = CHOLMOD_AMD;
-    impl_->common.postorder = 1;
+  cholmod_common& c = impl_->common;
+  cholmod_start(&c);
+  c.print = 0;  // library code never prints
+  c.error_handler = recordCholmodMessage;
+  c.supernodal = options.supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
+  // Simplicial factors are computed as LLᵀ: CHOLMOD's simplicial LDLᵀ only stops at a zero pivot
+  // and would accept an indefinite H. (Supernodal is always LLᵀ; final_asis keeps it supernodal.)
+  c.final_ll = 1;
+  if (options.ordering == CholmodOrdering::kAmd) {
+    c.nmethods = 1;
+    c.method[0].ordering = CHOLMOD_AMD;
+    c.postorder = 1;
   }
 }
 
 CholmodSolver::~CholmodSolver() {
-  impl_->freeAll();
+  impl_->freeFactorAndWorkspaces();
   cholmod_finish(&impl_->common);
 }
 
@@ -76,45 +145,77 @@ std::string CholmodSolver::name() const {
   return impl_->common.supernodal == CHOLMOD_SUPERNODAL ? "cholmod-supernodal" : "cholmod-simplicial";
 }
 
-double CholmodSolver::factorNonzeros() const { return impl_->common.lnz; }
+double CholmodSolver::lastFactorNnz() const { return impl_->factor_nnz; }
+
+double CholmodSolver::factorFlops() const { return impl_->factor_flops; }
+
+std::string CholmodSolver::orderingUsed() const {
+  if (!impl_->analyzed) return "";
+  return impl_->factor != nullptr ? orderingName(impl_->factor->ordering) : "natural";
+}
 
 Status CholmodSolver::analyze(const SparseMatrixView& matrix) {
   Impl& s = *impl_;
-  s.freeAll();
+  s.freeFactorAndWorkspaces();
+  DG_RETURN_IF_ERROR(validateUpperCsc(matrix, "CHOLMOD analyze"));
   s.n = matrix.n;
-  s.nnz = matrix.nnz();
-  if (matrix.n == 0) return Status();
-  cholmod_sparse a = Impl::wrap(matrix);
+  s.col_ptr.assign(matrix.col_ptr, matrix.col_ptr + (matrix.n > 0 ? matrix.n + 1 : 0));
+  s.row_index.assign(matrix.row_index, matrix.row_index + matrix.nnz());
+  if (matrix.n == 0) {
+    s.analyzed = true;
+    return Status();
+  }
+  MessageScope scope(s.message);
+  cholmod_sparse a = Impl::wrap(matrix, /*with_values=*/false);
   s.factor = cholmod_analyze(&a, &s.common);
   if (s.factor == nullptr || s.common.status < CHOLMOD_OK) {
-    s.n = -1;
-    return Status(StatusCode::kFailedPrecondition,
-                  "CHOLMOD symbolic analysis failed (status " + std::to_string(s.common.status) + ")");
+    const Status failed = s.failure(
+        s.common.status == CHOLMOD_INVALID ? StatusCode::kInvalidArgument : StatusCode::kFailedPrecondition,
+        "symbolic analysis");
+    s.freeFactorAndWorkspaces();
+    return failed;
   }
-  s.rhs = cholmod_zeros(matrix.n, 1, CHOLMOD_REAL, &s.common);
+  s.rhs = cholmod_allocate_dense(a.nrow, 1, a.nrow, CHOLMOD_REAL, &s.common);
+  if (s.rhs == nullptr) {
+    const Status failed = s.failure(StatusCode::kFailedPrecondition, "workspace allocation");
+    s.freeFactorAndWorkspaces();
+    return failed;
+  }
+  s.factor_nnz = s.common.lnz;
+  s.factor_flops = s.common.fl;
+  s.analyzed = true;
   return Status();
 }
 
 Status CholmodSolver::factorize(const SparseMatrixView& matrix) {
   Impl& s = *impl_;
   s.factorized = false;
-  if (matrix.n != s.n || matrix.nnz() != s.nnz) {
-    return Status(StatusCode::kFailedPrecondition, "CHOLMOD factorize: pattern differs from the analysed one");
+  if (!s.analyzed) return Status(StatusCode::kFailedPrecondition, "CHOLMOD factorize before a successful analyze");
+  if (!samePattern(matrix, s.n, s.col_ptr.data(), s.row_index.data())) {
+    return Status(StatusCode::kFailedPrecondition,
+                  "CHOLMOD factorize: the pattern differs from the analysed one (call analyze first)");
   }
+  DG_RETURN_IF_ERROR(checkFiniteValues(matrix, "CHOLMOD factorize"));
   if (matrix.n == 0) {
     s.factorized = true;
     return Status();
   }
-  cholmod_sparse a = Impl::wrap(matrix);
+  MessageScope scope(s.message);
+  cholmod_sparse a = Impl::wrap(matrix, /*with_values=*/true);
   const int ok = cholmod_factorize(&a, s.factor, &s.common);
-  if (s.common.status == CHOLMOD_NOT_POSDEF || s.factor->minor < s.factor->n) {
-    return Status(StatusCode::kNotPositiveDefinite,
-                  "matrix is not positive definite (CHOLMOD stopped at column " +
-                      std::to_string(s.factor->minor) + ")");
-  }
   if (!ok || s.common.status < CHOLMOD_OK) {
-    return Status(StatusCode::kNumericalError,
-                  "CHOLMOD numeric factorisation failed (status " + std::to_string(s.common.status) + ")");
+    const StatusCode code = s.common.status == CHOLMOD_OUT_OF_MEMORY || s.common.status == CHOLMOD_TOO_LARGE
+                                ? StatusCode::kFailedPrecondition
+                                : StatusCode::kNumericalError;
+    return s.failure(code, "numeric factorisation");
+  }
+  if (s.common.status == CHOLMOD_NOT_POSDEF || s.factor->minor < s.factor->n) {
+    const auto* perm = static_cast<const int*>(s.factor->Perm);
+    const size_t minor = s.factor->minor;
+    const int column = perm != nullptr && minor < s.factor->n ? perm[minor] : static_cast<int>(minor);
+    return Status(StatusCode::kNotPositiveDefinite,
+                  "CHOLMOD: matrix is not positive definite (non-positive pivot at row/column " +
+                      std::to_string(column) + " of " + std::to_string(s.n) + ")");
   }
   s.factorized = true;
   return Status();
@@ -124,13 +225,14 @@ Status CholmodSolver::solve(const double* b, double* x) {
   Impl& s = *impl_;
   if (!s.factorized) return Status(StatusCode::kFailedPrecondition, "CHOLMOD solve before a successful factorize");
   if (s.n == 0) return Status();
-  std::memcpy(s.rhs->x, b, sizeof(double) * static_cast<size_t>(s.n));
-  const int ok = cholmod_solve2(CHOLMOD_A, s.factor, s.rhs, nullptr, &s.x, nullptr, &s.y_workspace,
-                                &s.e_workspace, &s.common);
-  if (!ok || s.x == nullptr) {
-    return Status(StatusCode::kNumericalError, "CHOLMOD solve failed (status " + std::to_string(s.common.status) + ")");
-  }
-  std::memcpy(x, s.x->x, sizeof(double) * static_cast<size_t>(s.n));
+  if (b == nullptr || x == nullptr) return Status(StatusCode::kInvalidArgument, "CHOLMOD solve: b or x is null");
+  const size_t bytes = sizeof(double) * static_cast<size_t>(s.n);
+  std::memcpy(s.rhs->x, b, bytes);  // copy first: b and x may alias
+  MessageScope scope(s.message);
+  const int ok = cholmod_solve2(CHOLMOD_A, s.factor, s.rhs, /*Bset=*/nullptr, &s.x, /*Xset=*/nullptr, &s.y, &s.e,
+                                &s.common);
+  if (!ok || s.x == nullptr || s.common.status < CHOLMOD_OK) return s.failure(StatusCode::kNumericalError, "solve");
+  std::memcpy(x, s.x->x, bytes);
   return Status();
 }
 

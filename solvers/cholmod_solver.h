@@ -8,18 +8,27 @@
 
 namespace dualgraph {
 
-/// Options of `CholmodSolver`.
-struct CholmodOptions {
-  /// Supernodal (BLAS-3, the fast choice for pose graphs) or simplicial factorisation.
-  bool supernodal = true;
-  /// Let CHOLMOD pick the ordering (AMD, and METIS/NESDIS when AMD fills badly) or force AMD.
-  bool amd_only = false;
+/// Fill-reducing ordering used by `CholmodSolver::analyze`.
+enum class CholmodOrdering {
+  kDefault,  ///< CHOLMOD's own choice: AMD, then METIS too when AMD fills badly (if CHOLMOD has METIS)
+  kAmd,      ///< AMD only (deterministic and cheap to compute; usually as good on pose graphs)
 };
 
-/// Sparse Cholesky H = L Lᵀ with SuiteSparse CHOLMOD. `analyze` runs the ordering and symbolic
-/// factorisation once per pattern; `factorize` is numeric only and reads the caller's CSC arrays
-/// in place (no copy); `solve` reuses its workspaces, so an iteration allocates nothing.
-/// A matrix that is not positive definite is reported as `kNotPositiveDefinite`.
+/// Options of `CholmodSolver`.
+struct CholmodOptions {
+  /// Supernodal LLᵀ (BLAS-3 on dense supernodes, the fast choice for pose graphs) or simplicial LLᵀ.
+  bool supernodal = true;
+  CholmodOrdering ordering = CholmodOrdering::kDefault;
+};
+
+/// Sparse Cholesky H = L Lᵀ with SuiteSparse CHOLMOD (int API, real double).
+/// `analyze` validates the pattern, runs the ordering and the symbolic factorisation and keeps
+/// both until the next `analyze`; `factorize` is numeric only and reads the caller's CSC arrays
+/// in place (no copy); `solve` keeps its CHOLMOD workspaces between calls, so it allocates nothing
+/// after the first call. A matrix that is not positive definite is reported as
+/// `kNotPositiveDefinite` (a normal outcome: the optimiser raises damping); non-finite values
+/// as `kNumericalError`. CHOLMOD never prints: its messages end up in the returned Status.
+/// Not thread-safe; one instance per optimiser.
 class CholmodSolver final : public LinearSolver {
  public:
   explicit CholmodSolver(const CholmodOptions& options = {});
@@ -28,12 +37,18 @@ class CholmodSolver final : public LinearSolver {
   CholmodSolver& operator=(const CholmodSolver&) = delete;
 
   Status analyze(const SparseMatrixView& matrix) override;
+  /// Requires the exact pattern of the last `analyze` (checked, O(nnz)); kFailedPrecondition otherwise.
   Status factorize(const SparseMatrixView& matrix) override;
   Status solve(const double* b, double* x) override;
+  /// "cholmod-supernodal" or "cholmod-simplicial".
   std::string name() const override;
 
-  /// Entries of the last factor L (0 before the first factorisation).
-  double factorNonzeros() const;
+  /// Nonzeros of the factor L for the analysed pattern (0 before `analyze`).
+  double lastFactorNnz() const;
+  /// Floating-point operations of one numeric factorisation of the analysed pattern (0 before).
+  double factorFlops() const;
+  /// Ordering CHOLMOD chose at the last `analyze`: "amd", "metis", "nesdis", "natural", …; "" before.
+  std::string orderingUsed() const;
 
  private:
   struct Impl;

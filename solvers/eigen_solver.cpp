@@ -4,45 +4,55 @@
 #include <algorithm>
 #include <cmath>
 
-namespace dualgraph {
+#include "solvers/sparse_pattern.h"
 
-Status EigenSolver::copyValues(const SparseMatrixView& view) {
-  if (view.n != matrix_.rows() || view.nnz() != matrix_.nonZeros()) {
-    return Status(StatusCode::kFailedPrecondition, "Eigen solver: pattern differs from the analysed one");
-  }
-  std::copy(view.values, view.values + view.nnz(), matrix_.valuePtr());
-  return Status();
-}
+namespace dualgraph {
 
 Status EigenSolver::analyze(const SparseMatrixView& view) {
   analyzed_ = factorized_ = false;
+  DG_RETURN_IF_ERROR(validateUpperCsc(view, "Eigen analyze"));
   matrix_.resize(view.n, view.n);
   matrix_.resizeNonZeros(view.nnz());
-  std::copy(view.col_ptr, view.col_ptr + view.n + 1, matrix_.outerIndexPtr());
-  std::copy(view.row_index, view.row_index + view.nnz(), matrix_.innerIndexPtr());
+  if (view.n > 0) {
+    std::copy(view.col_ptr, view.col_ptr + view.n + 1, matrix_.outerIndexPtr());
+    std::copy(view.row_index, view.row_index + view.nnz(), matrix_.innerIndexPtr());
+  }
   std::fill(matrix_.valuePtr(), matrix_.valuePtr() + view.nnz(), 0.0);
-  if (view.n > 0) ldlt_.analyzePattern(matrix_);
+  if (view.n > 0) {
+    ldlt_.analyzePattern(matrix_);
+    if (ldlt_.info() != Eigen::Success) {
+      return Status(StatusCode::kFailedPrecondition, "Eigen analyze: symbolic analysis failed");
+    }
+  }
   analyzed_ = true;
   return Status();
 }
 
 Status EigenSolver::factorize(const SparseMatrixView& view) {
   factorized_ = false;
-  if (!analyzed_) return Status(StatusCode::kFailedPrecondition, "Eigen solver: factorize before analyze");
-  DG_RETURN_IF_ERROR(copyValues(view));
-  if (view.n == 0) {
+  if (!analyzed_) return Status(StatusCode::kFailedPrecondition, "Eigen factorize before a successful analyze");
+  const int n = static_cast<int>(matrix_.rows());
+  if (!samePattern(view, n, matrix_.outerIndexPtr(), matrix_.innerIndexPtr())) {
+    return Status(StatusCode::kFailedPrecondition,
+                  "Eigen factorize: the pattern differs from the analysed one (call analyze first)");
+  }
+  DG_RETURN_IF_ERROR(checkFiniteValues(view, "Eigen factorize"));
+  if (n == 0) {
     factorized_ = true;
     return Status();
   }
+  std::copy(view.values, view.values + view.nnz(), matrix_.valuePtr());
   ldlt_.factorize(matrix_);
   if (ldlt_.info() != Eigen::Success) {
-    return Status(StatusCode::kNotPositiveDefinite, "matrix is not positive definite (Eigen LDLT failed)");
+    return Status(StatusCode::kNotPositiveDefinite, "Eigen: matrix is not positive definite (zero pivot)");
   }
+  // D is in the permuted order; report the original row/column like CHOLMOD does.
   const auto d = ldlt_.vectorD();
   for (int k = 0; k < d.size(); ++k) {
     if (!(d[k] > 0.0) || !std::isfinite(d[k])) {
       return Status(StatusCode::kNotPositiveDefinite,
-                    "matrix is not positive definite (pivot " + std::to_string(k) + " is not positive)");
+                    "Eigen: matrix is not positive definite (pivot " + std::to_string(d[k]) + " at row/column " +
+                        std::to_string(ldlt_.permutationPinv().indices()[k]) + " of " + std::to_string(n) + ")");
     }
   }
   factorized_ = true;
@@ -50,9 +60,11 @@ Status EigenSolver::factorize(const SparseMatrixView& view) {
 }
 
 Status EigenSolver::solve(const double* b, double* x) {
-  if (!factorized_) return Status(StatusCode::kFailedPrecondition, "Eigen solver: solve before a successful factorize");
+  if (!factorized_) return Status(StatusCode::kFailedPrecondition, "Eigen solve before a successful factorize");
   const int n = static_cast<int>(matrix_.rows());
   if (n == 0) return Status();
+  if (b == nullptr || x == nullptr) return Status(StatusCode::kInvalidArgument, "Eigen solve: b or x is null");
+  // Solve into a temporary: b and x may alias.
   const Eigen::VectorXd solution = ldlt_.solve(Eigen::Map<const Eigen::VectorXd>(b, n));
   Eigen::Map<Eigen::VectorXd>(x, n) = solution;
   return Status();

@@ -9,11 +9,15 @@
 
 namespace dualgraph {
 
-/// The linear solvers selectable at run time.
-enum class LinearSolverKind { kCholmod, kEigen };
+/// The linear solvers selectable at run time (`dualgraph optimize --linear`).
+enum class LinearSolverKind {
+  kCholmod,  ///< "cholmod": SuiteSparse CHOLMOD, supernodal LLᵀ (the default)
+  kEigen,    ///< "eigen": Eigen SimplicialLDLT
+};
 
-/// "cholmod" or "eigen".
+/// "cholmod" or "eigen" (exact, lower case); kInvalidArgument naming the bad name otherwise.
 Result<LinearSolverKind> parseLinearSolverKind(const std::string& name);
+/// The name `parseLinearSolverKind` accepts for `kind`.
 const char* linearSolverKindName(LinearSolverKind kind);
 /// A new solver with default options (CHOLMOD: supernodal, CHOLMOD's default ordering).
 std::unique_ptr<LinearSolver> makeLinearSolver(LinearSolverKind kind);
