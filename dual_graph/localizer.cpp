@@ -1,0 +1,245 @@
+// SPDX-License-Identifier: MIT
+#include "dual_graph/localizer.h"
+
+#include <sstream>
+
+#include "core/wall_clock.h"
+#include "dual_graph/se3_uncertainty.h"
+
+namespace dualgraph {
+namespace {
+
+std::string timeText(double t) {
+  std::ostringstream text;
+  text.precision(17);
+  text << t;
+  return text.str();
+}
+
+bool exceeds(const Eigen::Isometry3d& increment, double distance, double angle) {
+  return translationOf(increment) >= distance || rotationAngleOf(increment) >= angle;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Localizer>> Localizer::create(const LocalizerParams& params, GateMap map) {
+  DG_RETURN_IF_ERROR(validateLocalizerParams(params));
+  if (!params.mapping && map.world_T_gate.empty()) {
+    return Status(StatusCode::kInvalidArgument, "localization mode needs a gate map (or set mapping: true)");
+  }
+  for (const auto& [id, world_T_gate] : map.world_T_gate) {
+    if (id < 0) return Status(StatusCode::kInvalidArgument, "gate map: negative gate id " + std::to_string(id));
+    DG_RETURN_IF_ERROR(checkRigidTransform(world_T_gate, "gate map: gate " + std::to_string(id)));
+  }
+  std::shared_ptr<const RobustKernel> kernel;
+  if (params.robust_kernel != "none") {
+    Result<std::shared_ptr<const RobustKernel>> parsed = makeRobustKernel(params.robust_kernel);
+    if (!parsed.ok()) return parsed.status();
+    kernel = *parsed;
+  }
+  return std::unique_ptr<Localizer>(new Localizer(params, std::move(map), std::move(kernel)));
+}
+
+Localizer::Localizer(const LocalizerParams& params, GateMap map, std::shared_ptr<const RobustKernel> kernel)
+    : params_(params), map_(std::move(map)), kernel_(kernel), temporary_(params, kernel) {
+  main_ = std::make_unique<MainGraph>(params_, map_, kernel_);
+}
+
+double Localizer::openIntervalStart() const {
+  return main_->keyframes().empty() ? -std::numeric_limits<double>::infinity() : main_->keyframes().back().t;
+}
+
+Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
+  Status valid = validateOdometrySample(sample);
+  if (valid.ok() && !history_.empty() && !(sample.t > history_.newest().t)) {
+    valid = Status(StatusCode::kInvalidArgument, "odometry sample at t=" + timeText(sample.t) +
+                                                     " is not after the previous one at t=" + timeText(history_.newest().t));
+  }
+  if (!valid.ok()) {
+    ++counters_.odometry_rejected;
+    counters_.last_error = valid.message();
+    return valid;
+  }
+  ++counters_.odometry_accepted;
+  history_.push(sample);
+  if (main_->keyframes().empty()) {
+    const Status first = main_->addFirstKeyframe(sample.t, sample.odom_T_body);
+    if (!first.ok()) counters_.last_error = first.message();
+  }
+  // Observations this sample now covers, in time order (attached before a keyframe at this instant).
+  while (!pending_.empty() && pending_.front().t <= sample.t) {
+    const Status used = processObservation(pending_.front());
+    if (!used.ok()) {
+      ++counters_.observations_failed;
+      counters_.last_error = used.message();
+    }
+    pending_.pop_front();
+  }
+  if (params_.mode == LocalizerMode::kDual && main_->keyframes().back().t < sample.t &&
+      exceeds(main_->keyframes().back().odom_T_body.inverse() * sample.odom_T_body, params_.d_main,
+              params_.theta_main)) {
+    const Status closed = closeInterval(false);
+    if (!closed.ok()) counters_.last_error = closed.message();
+  }
+  return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body};
+}
+
+Status Localizer::checkObservation(const GateObservation& observation) const {
+  DG_RETURN_IF_ERROR(validateGateObservation(observation));
+  const std::string what = "observation of gate " + std::to_string(observation.gate_id) + " at t=" + timeText(observation.t);
+  if (history_.empty()) return Status(StatusCode::kFailedPrecondition, what + " arrived before any odometry");
+  if (!params_.mapping && !map_.contains(observation.gate_id)) {
+    return Status(StatusCode::kNotFound, what + ": gate " + std::to_string(observation.gate_id) + " is not in the map");
+  }
+  if (params_.landmark == LandmarkModel::kPose && observation.kind != ObservationKind::kPose) {
+    return Status(StatusCode::kInvalidArgument, what + ": position-only observations need landmark: point");
+  }
+  if (observation.t < last_observation_t_) {
+    return Status(StatusCode::kInvalidArgument, what + " is older than the previous observation at t=" +
+                                                    timeText(last_observation_t_));
+  }
+  if (observation.t < openIntervalStart() || observation.t < history_.oldestTime()) {
+    return Status(StatusCode::kFailedPrecondition, what + " arrived after the keyframe at t=" +
+                                                       timeText(openIntervalStart()) + " that closed its interval");
+  }
+  return Status();
+}
+
+Status Localizer::addObservation(const GateObservation& observation) {
+  const Status valid = checkObservation(observation);
+  if (!valid.ok()) {
+    ++counters_.observations_rejected;
+    counters_.last_error = valid.message();
+    return valid;
+  }
+  ++counters_.observations_accepted;
+  last_observation_t_ = observation.t;
+  if (observation.t > history_.newest().t) {
+    pending_.push_back(observation);
+    return Status();
+  }
+  const Status used = processObservation(observation);
+  if (!used.ok()) {
+    ++counters_.observations_failed;
+    counters_.last_error = used.message();
+  }
+  return used;
+}
+
+Status Localizer::processObservation(const GateObservation& observation) {
+  Result<Eigen::Isometry3d> odom_T_body = history_.poseAt(observation.t);
+  if (!odom_T_body.ok()) return odom_T_body.status();
+  if (params_.mode == LocalizerMode::kSingle) return processSingleObservation(observation, *odom_T_body);
+  return temporary_.addObservation(observation, *odom_T_body, history_);
+}
+
+Status Localizer::processSingleObservation(const GateObservation& observation, const Eigen::Isometry3d& odom_T_body) {
+  const Keyframe& node = main_->keyframes().back();
+  if (observation.t > node.t &&
+      exceeds(node.odom_T_body.inverse() * odom_T_body, params_.d_single, params_.theta_single)) {
+    DG_RETURN_IF_ERROR(closeSingleNode(observation.t, odom_T_body, false));
+  }
+  const Keyframe& attach_to = main_->keyframes().back();
+  Matrix6d compensation = Matrix6d::Zero();
+  const bool compensated = observation.t > attach_to.t;
+  if (compensated) {
+    Result<Matrix6d> covariance = history_.relativeCovariance(attach_to.t, observation.t, noiseModelOf(params_));
+    if (!covariance.ok()) return covariance.status();
+    compensation = *covariance;
+  }
+  Result<GateEdgeMeasurement> measurement = attachObservationToNode(
+      observation, attach_to.odom_T_body.inverse() * odom_T_body, compensated ? &compensation : nullptr, params_.landmark);
+  if (!measurement.ok()) return measurement.status();
+  single_edges_.push_back(*measurement);
+  ++single_observations_;
+  return Status();
+}
+
+Status Localizer::closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body, bool final_row) {
+  KeyframeStats row;
+  if (!final_row) {
+    Result<Matrix6d> covariance = history_.relativeCovariance(main_->keyframes().back().t, t, noiseModelOf(params_));
+    if (!covariance.ok()) return covariance.status();
+    DG_RETURN_IF_ERROR(main_->addKeyframe(t, odom_T_body, *covariance));
+  }
+  // The previous node's detections, gated against the graph that now holds the new node.
+  const size_t owner = main_->keyframes().size() - (final_row ? 1 : 2);
+  const GateEdgeOutcome outcome = main_->addGateEdges(owner, single_edges_);
+  row.gate_edges_added = outcome.added;
+  row.gate_edges_rejected = outcome.rejected;
+  row.gates_skipped = outcome.failed;
+  row.observations = single_observations_;
+  if (!outcome.message.empty()) counters_.last_error = outcome.message;
+  single_edges_.clear();
+  single_observations_ = 0;
+  optimizeAndRecord(row);
+  history_.discardBefore(main_->keyframes().back().t);
+  return Status();
+}
+
+Status Localizer::closeInterval(bool final_row) {
+  const OdometrySample& newest = history_.newest();
+  KeyframeStats row;
+  if (main_->keyframes().back().t < newest.t) {
+    Result<Matrix6d> covariance =
+        history_.relativeCovariance(main_->keyframes().back().t, newest.t, noiseModelOf(params_));
+    if (!covariance.ok()) return covariance.status();
+    DG_RETURN_IF_ERROR(main_->addKeyframe(newest.t, newest.odom_T_body, *covariance));
+  }
+  const DistillationResult distilled = temporary_.distil(newest.t, newest.odom_T_body, history_);
+  row.temp_nodes = distilled.nodes;
+  row.temp_edges = distilled.edges;
+  row.temp_iterations = distilled.iterations;
+  row.temp_ms = distilled.optimize_ms;
+  for (const GateEdgeMeasurement& gate : distilled.gates) row.observations += gate.observations;
+  const GateEdgeOutcome outcome = main_->addGateEdges(main_->keyframes().size() - 1, distilled.gates);
+  row.gate_edges_added = outcome.added;
+  row.gate_edges_rejected = outcome.rejected;
+  row.gates_skipped = distilled.skipped_gates + outcome.failed;
+  if (!distilled.skip_reason.empty()) counters_.last_error = distilled.skip_reason;
+  if (!outcome.message.empty()) counters_.last_error = outcome.message;
+  (void)final_row;
+  optimizeAndRecord(row);
+  history_.discardBefore(newest.t);
+  return Status();
+}
+
+void Localizer::optimizeAndRecord(KeyframeStats& row) {
+  const double start = nowMs();
+  const SolverSummary summary = main_->optimize();
+  row.optimize_ms = nowMs() - start;
+  row.keyframe = static_cast<int>(main_->keyframes().size()) - 1;
+  row.t = main_->keyframes().back().t;
+  row.main_vertices = static_cast<int>(main_->graph().numVertices());
+  row.main_edges = static_cast<int>(main_->graph().numEdges());
+  row.iterations = summary.iterations;
+  row.termination = terminationReasonName(summary.termination);
+  if (!summary.usable() && summary.termination != TerminationReason::kNothingToOptimize) {
+    counters_.last_error = "main graph optimisation: " + row.termination + " " + summary.message;
+  }
+  stats_.push_back(row);
+}
+
+Status Localizer::finish() {
+  counters_.observations_never_processed += static_cast<int>(pending_.size());
+  pending_.clear();
+  if (history_.empty()) return Status(StatusCode::kFailedPrecondition, "finish: no odometry was given");
+  if (params_.mode == LocalizerMode::kSingle) return closeSingleNode(history_.newest().t, history_.newest().odom_T_body, true);
+  return closeInterval(true);
+}
+
+Eigen::Isometry3d Localizer::mapTOdom() const {
+  if (main_->keyframes().empty()) return params_.initial_world_T_odom;
+  const size_t newest = main_->keyframes().size() - 1;
+  return main_->keyframePose(newest) * main_->keyframes()[newest].odom_T_body.inverse();
+}
+
+std::vector<CorrectedPose> Localizer::keyframeTrajectory() const {
+  std::vector<CorrectedPose> trajectory;
+  for (size_t k = 0; k < main_->keyframes().size(); ++k) {
+    trajectory.push_back(CorrectedPose{main_->keyframes()[k].t, main_->keyframePose(k)});
+  }
+  return trajectory;
+}
+
+}  // namespace dualgraph

@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Geometry>
+#include <string>
+
+#include "core/status.h"
+#include "solvers/linear_solver_factory.h"
+
+namespace dualgraph {
+
+/// How detections reach the main graph.
+enum class LocalizerMode {
+  kDual,    ///< temporary graph per keyframe interval, one distilled edge per gate (the method)
+  kSingle,  ///< every detection straight into one graph, nodes every `d_single` (the ablation baseline)
+};
+
+/// How a gate is represented.
+enum class LandmarkModel {
+  kPose,   ///< SE(3) gate pose `world_T_gate` (VertexSE3), SE(3) detections
+  kPoint,  ///< gate centre `p_world` (VertexPointXYZ), position detections (a pose detection's translation)
+};
+
+/// Every tunable of the `Localizer`, with the defaults it is documented and tested with. Distances in
+/// metres, angles in radians, standard deviations σ in the units of their quantity. Loadable from YAML
+/// (`loadLocalizerParams`), keys named exactly as the fields.
+struct LocalizerParams {
+  LocalizerMode mode = LocalizerMode::kDual;
+  LandmarkModel landmark = LandmarkModel::kPose;
+  /// false: localization — known gate map, gate priors, detections of unknown gates rejected.
+  /// true: mapping — no map; a landmark is created where a gate is first seen; the first keyframe is fixed.
+  bool mapping = false;
+
+  // Keyframe / node spacing: a new one when the VIO increment since the last one exceeds either limit.
+  double d_main = 2.0;        ///< main-graph keyframes (dual mode) [m]
+  double theta_main = 0.5;    ///< [rad]
+  double d_temp = 0.1;        ///< temporary-graph nodes at detection instants (dual mode) [m]
+  double theta_temp = 0.1;    ///< [rad]
+  double d_single = 2.0;      ///< single-graph nodes at detection instants (single mode) [m]
+  double theta_single = 0.5;  ///< [rad]
+
+  // Odometry covariance: the input's per-sample relative covariance when every sample of an interval has
+  // one (and `use_input_covariance`), otherwise σ·√d per metre travelled, d floored at `odom_min_distance`.
+  bool use_input_covariance = true;
+  double odom_sigma_t = 0.05;       ///< translation σ per √metre [m/√m]
+  double odom_sigma_r = 0.01;       ///< rotation σ per √metre [rad/√m]
+  double odom_min_distance = 0.05;  ///< floor of d, so hovering still has a usable covariance [m]
+
+  // Known gate map (localization mode).
+  double map_sigma_t = 0.1;   ///< prior σ of each map gate's position [m]
+  double map_sigma_r = 0.05;  ///< prior σ of each map gate's orientation [rad]
+  bool fix_map_gates = false; ///< true: map gates are fixed vertices instead of prior edges
+
+  // First keyframe (localization mode): initial guess world_T_body = initial_world_T_odom · odom_T_body(t0),
+  // held by a prior with these σ; σ_t ≤ 0 fixes the first keyframe instead.
+  Eigen::Isometry3d initial_world_T_odom = Eigen::Isometry3d::Identity();
+  double initial_sigma_t = 1.0;  ///< [m]
+  double initial_sigma_r = 0.2;  ///< [rad]
+
+  // Optimisation.
+  int main_max_iterations = 10;      ///< LM iterations after each keyframe (warm-started)
+  double main_time_budget_ms = 0.0; ///< wall-time budget per main optimisation, 0 = none
+  int temp_max_iterations = 20;      ///< LM iterations of each temporary graph
+  LinearSolverKind linear_solver = LinearSolverKind::kCholmod;
+  /// Robust kernel on detection and distilled edges: "none", or "huber:δ", "cauchy:δ", "tukey:δ", "dcs:δ"
+  /// (δ in whitened-error units).
+  std::string robust_kernel = "huber:3";
+  /// χ² gate on a distilled (dual) or detection (single) edge against the main graph: the edge is rejected
+  /// when eᵀS⁻¹e exceeds the threshold, S = the edge's covariance + the main graph's predicted covariance
+  /// of the residual. Defaults: the 99.9 % quantiles of χ² with 6 and 3 degrees of freedom; 0 disables.
+  double chi2_gate_pose = 22.458;
+  double chi2_gate_point = 16.266;
+};
+
+/// OK when every field is in its domain (positive spacings and σ where required, finite numbers, a rigid
+/// initial transform, a parsable robust kernel); otherwise kInvalidArgument naming the field.
+Status validateLocalizerParams(const LocalizerParams& params);
+
+/// "dual"/"single", "pose"/"point".
+const char* localizerModeName(LocalizerMode mode);
+const char* landmarkModelName(LandmarkModel model);
+
+}  // namespace dualgraph

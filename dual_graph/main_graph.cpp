@@ -1,0 +1,192 @@
+// SPDX-License-Identifier: MIT
+#include "dual_graph/main_graph.h"
+
+#include <Eigen/Cholesky>
+
+#include "dual_graph/graph_edges.h"
+#include "dual_graph/se3_uncertainty.h"
+#include "solvers/marginal_covariance.h"
+#include "types/vertex_se3.h"
+
+namespace dualgraph {
+namespace {
+
+Matrix6d diagonalPoseCovariance(double sigma_t, double sigma_r) {
+  Vector6d variances;
+  variances << Eigen::Vector3d::Constant(sigma_t * sigma_t), Eigen::Vector3d::Constant(sigma_r * sigma_r);
+  return variances.asDiagonal();
+}
+
+}  // namespace
+
+MainGraph::MainGraph(const LocalizerParams& params, const GateMap& map, std::shared_ptr<const RobustKernel> kernel)
+    : params_(params), map_(map), kernel_(std::move(kernel)), optimizer_(graph_, makeLinearSolver(params.linear_solver)) {}
+
+const Eigen::Isometry3d& MainGraph::keyframePose(size_t index) const {
+  return graph_.vertexAs<VertexSE3>(keyframes_.at(index).vertex_id)->estimate();
+}
+
+int MainGraph::landmarkVertex(int gate_id) const {
+  const auto found = landmark_vertex_.find(gate_id);
+  return found == landmark_vertex_.end() ? -1 : found->second;
+}
+
+Status MainGraph::addFirstKeyframe(double t, const Eigen::Isometry3d& odom_T_body) {
+  if (!keyframes_.empty()) return Status(StatusCode::kFailedPrecondition, "main graph: first keyframe added twice");
+  const int id = next_vertex_id_++;
+  auto vertex = std::make_unique<VertexSE3>(id);
+  const Eigen::Isometry3d world_T_body = params_.initial_world_T_odom * odom_T_body;
+  vertex->setEstimate(world_T_body);
+  const bool fixed = params_.mapping || params_.initial_sigma_t <= 0.0;
+  vertex->setFixed(fixed);
+  DG_RETURN_IF_ERROR(graph_.addVertex(std::move(vertex)));
+  if (!fixed) {
+    Result<Matrix6d> information = poseInformationFromMetricCovariance(
+        diagonalPoseCovariance(params_.initial_sigma_t, params_.initial_sigma_r), "initial pose prior");
+    if (!information.ok()) return information.status();
+    Result<EdgeSE3Prior*> prior = addPosePriorEdge(graph_, id, world_T_body, *information);
+    if (!prior.ok()) return prior.status();
+  }
+  keyframes_.push_back(Keyframe{id, t, odom_T_body});
+  return Status();
+}
+
+Status MainGraph::addKeyframe(double t, const Eigen::Isometry3d& odom_T_body, const Matrix6d& increment_covariance) {
+  if (keyframes_.empty()) return Status(StatusCode::kFailedPrecondition, "main graph: no first keyframe");
+  const Keyframe& previous = keyframes_.back();
+  const Eigen::Isometry3d increment = previous.odom_T_body.inverse() * odom_T_body;
+  Result<Matrix6d> information = poseInformationFromMetricCovariance(increment_covariance, "odometry covariance");
+  if (!information.ok()) return information.status();
+  const int id = next_vertex_id_++;
+  auto vertex = std::make_unique<VertexSE3>(id);
+  vertex->setEstimate(keyframePose(keyframes_.size() - 1) * increment);
+  DG_RETURN_IF_ERROR(graph_.addVertex(std::move(vertex)));
+  Result<EdgeSE3*> edge = addRelativePoseEdge(graph_, previous.vertex_id, id, increment, *information);
+  if (!edge.ok()) {
+    (void)graph_.removeVertex(id);
+    return edge.status();
+  }
+  keyframes_.push_back(Keyframe{id, t, odom_T_body});
+  return Status();
+}
+
+Result<int> MainGraph::findOrCreateLandmark(int gate_id, size_t keyframe_index, const GateEdgeMeasurement& measurement,
+                                            bool& constrained) {
+  constrained = true;
+  const int existing = landmarkVertex(gate_id);
+  if (existing >= 0) return existing;
+  const int id = next_vertex_id_;
+  if (params_.mapping) {
+    constrained = false;  // nothing to disagree with yet
+    DG_RETURN_IF_ERROR(
+        addGateVertex(graph_, id, params_.landmark, gateFromNode(keyframePose(keyframe_index), measurement)));
+  } else {
+    const auto in_map = map_.world_T_gate.find(gate_id);
+    if (in_map == map_.world_T_gate.end()) {
+      return Status(StatusCode::kNotFound, "gate " + std::to_string(gate_id) + " is not in the map");
+    }
+    DG_RETURN_IF_ERROR(addGateVertex(graph_, id, params_.landmark, in_map->second));
+    if (params_.fix_map_gates) {
+      DG_RETURN_IF_ERROR(graph_.setFixed(id, true));
+    } else if (params_.landmark == LandmarkModel::kPose) {
+      Result<Matrix6d> information = poseInformationFromMetricCovariance(
+          diagonalPoseCovariance(params_.map_sigma_t, params_.map_sigma_r), "gate map prior");
+      if (!information.ok()) return information.status();
+      Result<EdgeSE3Prior*> prior = addPosePriorEdge(graph_, id, in_map->second, *information);
+      if (!prior.ok()) return prior.status();
+    } else {
+      const Eigen::Matrix3d information = Eigen::Matrix3d::Identity() / (params_.map_sigma_t * params_.map_sigma_t);
+      Result<EdgePointXYZPrior*> prior = addPointPriorEdge(graph_, id, in_map->second.translation(), information);
+      if (!prior.ok()) return prior.status();
+    }
+  }
+  ++next_vertex_id_;
+  landmark_vertex_.emplace(gate_id, id);
+  return id;
+}
+
+double MainGraph::gateThreshold() const {
+  return params_.landmark == LandmarkModel::kPose ? params_.chi2_gate_pose : params_.chi2_gate_point;
+}
+
+double MainGraph::innovationChi2(EdgeBase& edge, const Eigen::MatrixXd& joint_covariance) {
+  edge.linearize();
+  const int rows = edge.errorDim();
+  const int d0 = edge.vertex(0)->tangentDim();
+  const int d1 = edge.vertex(1)->tangentDim();
+  Eigen::MatrixXd J(rows, d0 + d1);
+  J.leftCols(d0) = Eigen::Map<const Eigen::MatrixXd>(edge.jacobianData(0), rows, d0);
+  J.rightCols(d1) = Eigen::Map<const Eigen::MatrixXd>(edge.jacobianData(1), rows, d1);
+  const Eigen::Map<const Eigen::MatrixXd> information(edge.informationData(), rows, rows);
+  const Eigen::MatrixXd S = J * joint_covariance * J.transpose() +
+                            information.llt().solve(Eigen::MatrixXd::Identity(rows, rows));
+  const Eigen::Map<const Eigen::VectorXd> error(edge.errorData(), rows);
+  const Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (S + S.transpose()));
+  if (llt.info() != Eigen::Success) return std::numeric_limits<double>::infinity();
+  return error.dot(llt.solve(error));
+}
+
+GateEdgeOutcome MainGraph::addGateEdges(size_t keyframe_index, const GateEdgeMeasurements& measurements) {
+  GateEdgeOutcome outcome;
+  auto fail = [&outcome](const Status& status) {
+    if (outcome.failed++ == 0) outcome.message = status.message();
+  };
+  if (measurements.empty()) return outcome;
+  const int keyframe_id = keyframes_.at(keyframe_index).vertex_id;
+  // 1. Landmarks first, so the marginals below see every vertex the new edges attach to.
+  std::vector<int> landmark(measurements.size(), -1);
+  std::vector<bool> gated(measurements.size(), false);
+  bool any_gated = false;
+  for (size_t k = 0; k < measurements.size(); ++k) {
+    bool constrained = false;
+    Result<int> id = findOrCreateLandmark(measurements[k].gate_id, keyframe_index, measurements[k], constrained);
+    if (!id.ok()) {
+      fail(id.status());
+      continue;
+    }
+    landmark[k] = *id;
+    gated[k] = constrained && gateThreshold() > 0.0;
+    any_gated = any_gated || gated[k];
+  }
+  // 2. The graph's joint marginals of (keyframe, gate), before any of the new edges is in.
+  std::vector<Eigen::MatrixXd> joint(measurements.size());
+  if (any_gated) {
+    MarginalCovariance marginals;
+    Status computed = marginals.compute(optimizer_, graph_);
+    for (size_t k = 0; k < measurements.size() && computed.ok(); ++k) {
+      if (!gated[k]) continue;
+      Result<Eigen::MatrixXd> block = marginals.jointBlock({keyframe_id, landmark[k]});
+      if (block.ok()) joint[k] = *block;
+      else computed = block.status();
+    }
+    if (!computed.ok()) {  // cannot judge: add ungated, say so
+      std::fill(gated.begin(), gated.end(), false);
+      if (outcome.message.empty()) outcome.message = "chi2 gate not applied: " + computed.message();
+    }
+  }
+  // 3. The edges.
+  for (size_t k = 0; k < measurements.size(); ++k) {
+    if (landmark[k] < 0) continue;
+    Result<EdgeBase*> edge = addGateEdge(graph_, keyframe_id, landmark[k], measurements[k], kernel_);
+    if (!edge.ok()) {
+      fail(edge.status());
+      continue;
+    }
+    if (gated[k] && !(innovationChi2(**edge, joint[k]) <= gateThreshold())) {
+      (void)graph_.removeEdge(*edge);
+      ++outcome.rejected;
+      continue;
+    }
+    ++outcome.added;
+  }
+  return outcome;
+}
+
+SolverSummary MainGraph::optimize() {
+  OptimizerParams lm;
+  lm.max_iterations = params_.main_max_iterations;
+  lm.time_budget_ms = params_.main_time_budget_ms;
+  return optimizer_.optimize(lm);
+}
+
+}  // namespace dualgraph

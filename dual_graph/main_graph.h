@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/optimizer.h"
+#include "dual_graph/gate_edge.h"
+#include "dual_graph/gate_map.h"
+#include "dual_graph/localizer_params.h"
+
+namespace dualgraph {
+
+/// A keyframe (dual mode) or node (single mode) of the main graph.
+struct Keyframe {
+  int vertex_id = -1;
+  double t = 0.0;                                                ///< [s]
+  Eigen::Isometry3d odom_T_body = Eigen::Isometry3d::Identity();  ///< the VIO pose at t
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+/// What happened to a batch of gate edges.
+struct GateEdgeOutcome {
+  int added = 0;
+  int rejected = 0;  ///< failed the χ² gate
+  int failed = 0;    ///< could not be added (message says why)
+  std::string message;
+};
+
+/// The long-lived graph (DESIGN.md §3), in the world frame: keyframe poses `world_T_body` (VertexSE3),
+/// odometry edges between consecutive keyframes (VIO increment, metric covariance converted to g2o
+/// units), gate landmarks (VertexSE3 `world_T_gate` or VertexPointXYZ `p_world`) with the known map as
+/// priors (or fixed), and gate edges from keyframes. A persistent optimiser keeps warm starts.
+class MainGraph {
+ public:
+  /// `map` must outlive the graph (may be empty in mapping mode); `kernel` may be null.
+  MainGraph(const LocalizerParams& params, const GateMap& map, std::shared_ptr<const RobustKernel> kernel);
+
+  /// The first keyframe: initial_world_T_odom · odom_T_body, held by the initial prior, or fixed
+  /// (mapping mode, or initial_sigma_t ≤ 0).
+  Status addFirstKeyframe(double t, const Eigen::Isometry3d& odom_T_body);
+  /// A keyframe after the newest: initial guess newest · (VIO increment), and the odometry edge with the
+  /// increment's metric [t; θ] covariance.
+  Status addKeyframe(double t, const Eigen::Isometry3d& odom_T_body, const Matrix6d& increment_covariance);
+  /// Adds one edge per measurement from keyframe `keyframe_index`, creating landmarks on first sight
+  /// (at the map pose with its prior in localization mode; where seen in mapping mode). With the χ² gate
+  /// on, each edge whose residual is implausible given the edge's and the graph's covariance is rejected.
+  GateEdgeOutcome addGateEdges(size_t keyframe_index, const GateEdgeMeasurements& measurements);
+  /// Warm-started LM with the configured iteration cap and time budget.
+  SolverSummary optimize();
+
+  const std::vector<Keyframe, Eigen::aligned_allocator<Keyframe>>& keyframes() const { return keyframes_; }
+  /// Current estimate of keyframe `index`.
+  const Eigen::Isometry3d& keyframePose(size_t index) const;
+  const Graph& graph() const { return graph_; }
+  /// Vertex id of a gate landmark, -1 when it has none yet.
+  int landmarkVertex(int gate_id) const;
+
+ private:
+  Result<int> findOrCreateLandmark(int gate_id, size_t keyframe_index, const GateEdgeMeasurement& measurement,
+                                   bool& constrained);
+  /// eᵀS⁻¹e of `edge` with S = J Σ Jᵀ + Ω⁻¹, Σ the joint marginal of its two vertices.
+  static double innovationChi2(EdgeBase& edge, const Eigen::MatrixXd& joint_covariance);
+  double gateThreshold() const;
+
+  const LocalizerParams params_;
+  const GateMap& map_;
+  std::shared_ptr<const RobustKernel> kernel_;
+  Graph graph_;
+  Optimizer optimizer_;
+  std::vector<Keyframe, Eigen::aligned_allocator<Keyframe>> keyframes_;
+  std::map<int, int> landmark_vertex_;  ///< gate id → vertex id
+  int next_vertex_id_ = 0;
+};
+
+}  // namespace dualgraph

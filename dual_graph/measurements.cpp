@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: MIT
+#include "dual_graph/measurements.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <sstream>
+
+namespace dualgraph {
+
+GateObservation GateObservation::pose(double t, int gate_id, const Eigen::Isometry3d& body_T_gate,
+                                      const Matrix6d& covariance) {
+  GateObservation observation;
+  observation.t = t;
+  observation.gate_id = gate_id;
+  observation.kind = ObservationKind::kPose;
+  observation.body_T_gate = body_T_gate;
+  observation.pose_covariance = covariance;
+  observation.p_body = body_T_gate.translation();
+  return observation;
+}
+
+GateObservation GateObservation::position(double t, int gate_id, const Eigen::Vector3d& p_body,
+                                          const Eigen::Matrix3d& covariance) {
+  GateObservation observation;
+  observation.t = t;
+  observation.gate_id = gate_id;
+  observation.kind = ObservationKind::kPosition;
+  observation.p_body = p_body;
+  observation.body_T_gate.translation() = p_body;
+  observation.position_covariance = covariance;
+  return observation;
+}
+
+Eigen::Matrix3d GateObservation::centreCovarianceInBody() const {
+  if (kind == ObservationKind::kPosition) return position_covariance;
+  // body_T_gate · exp([ρ; θ]) moves the centre by R_body_gate · ρ to first order.
+  const Eigen::Matrix3d rotation = body_T_gate.linear();
+  return rotation * pose_covariance.topLeftCorner<3, 3>() * rotation.transpose();
+}
+
+Status checkCovariance(const Eigen::MatrixXd& m, const std::string& what) {
+  if (m.rows() != m.cols() || m.rows() == 0) return Status(StatusCode::kInvalidArgument, what + " is not square");
+  if (!m.allFinite()) return Status(StatusCode::kInvalidArgument, what + " has a non-finite entry");
+  const double scale = m.cwiseAbs().maxCoeff();
+  if ((m - m.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(scale, 1e-300)) {
+    return Status(StatusCode::kInvalidArgument, what + " is not symmetric");
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(0.5 * (m + m.transpose()), Eigen::EigenvaluesOnly);
+  const double smallest = eigen.eigenvalues().minCoeff();
+  const double largest = eigen.eigenvalues().maxCoeff();
+  if (!(largest > 0.0) || !(smallest > 1e-12 * largest)) {
+    std::ostringstream message;
+    message << what << " is not positive definite (eigenvalues from " << smallest << " to " << largest << ")";
+    return Status(StatusCode::kNotPositiveDefinite, message.str());
+  }
+  return Status();
+}
+
+Status checkRigidTransform(const Eigen::Isometry3d& pose, const std::string& what) {
+  if (!pose.matrix().allFinite()) return Status(StatusCode::kInvalidArgument, what + " has a non-finite entry");
+  const Eigen::Matrix3d rotation = pose.linear();
+  const double orthogonality = (rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (orthogonality > 1e-6 || rotation.determinant() <= 0.0) {
+    return Status(StatusCode::kInvalidArgument, what + " has a rotation that is not orthonormal");
+  }
+  return Status();
+}
+
+Status validateOdometrySample(const OdometrySample& sample) {
+  const std::string where = "odometry sample at t=" + std::to_string(sample.t) + ": ";
+  if (!std::isfinite(sample.t)) return Status(StatusCode::kInvalidArgument, "odometry sample: time stamp is not finite");
+  DG_RETURN_IF_ERROR(checkRigidTransform(sample.odom_T_body, where + "odom_T_body"));
+  if (sample.relative_covariance) {
+    DG_RETURN_IF_ERROR(checkCovariance(*sample.relative_covariance, where + "relative_covariance"));
+  }
+  return Status();
+}
+
+Status validateGateObservation(const GateObservation& observation) {
+  if (!std::isfinite(observation.t)) return Status(StatusCode::kInvalidArgument, "gate observation: time stamp is not finite");
+  const std::string where =
+      "gate observation of gate " + std::to_string(observation.gate_id) + " at t=" + std::to_string(observation.t) + ": ";
+  if (observation.gate_id < 0) return Status(StatusCode::kInvalidArgument, where + "gate_id must be >= 0");
+  if (observation.kind == ObservationKind::kPose) {
+    DG_RETURN_IF_ERROR(checkRigidTransform(observation.body_T_gate, where + "body_T_gate"));
+    return checkCovariance(observation.pose_covariance, where + "pose_covariance");
+  }
+  if (!observation.p_body.allFinite()) return Status(StatusCode::kInvalidArgument, where + "p_body has a non-finite entry");
+  return checkCovariance(observation.position_covariance, where + "position_covariance");
+}
+
+}  // namespace dualgraph

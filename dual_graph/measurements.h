@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Geometry>
+#include <optional>
+
+#include "core/status.h"
+#include "types/se3_math.h"
+
+namespace dualgraph {
+
+/// One VIO sample at time `t` [s]: `odom_T_body` maps points from the body frame to the odometry's
+/// own frame. `relative_covariance`, when given, is the covariance of the motion since the previous
+/// sample: 6×6, metric [t; θ] (m², rad²), a right perturbation in the current body frame,
+/// i.e. prev_T_cur_true = prev_T_cur · exp(ε), ε ~ N(0, Σ).
+struct OdometrySample {
+  double t = 0.0;
+  Eigen::Isometry3d odom_T_body = Eigen::Isometry3d::Identity();
+  std::optional<Matrix6d> relative_covariance;
+
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+/// What a gate observation measures.
+enum class ObservationKind {
+  kPose,      ///< `body_T_gate` with a 6×6 covariance
+  kPosition,  ///< the gate centre `p_body` with a 3×3 covariance
+};
+
+/// One gate observation at time `t` [s] of the gate `gate_id` (≥ 0; association happens before).
+/// kPose: `body_T_gate` maps points from the gate frame to the body frame; `pose_covariance` is metric
+/// [t; θ] (m², rad²), a right perturbation in the gate frame (body_T_gate_true = body_T_gate · exp(ε)).
+/// kPosition: `p_body` is the gate centre in body axes [m], `position_covariance` in m², body axes.
+struct GateObservation {
+  double t = 0.0;
+  int gate_id = -1;
+  ObservationKind kind = ObservationKind::kPose;
+  Eigen::Isometry3d body_T_gate = Eigen::Isometry3d::Identity();
+  Matrix6d pose_covariance = Matrix6d::Identity();
+  Eigen::Vector3d p_body = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d position_covariance = Eigen::Matrix3d::Identity();
+
+  static GateObservation pose(double t, int gate_id, const Eigen::Isometry3d& body_T_gate,
+                              const Matrix6d& covariance);
+  static GateObservation position(double t, int gate_id, const Eigen::Vector3d& p_body,
+                                  const Eigen::Matrix3d& covariance);
+  /// The gate centre in body axes whatever the kind (a pose's translation).
+  Eigen::Vector3d centreInBody() const { return kind == ObservationKind::kPose ? Eigen::Vector3d(body_T_gate.translation()) : p_body; }
+  /// Its covariance (the translation block of a pose covariance, rotated into body axes).
+  Eigen::Matrix3d centreCovarianceInBody() const;
+
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+/// kInvalidArgument naming the field when `t` or the pose is not finite, the rotation is not
+/// orthonormal (|RᵀR − I| > 1e-6 or det ≤ 0), or the covariance is not finite, symmetric and positive definite.
+Status validateOdometrySample(const OdometrySample& sample);
+/// The same checks for an observation, plus gate_id ≥ 0.
+Status validateGateObservation(const GateObservation& observation);
+
+/// OK when `m` is finite, symmetric to 1e-9 relative and positive definite (Cholesky succeeds and the
+/// smallest eigenvalue is above 1e-12 of the largest); otherwise kNotPositiveDefinite / kInvalidArgument
+/// with a message starting with `what`.
+Status checkCovariance(const Eigen::MatrixXd& m, const std::string& what);
+/// kInvalidArgument when the pose has a non-finite entry or a rotation that is not a rotation.
+Status checkRigidTransform(const Eigen::Isometry3d& pose, const std::string& what);
+
+}  // namespace dualgraph

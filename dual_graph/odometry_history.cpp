@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: MIT
+#include "dual_graph/odometry_history.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include "dual_graph/se3_uncertainty.h"
+
+namespace dualgraph {
+namespace {
+
+Status notCovered(double t, double oldest, double newest) {
+  std::ostringstream message;
+  message.precision(17);
+  message << "time " << t << " is outside the odometry history [" << oldest << ", " << newest << "]";
+  return Status(StatusCode::kFailedPrecondition, message.str());
+}
+
+}  // namespace
+
+size_t OdometryHistory::indexAtOrBefore(double t) const {
+  const auto after = std::upper_bound(samples_.begin(), samples_.end(), t,
+                                      [](double value, const OdometrySample& s) { return value < s.t; });
+  return static_cast<size_t>(std::max<std::ptrdiff_t>(0, (after - samples_.begin()) - 1));
+}
+
+Result<Eigen::Isometry3d> OdometryHistory::poseAt(double t) const {
+  if (samples_.empty() || t < samples_.front().t || t > samples_.back().t) {
+    return samples_.empty() ? Status(StatusCode::kFailedPrecondition, "no odometry yet")
+                            : notCovered(t, samples_.front().t, samples_.back().t);
+  }
+  const size_t k = indexAtOrBefore(t);
+  const OdometrySample& before = samples_[k];
+  if (before.t == t || k + 1 == samples_.size()) return before.odom_T_body;
+  const OdometrySample& after = samples_[k + 1];
+  return interpolatePose(before.odom_T_body, after.odom_T_body, (t - before.t) / (after.t - before.t));
+}
+
+Result<Matrix6d> OdometryHistory::relativeCovariance(double t_a, double t_b, const OdometryNoiseModel& model) const {
+  if (t_b < t_a) return Status(StatusCode::kInvalidArgument, "relativeCovariance: t_b < t_a");
+  Result<Eigen::Isometry3d> pose_a = poseAt(t_a);
+  if (!pose_a.ok()) return pose_a.status();
+  Result<Eigen::Isometry3d> pose_b = poseAt(t_b);
+  if (!pose_b.ok()) return pose_b.status();
+  const size_t first = indexAtOrBefore(t_a);
+  const size_t last = std::min(indexAtOrBefore(t_b) + (samples_[indexAtOrBefore(t_b)].t < t_b ? 1 : 0),
+                               samples_.size() - 1);
+  bool all_have_covariance = model.use_input_covariance && t_b > t_a;
+  for (size_t k = first + 1; k <= last && all_have_covariance; ++k) {
+    all_have_covariance = samples_[k].relative_covariance.has_value();
+  }
+  if (!all_have_covariance) {
+    return odometryModelCovariance(pose_a->inverse() * *pose_b, model.sigma_t, model.sigma_r, model.min_distance);
+  }
+  // Walk the steps (k-1, k] that overlap (t_a, t_b], composing each step's share of its covariance.
+  Matrix6d covariance = Matrix6d::Zero();
+  Eigen::Isometry3d previous = *pose_a;
+  for (size_t k = first + 1; k <= last; ++k) {
+    const OdometrySample& step_end = samples_[k];
+    const double step_begin_t = samples_[k - 1].t;
+    const double from = std::max(step_begin_t, t_a);
+    const double to = std::min(step_end.t, t_b);
+    if (to <= from) continue;
+    const double fraction = (to - from) / (step_end.t - step_begin_t);
+    const Eigen::Isometry3d next = to == step_end.t ? step_end.odom_T_body : *pose_b;
+    covariance = composeRelativeCovariance(covariance, previous.inverse() * next,
+                                           fraction * *step_end.relative_covariance);
+    previous = next;
+  }
+  return covariance;
+}
+
+void OdometryHistory::discardBefore(double t) {
+  while (samples_.size() > 1 && samples_[1].t <= t) samples_.pop_front();
+}
+
+}  // namespace dualgraph

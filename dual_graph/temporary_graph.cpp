@@ -1,0 +1,201 @@
+// SPDX-License-Identifier: MIT
+#include "dual_graph/temporary_graph.h"
+
+#include <algorithm>
+#include <map>
+
+#include "core/optimizer.h"
+#include "core/wall_clock.h"
+#include "dual_graph/graph_edges.h"
+#include "dual_graph/se3_uncertainty.h"
+#include "solvers/marginal_covariance.h"
+#include "types/vertex_point_xyz.h"
+#include "types/vertex_se3.h"
+
+namespace dualgraph {
+
+OdometryNoiseModel noiseModelOf(const LocalizerParams& params) {
+  OdometryNoiseModel model;
+  model.use_input_covariance = params.use_input_covariance;
+  model.sigma_t = params.odom_sigma_t;
+  model.sigma_r = params.odom_sigma_r;
+  model.min_distance = params.odom_min_distance;
+  return model;
+}
+
+TemporaryGraph::TemporaryGraph(const LocalizerParams& params, std::shared_ptr<const RobustKernel> kernel)
+    : params_(params), kernel_(std::move(kernel)) {}
+
+void TemporaryGraph::clear() {
+  nodes_.clear();
+  observations_.clear();
+}
+
+Status TemporaryGraph::addObservation(const GateObservation& observation, const Eigen::Isometry3d& odom_T_body,
+                                      const OdometryHistory& history) {
+  if (!nodes_.empty() && observation.t < nodes_.back().t) {
+    return Status(StatusCode::kFailedPrecondition, "temporary graph: observation older than its newest node");
+  }
+  bool new_node = nodes_.empty();
+  if (!new_node) {
+    const Eigen::Isometry3d increment = nodes_.back().odom_T_body.inverse() * odom_T_body;
+    new_node = translationOf(increment) >= params_.d_temp || rotationAngleOf(increment) >= params_.theta_temp;
+  }
+  const Node& node = new_node ? Node{observation.t, odom_T_body} : nodes_.back();
+  const Eigen::Isometry3d node_T_body = node.odom_T_body.inverse() * odom_T_body;
+  Matrix6d compensation_covariance = Matrix6d::Zero();
+  const bool compensated = observation.t > node.t;
+  if (compensated) {
+    Result<Matrix6d> covariance = history.relativeCovariance(node.t, observation.t, noiseModelOf(params_));
+    if (!covariance.ok()) return covariance.status();
+    compensation_covariance = *covariance;
+  }
+  Result<GateEdgeMeasurement> measurement = attachObservationToNode(
+      observation, node_T_body, compensated ? &compensation_covariance : nullptr, params_.landmark);
+  if (!measurement.ok()) return measurement.status();
+  if (new_node) nodes_.push_back(Node{observation.t, odom_T_body});
+  observations_.push_back(NodeObservation{nodes_.size() - 1, *measurement});
+  return Status();
+}
+
+std::vector<int> TemporaryGraph::distinctGates() const {
+  std::vector<int> gates;
+  for (const NodeObservation& observation : observations_) {
+    const int gate = observation.measurement.gate_id;
+    if (std::find(gates.begin(), gates.end(), gate) == gates.end()) gates.push_back(gate);
+  }
+  return gates;
+}
+
+Status TemporaryGraph::buildAndOptimize(Graph& graph, Optimizer& optimizer, double t_keyframe,
+                                        const Eigen::Isometry3d& odom_T_keyframe, const OdometryHistory& history,
+                                        std::vector<int>& gate_ids, DistillationResult& result) const {
+  // Ids: nodes 0..n-1, the keyframe n (a fixed vertex after free ones, on purpose: block lookup must not
+  // assume the fixed vertex comes first), gates from n + 1.
+  const int keyframe_id = static_cast<int>(nodes_.size());
+  auto keyframe = std::make_unique<VertexSE3>(keyframe_id);
+  keyframe->setEstimate(odom_T_keyframe);
+  keyframe->setFixed(true);
+  DG_RETURN_IF_ERROR(graph.addVertex(std::move(keyframe)));
+  // Node j is vertex j, or the keyframe itself when it was taken at the keyframe instant.
+  std::vector<int> node_vertex(nodes_.size());
+  std::vector<double> node_time(nodes_.size());
+  for (size_t j = 0; j < nodes_.size(); ++j) {
+    node_time[j] = nodes_[j].t;
+    if (nodes_[j].t >= t_keyframe) {
+      node_vertex[j] = keyframe_id;
+      continue;
+    }
+    node_vertex[j] = static_cast<int>(j);
+    auto vertex = std::make_unique<VertexSE3>(node_vertex[j]);
+    vertex->setEstimate(nodes_[j].odom_T_body);
+    DG_RETURN_IF_ERROR(graph.addVertex(std::move(vertex)));
+  }
+  // The odometry chain node_0 → … → node_last → K.
+  const OdometryNoiseModel model = noiseModelOf(params_);
+  for (size_t j = 0; j < nodes_.size(); ++j) {
+    const int from = node_vertex[j];
+    const bool last = j + 1 == nodes_.size();
+    const int to = last ? keyframe_id : node_vertex[j + 1];
+    if (from == to) continue;
+    const double t_to = last ? t_keyframe : node_time[j + 1];
+    const Eigen::Isometry3d to_pose = last ? odom_T_keyframe : nodes_[j + 1].odom_T_body;
+    Result<Matrix6d> covariance = history.relativeCovariance(node_time[j], t_to, model);
+    if (!covariance.ok()) return covariance.status();
+    Result<Matrix6d> information = poseInformationFromMetricCovariance(*covariance, "temporary odometry covariance");
+    if (!information.ok()) return information.status();
+    Result<EdgeSE3*> edge =
+        addRelativePoseEdge(graph, from, to, nodes_[j].odom_T_body.inverse() * to_pose, *information);
+    if (!edge.ok()) return edge.status();
+  }
+  // Gates: created at their first observation, one edge per observation.
+  std::map<int, int> vertex_of_gate;
+  int next_id = static_cast<int>(nodes_.size()) + 1;
+  for (const NodeObservation& observation : observations_) {
+    const int gate = observation.measurement.gate_id;
+    auto found = vertex_of_gate.find(gate);
+    if (found == vertex_of_gate.end()) {
+      const Eigen::Isometry3d& odom_T_node =
+          node_vertex[observation.node] == keyframe_id ? odom_T_keyframe : nodes_[observation.node].odom_T_body;
+      DG_RETURN_IF_ERROR(addGateVertex(graph, next_id, params_.landmark,
+                                       gateFromNode(odom_T_node, observation.measurement)));
+      found = vertex_of_gate.emplace(gate, next_id++).first;
+      gate_ids.push_back(gate);
+    }
+    Result<EdgeBase*> edge =
+        addGateEdge(graph, node_vertex[observation.node], found->second, observation.measurement, kernel_);
+    if (!edge.ok()) return edge.status();
+  }
+  result.nodes = static_cast<int>(graph.numVertices() - vertex_of_gate.size());
+  result.edges = static_cast<int>(graph.numEdges());
+  OptimizerParams lm;
+  lm.max_iterations = params_.temp_max_iterations;
+  const SolverSummary summary = optimizer.optimize(lm);
+  result.iterations = summary.iterations;
+  if (!summary.usable()) {
+    return Status(StatusCode::kNumericalError, std::string("temporary graph optimisation failed (") +
+                                                   terminationReasonName(summary.termination) + "): " + summary.message);
+  }
+  return Status();
+}
+
+DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isometry3d& odom_T_keyframe,
+                                          const OdometryHistory& history) {
+  DistillationResult result;
+  if (nodes_.empty()) return result;
+  const double start_ms = nowMs();
+  Graph graph;
+  Optimizer optimizer(graph, makeLinearSolver(params_.linear_solver));
+  std::vector<int> gate_ids;
+  Status built = buildAndOptimize(graph, optimizer, t_keyframe, odom_T_keyframe, history, gate_ids, result);
+  MarginalCovariance marginals;
+  if (built.ok()) built = marginals.compute(optimizer, graph);
+  if (!built.ok()) {
+    result.skipped_gates = static_cast<int>(distinctGates().size());
+    result.skip_reason = built.message();
+    result.optimize_ms = nowMs() - start_ms;
+    clear();
+    return result;
+  }
+  // Gate vertices follow the nodes, in order of first observation.
+  const int first_gate_vertex = static_cast<int>(nodes_.size()) + 1;
+  const Eigen::Isometry3d keyframe_T_odom = odom_T_keyframe.inverse();
+  for (size_t g = 0; g < gate_ids.size(); ++g) {
+    const int vertex_id = first_gate_vertex + static_cast<int>(g);
+    GateEdgeMeasurement distilled;
+    distilled.gate_id = gate_ids[g];
+    distilled.model = params_.landmark;
+    distilled.observations = 0;
+    for (const NodeObservation& observation : observations_) {
+      distilled.observations += observation.measurement.gate_id == gate_ids[g] ? 1 : 0;
+    }
+    Result<Eigen::MatrixXd> covariance = marginals.block(vertex_id);
+    Status usable = covariance.ok() ? Status() : covariance.status();
+    const std::string what = "distilled covariance of gate " + std::to_string(gate_ids[g]);
+    if (usable.ok() && params_.landmark == LandmarkModel::kPose) {
+      distilled.node_T_gate = keyframe_T_odom * graph.vertexAs<VertexSE3>(vertex_id)->estimate();
+      Result<Eigen::MatrixXd> information = informationFromCovariance(*covariance, what);
+      usable = information.ok() ? Status() : information.status();
+      if (usable.ok()) distilled.pose_information = Matrix6d(*information);
+    } else if (usable.ok()) {
+      distilled.p_node = keyframe_T_odom * graph.vertexAs<VertexPointXYZ>(vertex_id)->estimate();
+      distilled.node_T_gate.translation() = distilled.p_node;
+      // The point's covariance is in odometry axes; the edge's error is in the keyframe's axes.
+      const Eigen::Matrix3d rotation = keyframe_T_odom.linear();
+      Result<Eigen::MatrixXd> information =
+          informationFromCovariance(rotation * *covariance * rotation.transpose(), what);
+      usable = information.ok() ? Status() : information.status();
+      if (usable.ok()) distilled.point_information = Eigen::Matrix3d(*information);
+    }
+    if (!usable.ok()) {
+      if (result.skipped_gates++ == 0) result.skip_reason = usable.message();
+      continue;
+    }
+    result.gates.push_back(distilled);
+  }
+  result.optimize_ms = nowMs() - start_ms;
+  clear();
+  return result;
+}
+
+}  // namespace dualgraph

@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dual_graph/gate_edge.h"
+#include "dual_graph/localizer_params.h"
+#include "dual_graph/odometry_history.h"
+
+namespace dualgraph {
+
+class Optimizer;
+
+/// What one distillation did (statistics and the edges for the main graph).
+struct DistillationResult {
+  GateEdgeMeasurements gates;  ///< one per gate seen in the interval, relative to the new keyframe
+  int skipped_gates = 0;       ///< gates whose marginal covariance was not usable (not positive definite, …)
+  std::string skip_reason;     ///< why the first one was skipped
+  int nodes = 0;               ///< pose nodes of the temporary graph, the fixed keyframe included
+  int edges = 0;
+  int iterations = 0;
+  double optimize_ms = 0.0;    ///< LM + marginals
+};
+
+/// The short-lived graph of one keyframe interval (DESIGN.md §3). Between keyframes it only records:
+/// pose nodes at detection instants (a new one when the VIO increment since the last node exceeds
+/// `d_temp`/`theta_temp`), each detection re-expressed in its node's frame (motion-compensated).
+/// `distil` builds the graph in the odometry frame — nodes chained by VIO-increment edges ending at the
+/// new keyframe K, which is fixed (the gauge); gates free, one edge per detection — optimises it, and
+/// turns each gate L into one edge K → L with measurement K⁻¹·L and information Σ_L⁻¹, Σ_L the
+/// marginal covariance of L (its own tangent space, which is exactly the tangent of that edge's error;
+/// for a point the world-axes covariance is rotated into K's axes). A detection at the keyframe instant
+/// attaches to K itself.
+class TemporaryGraph {
+ public:
+  TemporaryGraph(const LocalizerParams& params, std::shared_ptr<const RobustKernel> kernel);
+
+  /// Records a valid observation taken at `odom_T_body` (the VIO pose at its instant); `history` must
+  /// cover [last node, observation]. Observations must come in non-decreasing time.
+  Status addObservation(const GateObservation& observation, const Eigen::Isometry3d& odom_T_body,
+                        const OdometryHistory& history);
+
+  /// Distils into edges relative to the keyframe at (t_keyframe, odom_T_keyframe) and clears the record.
+  /// `history` must cover [first node, t_keyframe]. Never fails: unusable gates are counted.
+  DistillationResult distil(double t_keyframe, const Eigen::Isometry3d& odom_T_keyframe,
+                            const OdometryHistory& history);
+
+  bool empty() const { return nodes_.empty(); }
+  size_t numNodes() const { return nodes_.size(); }
+  size_t numObservations() const { return observations_.size(); }
+  /// Time of the first node (the oldest instant the record needs from the odometry history).
+  double firstNodeTime() const { return nodes_.front().t; }
+  void clear();
+
+ private:
+  struct Node {
+    double t;
+    Eigen::Isometry3d odom_T_body;
+    EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+  };
+  struct NodeObservation {
+    size_t node;
+    GateEdgeMeasurement measurement;
+    EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+  };
+  /// Builds and optimises the graph; fills `result` except the gates.
+  Status buildAndOptimize(Graph& graph, Optimizer& optimizer, double t_keyframe,
+                          const Eigen::Isometry3d& odom_T_keyframe, const OdometryHistory& history,
+                          std::vector<int>& gate_ids, DistillationResult& result) const;
+  /// Gate ids observed in the interval, in order of first observation.
+  std::vector<int> distinctGates() const;
+
+  const LocalizerParams params_;
+  std::shared_ptr<const RobustKernel> kernel_;
+  std::vector<Node, Eigen::aligned_allocator<Node>> nodes_;
+  std::vector<NodeObservation, Eigen::aligned_allocator<NodeObservation>> observations_;
+};
+
+/// The per-metre model and input-covariance choice of `params`.
+OdometryNoiseModel noiseModelOf(const LocalizerParams& params);
+
+}  // namespace dualgraph
