@@ -16,7 +16,8 @@ namespace dualgraph {
 /// Information Ω (6×6, [t; q.vec] order) is in g2o units: m⁻² for t and (q.vec)⁻² ≈ 4 rad⁻²
 /// for the rotation; convert a metric [t; θ] information with informationMetricToG2o().
 /// File fields after the ids: `x y z qx qy qz qw` (quaternion normalised on read, as g2o does)
-/// and the 21 upper-triangular entries of Ω. Analytic Jacobians.
+/// and the 21 upper-triangular entries of Ω. Analytic Jacobians in closed form from the error
+/// (computeError keeps the error pose's rotation and quaternion w for them).
 class EdgeSE3 final : public BaseEdge<6, Eigen::Isometry3d, VertexSE3, VertexSE3> {
  public:
   static constexpr const char* kTag = "EDGE_SE3:QUAT";
@@ -36,7 +37,10 @@ class EdgeSE3 final : public BaseEdge<6, Eigen::Isometry3d, VertexSE3, VertexSE3
 
  private:
   Eigen::Isometry3d j_T_i_measured_ = Eigen::Isometry3d::Identity();
-  Eigen::Quaterniond q_j_i_measured_ = Eigen::Quaterniond::Identity();  ///< rotation of Z⁻¹
+  /// Of the error pose E = Z⁻¹ · world_T_i⁻¹ · world_T_j at the last computeError: its rotation
+  /// block and the w (≥ 0) of its unit quaternion, whose vector part is error_.tail<3>().
+  Eigen::Matrix3d error_rotation_ = Eigen::Matrix3d::Identity();
+  double error_w_ = 1.0;
   G2oPoseText text_{QuaternionReading::kNormalise};
 };
 

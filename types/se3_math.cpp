@@ -158,8 +158,14 @@ Eigen::Isometry3d g2oIncrement(const Vector6d& v) {
 }
 
 Vector6d g2oChart(const Eigen::Isometry3d& pose) {
+  double w = 0.0;
+  return g2oChart(pose, w);
+}
+
+Vector6d g2oChart(const Eigen::Isometry3d& pose, double& w) {
   Eigen::Quaterniond q = quatFromRotation(pose.linear());
   if (q.w() < 0.0) q.coeffs() *= -1.0;
+  w = q.w();
   Vector6d v;
   v.head<3>() = pose.translation();
   v.tail<3>() = q.vec();

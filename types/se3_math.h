@@ -63,6 +63,8 @@ Eigen::Isometry3d g2oIncrement(const Vector6d& v);
 /// g2o's chart ("toVectorMQT"): [t; q.vec] with q the rotation's unit quaternion, sign chosen so
 /// that w ≥ 0.
 Vector6d g2oChart(const Eigen::Isometry3d& pose);
+/// The same, also giving that quaternion's w (≥ 0), which the SE(3) edges' Jacobians use.
+Vector6d g2oChart(const Eigen::Isometry3d& pose, double& w);
 /// d g2oChart(A · g2oIncrement(δ) · B) / dδ at δ = 0, a 6×6 matrix (rows [t; q.vec], columns
 /// [δt; δq]). The shared building block of every analytic Jacobian of the SE(3) edges.
 Matrix6d g2oChartJacobianOfProduct(const Eigen::Isometry3d& A, const Eigen::Isometry3d& B);
