@@ -1,0 +1,129 @@
+// SPDX-License-Identifier: MIT
+#include "solvers/marginal_covariance.h"
+
+#include <algorithm>
+#include <string>
+
+namespace dualgraph {
+namespace {
+
+/// One requested vertex: where its rows sit in the system (-1 when fixed) and in the result.
+struct Requested {
+  int id;
+  int dim;
+  int system_offset;
+  int result_offset;
+};
+
+std::string vertexName(int id) { return "vertex " + std::to_string(id); }
+
+Status failedPrecondition(const std::string& what) {
+  return Status(StatusCode::kFailedPrecondition, "marginal covariance: " + what);
+}
+
+}  // namespace
+
+Status MarginalCovariance::compute(Optimizer& optimizer, const Graph& graph) {
+  optimizer_ = nullptr;
+  graph_ = nullptr;
+  fixed_snapshot_.clear();
+  DG_RETURN_IF_ERROR(optimizer.factorizeAtCurrentEstimate());
+  for (const VertexBase* vertex : optimizer.system().activeVertices()) {
+    if (graph.vertex(vertex->id()) != vertex) {
+      return Status(StatusCode::kInvalidArgument, "marginal covariance: the graph is not the optimiser's graph (" +
+                                                      vertexName(vertex->id()) + " of the system is not in it)");
+    }
+  }
+  fixed_snapshot_.reserve(graph.numVertices());
+  for (const auto& [id, vertex] : graph.vertices()) fixed_snapshot_.emplace_back(vertex.get(), vertex->fixed());
+  structure_version_ = graph.structureVersion();
+  scratch_.resize(optimizer.system().dim());
+  optimizer_ = &optimizer;
+  graph_ = &graph;
+  return Status();
+}
+
+Status MarginalCovariance::checkCurrent() const {
+  if (optimizer_ == nullptr) return failedPrecondition("compute() has not been called or did not succeed");
+  if (graph_->structureVersion() != structure_version_) {
+    return failedPrecondition("the graph's structure changed since compute() (call compute() again)");
+  }
+  // The snapshot's pointers are valid: removing a vertex bumps the structure version.
+  for (const auto& [vertex, fixed] : fixed_snapshot_) {
+    if (vertex->fixed() != fixed) {
+      return failedPrecondition("the fixed flag of " + vertexName(vertex->id()) +
+                                " changed since compute() (call compute() again)");
+    }
+  }
+  if (optimizer_->system().dim() != scratch_.size()) {
+    return failedPrecondition("the optimiser's system changed since compute() (call compute() again)");
+  }
+  return Status();
+}
+
+Result<Eigen::MatrixXd> MarginalCovariance::block(int id) { return jointBlock({id}); }
+
+Result<Eigen::MatrixXd> MarginalCovariance::jointBlock(const std::vector<int>& ids) {
+  DG_RETURN_IF_ERROR(checkCurrent());
+  const SparseSystem& system = optimizer_->system();
+
+  std::vector<Requested> requested;
+  requested.reserve(ids.size());
+  int total = 0;
+  for (int id : ids) {
+    const VertexBase* vertex = graph_->vertex(id);
+    if (vertex == nullptr) {
+      return Status(StatusCode::kNotFound, "marginal covariance: unknown " + vertexName(id));
+    }
+    int system_offset = -1;  // a fixed vertex is known exactly: zero rows and columns
+    if (!vertex->fixed()) {
+      system_offset = system.offsetOf(vertex);
+      if (system_offset < 0) {
+        return failedPrecondition(vertexName(id) +
+                                  " is free but attached to no edge, so its covariance is unbounded");
+      }
+    }
+    requested.push_back(Requested{id, vertex->tangentDim(), system_offset, total});
+    total += vertex->tangentDim();
+  }
+  std::vector<int> sorted_ids(ids);
+  std::sort(sorted_ids.begin(), sorted_ids.end());
+  const auto duplicate = std::adjacent_find(sorted_ids.begin(), sorted_ids.end());
+  if (duplicate != sorted_ids.end()) {
+    return Status(StatusCode::kInvalidArgument, "marginal covariance: " + vertexName(*duplicate) +
+                                                    " is requested twice");
+  }
+
+  // Column c of vertex a's block column of H⁻¹ is H⁻¹ e_c: one solve per free requested column,
+  // from which every requested vertex's rows are read.
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(total, total);
+  LinearSolver& solver = optimizer_->linearSolver();
+  for (const Requested& column_vertex : requested) {
+    if (column_vertex.system_offset < 0) continue;
+    for (int c = 0; c < column_vertex.dim; ++c) {
+      scratch_.setZero();
+      scratch_[column_vertex.system_offset + c] = 1.0;
+      const Status solved = solver.solve(scratch_.data(), scratch_.data());
+      if (!solved.ok()) {
+        return Status(solved.code(), "marginal covariance of " + vertexName(column_vertex.id) + ": " +
+                                         solved.message());
+      }
+      for (const Requested& row_vertex : requested) {
+        if (row_vertex.system_offset < 0) continue;
+        covariance.block(row_vertex.result_offset, column_vertex.result_offset + c, row_vertex.dim, 1) =
+            scratch_.segment(row_vertex.system_offset, row_vertex.dim);
+      }
+    }
+  }
+  // The solves are exact only to round-off; a covariance is symmetric by definition.
+  return Eigen::MatrixXd(0.5 * (covariance + covariance.transpose()));
+}
+
+Result<Eigen::MatrixXd> computeMarginalCovariance(Graph& graph, const std::vector<int>& ids, LinearSolverKind kind) {
+  Optimizer optimizer(graph, makeLinearSolver(kind));
+  MarginalCovariance marginals;
+  DG_RETURN_IF_ERROR(marginals.compute(optimizer, graph));
+  return marginals.jointBlock(ids);
+}
+
+}  // namespace dualgraph
