@@ -159,10 +159,19 @@ double SparseSystem::maxDiagonal() const {
 }
 
 void SparseSystem::assemble() {
+  beginAssembly();
+  assembleEdges(0, active_edges_.size());
+  finishAssembly();
+}
+
+void SparseSystem::beginAssembly() {
   std::fill(values_.begin(), values_.end(), 0.0);
   rhs_.setZero();
+}
+
+void SparseSystem::assembleEdges(size_t begin, size_t end) {
   // Fixed-size edges scatter straight from registers; others through a small per-edge buffer.
-  for (size_t e = 0; e < active_edges_.size(); ++e) {
+  for (size_t e = begin; e < end; ++e) {
     switch (edge_kernel_[e]) {
       case EdgeKernel::kFixed6: assembleEdgeFixed<6>(e); break;
       case EdgeKernel::kFixed3: assembleEdgeFixed<3>(e); break;
@@ -172,6 +181,9 @@ void SparseSystem::assemble() {
         break;
     }
   }
+}
+
+void SparseSystem::finishAssembly() {
   for (int k = 0; k < dim_; ++k) undamped_diagonal_[k] = values_[diagonal_index_[k]];
 }
 
@@ -180,45 +192,58 @@ void SparseSystem::setDamping(double lambda) {
 }
 
 /// Fixed-size kernel for edges whose error and active vertices all have dimension N (SE(3) and
-/// SE(2) pose graphs): the products are unrolled and nothing is sized at run time.
+/// SE(2) pose graphs): nothing is sized at run time. With G_b = w Ω J_b (Ω symmetric), every
+/// block is J_aᵀ G_b, a matrix of dot products of columns, added straight into H's columns: the
+/// upper triangle only for the diagonal blocks, J_bᵀ G_a for a block stored transposed. b_a is
+/// −G_aᵀ e.
 template <int N>
 void SparseSystem::assembleEdgeFixed(size_t edge_index) {
   using Square = Eigen::Matrix<double, N, N>;
+  using Vector = Eigen::Matrix<double, N, 1>;
+  using SquareMap = Eigen::Map<const Square>;
   const EdgeBase& edge = *active_edges_[edge_index];
-  const Eigen::Map<const Square> information(edge.informationData());
-  const Eigen::Map<const Eigen::Matrix<double, N, 1>> error(edge.errorData());
-  double weight = 1.0;
-  if (const RobustKernel* kernel = edge.robustKernel()) weight = kernel->robustify(edge.chi2())[1];
-  const Square w_information = weight * information;
-  const Eigen::Matrix<double, N, 1> weighted_error = w_information * error;
+  const SquareMap information(edge.informationData());
+  const Eigen::Map<const Vector> error(edge.errorData());
+  const RobustKernel* kernel = edge.robustKernel();
+  const double weight = kernel != nullptr ? kernel->robustify(edge.chi2())[1] : 1.0;
 
   const int v_begin = edge_vertex_begin_[edge_index];
   const int num_slots = edge_vertex_begin_[edge_index + 1] - v_begin;
-  int slot = edge_slot_begin_[edge_index];
+  constexpr int kMaxSlots = 4;
+  if (num_slots > kMaxSlots) {  // hyper-edges with many fixed-size vertices: the general path
+    computeEdgeDynamic(edge_index, edge_buffer_.data());
+    scatterEdge(edge_index, edge_buffer_.data());
+    return;
+  }
+  Square weighted[kMaxSlots];  // G_a = w Ω J_a for the active slots
   for (int a = 0; a < num_slots; ++a) {
     const int offset_a = edge_vertex_offset_[v_begin + a];
     if (offset_a < 0) continue;
-    const Eigen::Map<const Square> jacobian_a(edge.jacobianData(a));
-    rhs_.template segment<N>(offset_a).noalias() -= jacobian_a.transpose() * weighted_error;
-    const Square jt_w = jacobian_a.transpose() * w_information;
+    if (kernel != nullptr) {
+      weighted[a].noalias() = weight * (information * SquareMap(edge.jacobianData(a)));
+    } else {
+      weighted[a].noalias() = information * SquareMap(edge.jacobianData(a));
+    }
+    rhs_.template segment<N>(offset_a).noalias() -= weighted[a].transpose() * error;
+  }
+  int slot_index = edge_slot_begin_[edge_index];
+  for (int a = 0; a < num_slots; ++a) {
+    if (edge_vertex_offset_[v_begin + a] < 0) continue;
     for (int b = a; b < num_slots; ++b) {
       if (edge_vertex_offset_[v_begin + b] < 0) continue;
-      const Square block = jt_w * Eigen::Map<const Square>(edge.jacobianData(b));
-      scatterFixed<N>(slots_[slot++], block);
-    }
-  }
-}
-
-template <int N>
-void SparseSystem::scatterFixed(const BlockSlot& slot, const Eigen::Matrix<double, N, N>& block) {
-  for (int c = 0; c < N; ++c) {
-    double* column = values_.data() + col_ptr_[slot.first_column + c] + slot.row_offset;
-    if (slot.diagonal) {
-      for (int r = 0; r <= c; ++r) column[r] += block(r, c);
-    } else if (slot.transposed) {
-      for (int r = 0; r < N; ++r) column[r] += block(c, r);
-    } else {
-      for (int r = 0; r < N; ++r) column[r] += block(r, c);
+      const BlockSlot& slot = slots_[slot_index++];
+      // The stored block is J_rᵀ G_c: (a, b), or (b, a) when it lands transposed.
+      const int r = slot.transposed ? b : a;
+      const int c = slot.transposed ? a : b;
+      const SquareMap jacobian_r(edge.jacobianData(r));
+      const Square& weighted_c = weighted[c];
+      double* values = values_.data() + slot.row_offset;
+      const int* col_ptr = col_ptr_.data() + slot.first_column;
+      for (int col = 0; col < N; ++col) {
+        double* column = values + col_ptr[col];
+        const int rows = slot.diagonal ? col + 1 : N;
+        for (int row = 0; row < rows; ++row) column[row] += jacobian_r.col(row).dot(weighted_c.col(col));
+      }
     }
   }
 }

@@ -25,7 +25,15 @@ class SparseSystem {
   Status build(const Graph& graph);
 
   /// Fills H and b from the edges' current errors and Jacobians (call `EdgeBase::linearize` first).
+  /// Same as `beginAssembly(); assembleEdges(0, activeEdges().size()); finishAssembly();`.
   void assemble();
+  /// The same in pieces, so a caller can linearise a run of edges and add it while its Jacobians
+  /// are still in cache: clears H and b, ...
+  void beginAssembly();
+  /// ... adds active edges [begin, end) (their errors and Jacobians must be current), ...
+  void assembleEdges(size_t begin, size_t end);
+  /// ... and records the undamped diagonal once every edge is in.
+  void finishAssembly();
   /// H ← H_undamped + λ I (the value array keeps the undamped diagonal aside).
   void setDamping(double lambda);
 
@@ -55,8 +63,6 @@ class SparseSystem {
   /// Adds an edge whose error and free vertices all have dimension N straight into H and b.
   template <int N>
   void assembleEdgeFixed(size_t edge_index);
-  template <int N>
-  void scatterFixed(const BlockSlot& slot, const Eigen::Matrix<double, N, N>& block);
   /// Writes any other edge's Jᵀ W e parts and Jᵀ W J blocks (slot order) to `out`.
   void computeEdgeDynamic(size_t edge_index, double* out);
   /// Adds what `computeEdge*` wrote into H and b.
