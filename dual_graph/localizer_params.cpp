@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: MIT
+#include "dual_graph/localizer_params.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "core/robust_kernel.h"
+
+namespace dualgraph {
+namespace {
+
+// Shortest text that reads back to the same double ("-1", "0.1", "nan", "inf").
+std::string formatValue(double value) {
+  char buffer[32];
+  for (int precision = 15; precision <= 17; ++precision) {
+    std::snprintf(buffer, sizeof buffer, "%.*g", precision, value);
+    if (!std::isfinite(value) || std::strtod(buffer, nullptr) == value) break;
+  }
+  return buffer;
+}
+
+Status invalid(const char* field, const std::string& why) {
+  return Status(StatusCode::kInvalidArgument, std::string("field '") + field + "': " + why);
+}
+
+Status requirePositiveFinite(const char* field, double value) {
+  if (std::isfinite(value) && value > 0.0) return Status::okStatus();
+  return invalid(field, "must be finite and > 0, got " + formatValue(value));
+}
+
+Status requireNonNegativeFinite(const char* field, double value) {
+  if (std::isfinite(value) && value >= 0.0) return Status::okStatus();
+  return invalid(field, "must be finite and >= 0, got " + formatValue(value));
+}
+
+Status requireFinite(const char* field, double value) {
+  if (std::isfinite(value)) return Status::okStatus();
+  return invalid(field, "must be finite, got " + formatValue(value));
+}
+
+Status requireAtLeastOne(const char* field, int value) {
+  if (value >= 1) return Status::okStatus();
+  return invalid(field, "must be >= 1, got " + std::to_string(value));
+}
+
+Status validateRigid(const char* field, const Eigen::Isometry3d& transform) {
+  if (!transform.linear().allFinite() || !transform.translation().allFinite()) {
+    return invalid(field, "has a non-finite entry");
+  }
+  const Eigen::Matrix3d rotation = transform.linear();
+  const double orthonormality_error = (rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).norm();
+  if (!(orthonormality_error < 1e-6)) {
+    return invalid(field, "rotation is not orthonormal (|R^T R - I| = " + formatValue(orthonormality_error) + ")");
+  }
+  if (!(rotation.determinant() > 0.0)) return invalid(field, "rotation is a reflection (det R < 0)");
+  return Status::okStatus();
+}
+
+Status validateChoices(const LocalizerParams& params) {
+  // Guards against out-of-range casts; every named enumerator has a name other than "unknown".
+  if (std::string(localizerModeName(params.mode)) == "unknown") return invalid("mode", "is not a LocalizerMode");
+  if (std::string(landmarkModelName(params.landmark)) == "unknown") {
+    return invalid("landmark", "is not a LandmarkModel");
+  }
+  if (std::string(linearSolverKindName(params.linear_solver)) == "unknown") {
+    return invalid("linear_solver", "is not a LinearSolverKind");
+  }
+  return Status::okStatus();
+}
+
+Status validateSpacing(const LocalizerParams& params) {
+  DG_RETURN_IF_ERROR(requirePositiveFinite("d_main", params.d_main));
+  DG_RETURN_IF_ERROR(requirePositiveFinite("theta_main", params.theta_main));
+  DG_RETURN_IF_ERROR(requirePositiveFinite("d_temp", params.d_temp));
+  DG_RETURN_IF_ERROR(requirePositiveFinite("theta_temp", params.theta_temp));
+  DG_RETURN_IF_ERROR(requirePositiveFinite("d_single", params.d_single));
+  return requirePositiveFinite("theta_single", params.theta_single);
+}
+
+Status validateUncertainties(const LocalizerParams& params) {
+  DG_RETURN_IF_ERROR(requirePositiveFinite("odom_sigma_t", params.odom_sigma_t));
+  DG_RETURN_IF_ERROR(requirePositiveFinite("odom_sigma_r", params.odom_sigma_r));
+  DG_RETURN_IF_ERROR(requirePositiveFinite("odom_min_distance", params.odom_min_distance));
+  DG_RETURN_IF_ERROR(requirePositiveFinite("map_sigma_t", params.map_sigma_t));
+  DG_RETURN_IF_ERROR(requirePositiveFinite("map_sigma_r", params.map_sigma_r));
+  DG_RETURN_IF_ERROR(validateRigid("initial_world_T_odom", params.initial_world_T_odom));
+  // σ_t ≤ 0 means "fix the first keyframe", so σ_r only matters (and must be positive) when σ_t > 0.
+  DG_RETURN_IF_ERROR(requireFinite("initial_sigma_t", params.initial_sigma_t));
+  if (params.initial_sigma_t > 0.0) {
+    DG_RETURN_IF_ERROR(requirePositiveFinite("initial_sigma_r", params.initial_sigma_r));
+  } else {
+    DG_RETURN_IF_ERROR(requireFinite("initial_sigma_r", params.initial_sigma_r));
+  }
+  return Status::okStatus();
+}
+
+Status validateOptimisation(const LocalizerParams& params) {
+  DG_RETURN_IF_ERROR(requireAtLeastOne("main_max_iterations", params.main_max_iterations));
+  DG_RETURN_IF_ERROR(requireNonNegativeFinite("main_time_budget_ms", params.main_time_budget_ms));
+  DG_RETURN_IF_ERROR(requireAtLeastOne("temp_max_iterations", params.temp_max_iterations));
+  if (params.robust_kernel != "none") {
+    auto kernel = makeRobustKernel(params.robust_kernel);
+    if (!kernel.ok()) return invalid("robust_kernel", kernel.status().message() + " (\"none\" for no kernel)");
+  }
+  DG_RETURN_IF_ERROR(requireNonNegativeFinite("chi2_gate_pose", params.chi2_gate_pose));
+  return requireNonNegativeFinite("chi2_gate_point", params.chi2_gate_point);
+}
+
+}  // namespace
+
+Status validateLocalizerParams(const LocalizerParams& params) {
+  DG_RETURN_IF_ERROR(validateChoices(params));
+  DG_RETURN_IF_ERROR(validateSpacing(params));
+  DG_RETURN_IF_ERROR(validateUncertainties(params));
+  return validateOptimisation(params);
+}
+
+const char* localizerModeName(LocalizerMode mode) {
+  switch (mode) {
+    case LocalizerMode::kDual: return "dual";
+    case LocalizerMode::kSingle: return "single";
+  }
+  return "unknown";
+}
+
+const char* landmarkModelName(LandmarkModel model) {
+  switch (model) {
+    case LandmarkModel::kPose: return "pose";
+    case LandmarkModel::kPoint: return "point";
+  }
+  return "unknown";
+}
+
+}  // namespace dualgraph

@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <string>
+
+#include "core/status.h"
+#include "dual_graph/localizer_params.h"
+
+namespace dualgraph {
+
+// The YAML form of LocalizerParams (data/config/localizer_default.yaml lists every key with its default):
+//
+//   localizer:                 # optional; the keys may also sit at the top level
+//     mode: dual               # dual | single
+//     landmark: pose           # pose | point
+//     linear_solver: cholmod   # cholmod | eigen
+//     d_main: 2.0              # every other key is named exactly as its field
+//     initial_world_T_odom: {position: [0, 0, 0], quaternion_xyzw: [0, 0, 0, 1]}
+//
+// A missing key keeps its default (so does a missing `position` / `quaternion_xyzw`); the quaternion is
+// normalised. Errors are kParseError, one line "SOURCE:LINE: field 'NAME': why" (1-based line): a YAML
+// syntax error, a wrong type, NaN/Inf, an unknown or duplicate key, an unknown enum value, a document that
+// is not a mapping. The parsed values are then checked with validateLocalizerParams; its kInvalidArgument
+// comes back prefixed with "SOURCE:LINE: " (the line of the offending key, or "SOURCE: " when the field was
+// not in the text).
+
+/// Reads LocalizerParams from YAML text; keys are the field names; a missing key keeps its default.
+/// `source_name` (usually the file name) starts every error message. Never throws.
+Result<LocalizerParams> parseLocalizerParams(const std::string& yaml_text, const std::string& source_name);
+
+/// Reads the file (kIoError naming it when unreadable) and parses it.
+Result<LocalizerParams> loadLocalizerParams(const std::string& path);
+
+}  // namespace dualgraph
