@@ -32,8 +32,21 @@ class LinearSolver {
   virtual Status factorize(const SparseMatrixView& matrix) = 0;
   /// x = H⁻¹ b with the last factorisation; `b` and `x` have n entries and may alias.
   virtual Status solve(const double* b, double* x) = 0;
+  /// X = H⁻¹ B for `columns` right-hand sides at once (column-major n × columns, n the analysed
+  /// size; B and X must not alias). The default solves column by column; CHOLMOD and Eigen solve
+  /// the block in one pass (BLAS-3 in CHOLMOD's supernodal solve).
+  virtual Status solveColumns(const double* B, double* X, int n, int columns);
   /// Short name for summaries, e.g. "cholmod-supernodal".
   virtual std::string name() const = 0;
 };
+
+inline Status LinearSolver::solveColumns(const double* B, double* X, int n, int columns) {
+  if (columns < 0 || n < 0) return Status(StatusCode::kInvalidArgument, "solveColumns: negative size");
+  for (int c = 0; c < columns; ++c) {
+    const size_t offset = static_cast<size_t>(c) * static_cast<size_t>(n);
+    DG_RETURN_IF_ERROR(solve(B + offset, X + offset));
+  }
+  return Status();
+}
 
 }  // namespace dualgraph

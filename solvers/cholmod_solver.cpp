@@ -78,6 +78,9 @@ struct CholmodSolver::Impl {
   cholmod_dense* x = nullptr;        // solve2 workspaces: allocated by the first solve, then reused
   cholmod_dense* y = nullptr;
   cholmod_dense* e = nullptr;
+  cholmod_dense* block_x = nullptr;  // solveColumns' workspaces (resized by CHOLMOD when the width changes)
+  cholmod_dense* block_y = nullptr;
+  cholmod_dense* block_e = nullptr;
   std::vector<int> col_ptr;  // the analysed pattern, to reject a factorize with another one
   std::vector<int> row_index;
   int n = 0;
@@ -115,6 +118,9 @@ struct CholmodSolver::Impl {
     if (x != nullptr) cholmod_free_dense(&x, &common);
     if (y != nullptr) cholmod_free_dense(&y, &common);
     if (e != nullptr) cholmod_free_dense(&e, &common);
+    if (block_x != nullptr) cholmod_free_dense(&block_x, &common);
+    if (block_y != nullptr) cholmod_free_dense(&block_y, &common);
+    if (block_e != nullptr) cholmod_free_dense(&block_e, &common);
     analyzed = factorized = false;
     factor_nnz = factor_flops = 0.0;
   }
@@ -233,6 +239,32 @@ Status CholmodSolver::solve(const double* b, double* x) {
                                 &s.common);
   if (!ok || s.x == nullptr || s.common.status < CHOLMOD_OK) return s.failure(StatusCode::kNumericalError, "solve");
   std::memcpy(x, s.x->x, bytes);
+  return Status();
+}
+
+Status CholmodSolver::solveColumns(const double* B, double* X, int n, int columns) {
+  Impl& s = *impl_;
+  if (!s.factorized) return Status(StatusCode::kFailedPrecondition, "CHOLMOD solve before a successful factorize");
+  if (n != s.n || columns < 0) {
+    return Status(StatusCode::kInvalidArgument, "CHOLMOD solveColumns: " + std::to_string(n) + " rows for a system of " +
+                                                    std::to_string(s.n) + ", or a negative column count");
+  }
+  if (s.n == 0 || columns == 0) return Status();
+  if (B == nullptr || X == nullptr) return Status(StatusCode::kInvalidArgument, "CHOLMOD solveColumns: B or X is null");
+  cholmod_dense b{};  // a header over the caller's B; CHOLMOD only reads it
+  b.nrow = b.d = static_cast<size_t>(n);
+  b.ncol = static_cast<size_t>(columns);
+  b.nzmax = b.nrow * b.ncol;
+  b.x = const_cast<double*>(B);
+  b.xtype = CHOLMOD_REAL;
+  b.dtype = CHOLMOD_DOUBLE;
+  MessageScope scope(s.message);
+  const int ok = cholmod_solve2(CHOLMOD_A, s.factor, &b, /*Bset=*/nullptr, &s.block_x, /*Xset=*/nullptr, &s.block_y,
+                                &s.block_e, &s.common);
+  if (!ok || s.block_x == nullptr || s.common.status < CHOLMOD_OK) {
+    return s.failure(StatusCode::kNumericalError, "solve");
+  }
+  std::memcpy(X, s.block_x->x, sizeof(double) * b.nzmax);
   return Status();
 }
 

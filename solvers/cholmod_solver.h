@@ -40,6 +40,8 @@ class CholmodSolver final : public LinearSolver {
   /// Requires the exact pattern of the last `analyze` (checked, O(nnz)); kFailedPrecondition otherwise.
   Status factorize(const SparseMatrixView& matrix) override;
   Status solve(const double* b, double* x) override;
+  /// One cholmod_solve2 on the n × columns block (its own workspaces, kept between calls).
+  Status solveColumns(const double* B, double* X, int n, int columns) override;
   /// "cholmod-supernodal" or "cholmod-simplicial".
   std::string name() const override;
 

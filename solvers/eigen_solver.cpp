@@ -70,4 +70,15 @@ Status EigenSolver::solve(const double* b, double* x) {
   return Status();
 }
 
+Status EigenSolver::solveColumns(const double* B, double* X, int n, int columns) {
+  if (!factorized_) return Status(StatusCode::kFailedPrecondition, "Eigen solve before a successful factorize");
+  if (n != matrix_.rows() || columns < 0) {
+    return Status(StatusCode::kInvalidArgument, "Eigen solveColumns: wrong row count or a negative column count");
+  }
+  if (n == 0 || columns == 0) return Status();
+  if (B == nullptr || X == nullptr) return Status(StatusCode::kInvalidArgument, "Eigen solveColumns: B or X is null");
+  Eigen::Map<Eigen::MatrixXd>(X, n, columns) = ldlt_.solve(Eigen::Map<const Eigen::MatrixXd>(B, n, columns));
+  return Status();
+}
+
 }  // namespace dualgraph

@@ -20,6 +20,7 @@ class EigenSolver final : public LinearSolver {
   /// Requires the exact pattern of the last `analyze` (checked, O(nnz)); kFailedPrecondition otherwise.
   Status factorize(const SparseMatrixView& matrix) override;
   Status solve(const double* b, double* x) override;
+  Status solveColumns(const double* B, double* X, int n, int columns) override;
   std::string name() const override { return "eigen-simplicial-ldlt"; }
 
  private:

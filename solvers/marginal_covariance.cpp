@@ -37,7 +37,7 @@ Status MarginalCovariance::compute(Optimizer& optimizer, const Graph& graph) {
   fixed_snapshot_.reserve(graph.numVertices());
   for (const auto& [id, vertex] : graph.vertices()) fixed_snapshot_.emplace_back(vertex.get(), vertex->fixed());
   structure_version_ = graph.structureVersion();
-  scratch_.resize(optimizer.system().dim());
+  dim_ = optimizer.system().dim();
   optimizer_ = &optimizer;
   graph_ = &graph;
   return Status();
@@ -55,7 +55,7 @@ Status MarginalCovariance::checkCurrent() const {
                                 " changed since compute() (call compute() again)");
     }
   }
-  if (optimizer_->system().dim() != scratch_.size()) {
+  if (optimizer_->system().dim() != dim_) {
     return failedPrecondition("the optimiser's system changed since compute() (call compute() again)");
   }
   return Status();
@@ -94,26 +94,34 @@ Result<Eigen::MatrixXd> MarginalCovariance::jointBlock(const std::vector<int>& i
                                                     " is requested twice");
   }
 
-  // Column c of vertex a's block column of H⁻¹ is H⁻¹ e_c: one solve per free requested column,
-  // from which every requested vertex's rows are read.
+  // Column c of vertex a's block column of H⁻¹ is H⁻¹ e_c: all free requested columns are solved
+  // in one block, from which every requested vertex's rows are read.
   Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(total, total);
-  LinearSolver& solver = optimizer_->linearSolver();
+  int free_columns = 0;
+  for (const Requested& r : requested) free_columns += r.system_offset >= 0 ? r.dim : 0;
+  if (free_columns == 0) return covariance;
+  const int n = dim_;
+  units_.setZero(n, free_columns);
+  solved_.resize(n, free_columns);
+  int column = 0;
+  for (const Requested& r : requested) {
+    if (r.system_offset < 0) continue;
+    for (int c = 0; c < r.dim; ++c) units_(r.system_offset + c, column++) = 1.0;
+  }
+  const Status solved = optimizer_->linearSolver().solveColumns(units_.data(), solved_.data(), n, free_columns);
+  if (!solved.ok()) {
+    return Status(solved.code(), "marginal covariance of " + vertexName(requested.front().id) + ", ...: " +
+                                     solved.message());
+  }
+  column = 0;
   for (const Requested& column_vertex : requested) {
     if (column_vertex.system_offset < 0) continue;
-    for (int c = 0; c < column_vertex.dim; ++c) {
-      scratch_.setZero();
-      scratch_[column_vertex.system_offset + c] = 1.0;
-      const Status solved = solver.solve(scratch_.data(), scratch_.data());
-      if (!solved.ok()) {
-        return Status(solved.code(), "marginal covariance of " + vertexName(column_vertex.id) + ": " +
-                                         solved.message());
-      }
-      for (const Requested& row_vertex : requested) {
-        if (row_vertex.system_offset < 0) continue;
-        covariance.block(row_vertex.result_offset, column_vertex.result_offset + c, row_vertex.dim, 1) =
-            scratch_.segment(row_vertex.system_offset, row_vertex.dim);
-      }
+    for (const Requested& row_vertex : requested) {
+      if (row_vertex.system_offset < 0) continue;
+      covariance.block(row_vertex.result_offset, column_vertex.result_offset, row_vertex.dim, column_vertex.dim) =
+          solved_.block(row_vertex.system_offset, column, row_vertex.dim, column_vertex.dim);
     }
+    column += column_vertex.dim;
   }
   // The solves are exact only to round-off; a covariance is symmetric by definition.
   return Eigen::MatrixXd(0.5 * (covariance + covariance.transpose()));

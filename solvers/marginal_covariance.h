@@ -15,9 +15,9 @@ namespace dualgraph {
 
 /// Marginal covariances of vertex blocks at the graph's current estimate, from the sparse Cholesky
 /// factor of H = Σ Jᵀ W J (W = ρ'(eᵀΩe)·Ω with a robust kernel, Ω without; no damping), without
-/// forming a dense inverse: for every requested free vertex, H x = e_k is solved for its
-/// tangentDim unit columns with the optimiser's factor, and the rows of all requested vertices are
-/// read from those columns (cost: Σ tangentDim solves; the result is symmetrised).
+/// forming a dense inverse: the unit columns of every requested free vertex are solved in one block
+/// with the optimiser's factor, and the rows of all requested vertices are read from them (cost: one
+/// solve with Σ tangentDim right-hand sides; the result is symmetrised).
 ///
 /// Covariances live in each vertex's own tangent space, in the units its edges' information
 /// matrices imply (for VertexSE3: g2o's [δt; δq] chart, m² and (q.vec)²; convert with
@@ -64,7 +64,9 @@ class MarginalCovariance {
   uint64_t structure_version_ = 0;
   /// Fixed flags at compute time: they can be flipped on a vertex without bumping the version.
   std::vector<std::pair<const VertexBase*, bool>> fixed_snapshot_;
-  Eigen::VectorXd scratch_;  ///< one unit column, solved in place
+  int dim_ = 0;              ///< rows of H at compute()
+  Eigen::MatrixXd units_;    ///< the requested unit columns
+  Eigen::MatrixXd solved_;   ///< H⁻¹ times them
 };
 
 /// Convenience: builds an Optimizer with a solver of `kind` over `graph`, computes at the current
