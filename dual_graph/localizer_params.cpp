@@ -99,6 +99,7 @@ Status validateUncertainties(const LocalizerParams& params) {
 Status validateOptimisation(const LocalizerParams& params) {
   DG_RETURN_IF_ERROR(requireAtLeastOne("main_max_iterations", params.main_max_iterations));
   DG_RETURN_IF_ERROR(requireNonNegativeFinite("main_time_budget_ms", params.main_time_budget_ms));
+  DG_RETURN_IF_ERROR(requireNonNegativeFinite("main_relative_decrease_stop", params.main_relative_decrease_stop));
   DG_RETURN_IF_ERROR(requireAtLeastOne("temp_max_iterations", params.temp_max_iterations));
   if (params.robust_kernel != "none") {
     auto kernel = makeRobustKernel(params.robust_kernel);

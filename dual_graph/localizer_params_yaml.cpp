@@ -166,6 +166,7 @@ constexpr FieldSlot<double> kNumberFields[] = {
     {"map_sigma_t", &LocalizerParams::map_sigma_t}, {"map_sigma_r", &LocalizerParams::map_sigma_r},
     {"initial_sigma_t", &LocalizerParams::initial_sigma_t}, {"initial_sigma_r", &LocalizerParams::initial_sigma_r},
     {"main_time_budget_ms", &LocalizerParams::main_time_budget_ms},
+    {"main_relative_decrease_stop", &LocalizerParams::main_relative_decrease_stop},
     {"chi2_gate_pose", &LocalizerParams::chi2_gate_pose}, {"chi2_gate_point", &LocalizerParams::chi2_gate_point},
 };
 constexpr FieldSlot<int> kIntegerFields[] = {

@@ -2,6 +2,7 @@
 #include "dual_graph/main_graph.h"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 
 #include "dual_graph/graph_edges.h"
 #include "dual_graph/se3_uncertainty.h"
@@ -148,32 +149,69 @@ GateEdgeOutcome MainGraph::addGateEdges(size_t keyframe_index, const GateEdgeMea
     gated[k] = constrained && gateThreshold() > 0.0;
     any_gated = any_gated || gated[k];
   }
-  // 2. The graph's joint marginals of (keyframe, gate), before any of the new edges is in.
-  std::vector<Eigen::MatrixXd> joint(measurements.size());
-  if (any_gated) {
-    MarginalCovariance marginals;
-    Status computed = marginals.compute(optimizer_, graph_);
-    for (size_t k = 0; k < measurements.size() && computed.ok(); ++k) {
-      if (!gated[k]) continue;
-      Result<Eigen::MatrixXd> block = marginals.jointBlock({keyframe_id, landmark[k]});
-      if (block.ok()) joint[k] = *block;
-      else computed = block.status();
-    }
-    if (!computed.ok()) {  // cannot judge: add ungated, say so
-      std::fill(gated.begin(), gated.end(), false);
-      if (outcome.message.empty()) outcome.message = "chi2 gate not applied: " + computed.message();
-    }
-  }
-  // 3. The edges.
+  // 2. All edges in at once, so the structure (and CHOLMOD's symbolic analysis) is rebuilt once.
+  std::vector<EdgeBase*> edges(measurements.size(), nullptr);
   for (size_t k = 0; k < measurements.size(); ++k) {
     if (landmark[k] < 0) continue;
     Result<EdgeBase*> edge = addGateEdge(graph_, keyframe_id, landmark[k], measurements[k], kernel_);
     if (!edge.ok()) {
       fail(edge.status());
+      gated[k] = false;
       continue;
     }
-    if (gated[k] && !(innovationChi2(**edge, joint[k]) <= gateThreshold())) {
-      (void)graph_.removeEdge(*edge);
+    edges[k] = *edge;
+  }
+  // 3. The χ² gate: the joint marginal of (keyframe, gate) from the graph *without* the gated edges,
+  // obtained by zeroing their information for one factorisation (same pattern, no second analysis).
+  std::vector<Eigen::MatrixXd> joint(measurements.size());
+  if (any_gated) {
+    std::vector<Eigen::MatrixXd> saved(measurements.size());
+    for (size_t k = 0; k < measurements.size(); ++k) {
+      if (!gated[k] || edges[k] == nullptr) continue;
+      const int rows = edges[k]->errorDim();
+      Eigen::Map<Eigen::MatrixXd> information(edges[k]->mutableInformationData(), rows, rows);
+      saved[k] = information;
+      information.setZero();
+    }
+    // One block solve for the keyframe and every gated landmark, then a (keyframe, gate) slice each.
+    std::vector<int> ids = {keyframe_id};
+    std::vector<int> position(measurements.size(), -1);
+    for (size_t k = 0; k < measurements.size(); ++k) {
+      if (!gated[k] || edges[k] == nullptr) continue;
+      const auto known = std::find(ids.begin(), ids.end(), landmark[k]);
+      position[k] = static_cast<int>(known - ids.begin());
+      if (known == ids.end()) ids.push_back(landmark[k]);
+    }
+    MarginalCovariance marginals;
+    Status computed = marginals.compute(optimizer_, graph_);
+    Result<Eigen::MatrixXd> all = computed.ok() ? marginals.jointBlock(ids) : Result<Eigen::MatrixXd>(computed);
+    if (!all.ok()) computed = all.status();
+    const int keyframe_dim = graph_.vertex(keyframe_id)->tangentDim();
+    for (size_t k = 0; k < measurements.size() && computed.ok(); ++k) {
+      if (position[k] < 0) continue;
+      const int gate_dim = graph_.vertex(landmark[k])->tangentDim();
+      int gate_offset = keyframe_dim;
+      for (int j = 1; j < position[k]; ++j) gate_offset += graph_.vertex(ids[j])->tangentDim();
+      Eigen::MatrixXd& block = joint[k];
+      block.resize(keyframe_dim + gate_dim, keyframe_dim + gate_dim);
+      block.topLeftCorner(keyframe_dim, keyframe_dim) = all->topLeftCorner(keyframe_dim, keyframe_dim);
+      block.topRightCorner(keyframe_dim, gate_dim) = all->block(0, gate_offset, keyframe_dim, gate_dim);
+      block.bottomLeftCorner(gate_dim, keyframe_dim) = all->block(gate_offset, 0, gate_dim, keyframe_dim);
+      block.bottomRightCorner(gate_dim, gate_dim) = all->block(gate_offset, gate_offset, gate_dim, gate_dim);
+    }
+    for (size_t k = 0; k < measurements.size(); ++k) {
+      if (saved[k].size() == 0) continue;
+      Eigen::Map<Eigen::MatrixXd>(edges[k]->mutableInformationData(), saved[k].rows(), saved[k].cols()) = saved[k];
+    }
+    if (!computed.ok()) {  // cannot judge: keep the edges ungated, say so
+      std::fill(gated.begin(), gated.end(), false);
+      if (outcome.message.empty()) outcome.message = "chi2 gate not applied: " + computed.message();
+    }
+  }
+  for (size_t k = 0; k < measurements.size(); ++k) {
+    if (edges[k] == nullptr) continue;
+    if (gated[k] && !(innovationChi2(*edges[k], joint[k]) <= gateThreshold())) {
+      (void)graph_.removeEdge(edges[k]);
       ++outcome.rejected;
       continue;
     }
@@ -186,6 +224,7 @@ SolverSummary MainGraph::optimize() {
   OptimizerParams lm;
   lm.max_iterations = params_.main_max_iterations;
   lm.time_budget_ms = params_.main_time_budget_ms;
+  lm.relative_decrease_stop = params_.main_relative_decrease_stop;
   return optimizer_.optimize(lm);
 }
 

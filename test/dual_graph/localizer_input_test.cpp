@@ -171,7 +171,9 @@ TEST(LocalizerInput, BadInputMixedIntoARaceLeavesTheResultIntact) {
     Result<CorrectedPose> pose = localizer->addOdometry(sample);
     ASSERT_TRUE(pose.ok());
     corrected.push_back(pose->world_T_body);
-    if (k % 50 == 7) EXPECT_FALSE(localizer->addOdometry(sample).ok());  // a duplicate
+    if (k % 50 == 7) {
+      EXPECT_FALSE(localizer->addOdometry(sample).ok());  // a duplicate
+    }
   }
   ASSERT_TRUE(localizer->finish().ok());
   EXPECT_GT(localizer->counters().odometry_rejected, 0);

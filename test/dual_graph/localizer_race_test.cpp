@@ -22,15 +22,16 @@ Errors runAndMeasure(const LocalizerParams& params, const SyntheticRaceOptions& 
   EXPECT_EQ(localizer->counters().odometry_rejected, 0);
   EXPECT_EQ(localizer->counters().observations_rejected, 0);
   EXPECT_EQ(localizer->counters().observations_failed, 0) << localizer->counters().last_error;
-  int added = 0, rejected = 0, skipped = 0, observations = 0;
+  int added = 0, rejected = 0, skipped = 0, observations = 0, iterations = 0;
   for (const KeyframeStats& row : localizer->keyframeStats()) {
     added += row.gate_edges_added;
     rejected += row.gate_edges_rejected;
     skipped += row.gates_skipped;
     observations += row.observations;
+    iterations += row.iterations;
   }
   std::cout << "[ race ] gate edges added " << added << ", rejected by the chi2 gate " << rejected << ", skipped "
-            << skipped << ", observations " << observations << " of " << race.observations.size() << "\n";
+            << skipped << ", LM iterations " << iterations << ", observations " << observations << " of " << race.observations.size() << "\n";
   EXPECT_EQ(skipped, 0);
   const Errors errors{positionRmse(out.odometry, race.world_T_body_truth),
                       positionRmse(out.corrected, race.world_T_body_truth)};
