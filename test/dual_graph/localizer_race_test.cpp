@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "test/dual_graph/localizer_fixtures.h"
+#include "types/vertex_se3.h"
 
 namespace dualgraph {
 namespace {
@@ -19,6 +20,15 @@ Errors runAndMeasure(const LocalizerParams& params, const SyntheticRaceOptions& 
   std::unique_ptr<Localizer> localizer = makeLocalizer(params, params.mapping ? GateMap{} : race.map);
   if (!localizer) return {0, 0};
   const RunOutput out = runRace(*localizer, race);
+  if (params.fix_map_gates) {
+    for (const auto& [id, world_T_gate] : race.map.world_T_gate) {
+      const auto* vertex = localizer->mainGraph().graph().vertexAs<VertexSE3>(localizer->mainGraph().landmarkVertex(id));
+      EXPECT_NE(vertex, nullptr) << "gate " << id;
+      if (vertex == nullptr) continue;
+      EXPECT_TRUE(vertex->fixed());
+      EXPECT_EQ((vertex->estimate().matrix() - world_T_gate.matrix()).norm(), 0.0) << "gate " << id;
+    }
+  }
   EXPECT_EQ(localizer->counters().odometry_rejected, 0);
   EXPECT_EQ(localizer->counters().observations_rejected, 0);
   EXPECT_EQ(localizer->counters().observations_failed, 0) << localizer->counters().last_error;
@@ -60,6 +70,27 @@ TEST(LocalizerRace, PointLandmarksCorrectTheDrift) {
   params.landmark = LandmarkModel::kPoint;
   const Errors errors = runAndMeasure(params);
   EXPECT_LT(errors.corrected, 0.35 * errors.odometry);
+}
+
+TEST(LocalizerRace, FixedMapGatesStayWhereTheMapPutsThemAndCorrectTheDrift) {
+  LocalizerParams params;
+  params.fix_map_gates = true;
+  params.initial_sigma_t = 0.0;  // the first keyframe fixed as well
+  const Errors errors = runAndMeasure(params);
+  EXPECT_LT(errors.corrected, 0.25 * errors.odometry);
+}
+
+TEST(LocalizerRace, TheInputsOwnRelativeCovariancesAreUsedWhenEverySampleHasOne) {
+  SyntheticRaceOptions options;
+  options.with_covariance = true;
+  LocalizerParams params;
+  params.odom_sigma_t = 100.0;  // a useless model: only the input covariances can make this work
+  params.odom_sigma_r = 100.0;
+  const Errors with_input = runAndMeasure(params, options);
+  EXPECT_LT(with_input.corrected, 0.25 * with_input.odometry);
+  params.use_input_covariance = false;  // the same useless model now decides
+  const Errors model_only = runAndMeasure(params, options);
+  EXPECT_GT(model_only.corrected, with_input.corrected);
 }
 
 TEST(LocalizerRace, MappingModeClosesLoopsOnGatesSeenAgain) {

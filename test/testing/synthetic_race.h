@@ -30,6 +30,9 @@ struct SyntheticRaceOptions {
   double detection_sigma_t = 0.10; ///< detection noise [m] (at 5 m, grows linearly with range)
   double detection_sigma_r = 0.03; ///< [rad]
   double max_range = 12.0;         ///< gates farther than this are not seen [m]
+  /// Give every odometry sample a relative covariance: the random walk's plus the biases treated as a
+  /// random walk with a 1 s correlation time (an honest bound on the drift over a keyframe interval).
+  bool with_covariance = false;
   double half_fov = 1.0;           ///< gates more than this off the heading are not seen [rad]
   unsigned seed = 42;
 };
@@ -87,6 +90,13 @@ inline SyntheticRace makeSyntheticRace(const SyntheticRaceOptions& o) {
     OdometrySample sample;
     sample.t = t;
     sample.odom_T_body = odom;
+    if (o.with_covariance && k > 0) {
+      Vector6d variance;
+      const double scale_rate = o.scale_error * o.speed;
+      variance << Eigen::Vector3d::Constant((o.odom_noise_t * o.odom_noise_t + scale_rate * scale_rate) * dt),
+          Eigen::Vector3d::Constant((o.odom_noise_r * o.odom_noise_r + o.yaw_bias * o.yaw_bias) * dt);
+      sample.relative_covariance = Matrix6d(variance.asDiagonal());
+    }
     race.odometry.push_back(sample);
     // Detections at their own rate, between odometry samples.
     while (next_detection <= t + dt && next_detection <= duration) {
