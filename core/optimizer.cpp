@@ -3,10 +3,80 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "core/wall_clock.h"
 
 namespace dualgraph {
+namespace {
+
+/// Edges go through the linearisation in runs this long: a run's errors, Jacobians and
+/// information matrices are still in L1/L2 when the run is added to H, instead of one pass over
+/// all edges writing them and another reading them back from memory.
+constexpr size_t kEdgeRun = 32;
+
+/// ρ(eᵀΩe) of an edge whose error is current; names the edge in `first_bad` (if empty) when the
+/// value is not finite.
+double edgeChi2(const EdgeBase& edge, std::string* first_bad) {
+  // A kernel can map an infinite eᵀΩe to a finite ρ (Tukey's plateau); the error is still
+  // unusable (its weight 0 times ∞ poisons b), so the plain χ² decides finiteness.
+  double chi2 = edge.chi2();
+  const RobustKernel* kernel = edge.robustKernel();
+  if (kernel != nullptr && std::isfinite(chi2)) chi2 = kernel->robustify(chi2)[0];
+  if (!std::isfinite(chi2) && first_bad != nullptr && first_bad->empty()) {
+    *first_bad = "edge between vertices";
+    for (const VertexBase* v : edge.vertices()) *first_bad += " " + std::to_string(v->id());
+    if (edge.sourceLine() > 0) *first_bad += " (line " + std::to_string(edge.sourceLine()) + ")";
+    *first_bad += " has a non-finite χ²";
+  }
+  return chi2;
+}
+
+/// Adds the active edges [begin, end) to H and b after computing their Jacobians (their errors
+/// are current), each part on its phase clock; `clock` is the time the run started and is
+/// advanced to the time it ended.
+void linearizeRun(SparseSystem& system, size_t begin, size_t end, double& clock, SolverSummary& summary) {
+  const std::vector<EdgeBase*>& active = system.activeEdges();
+  for (size_t e = begin; e < end; ++e) active[e]->computeJacobians();
+  const double jacobians_done = nowMs();
+  summary.linearize_ms += jacobians_done - clock;
+  system.assembleEdges(begin, end);
+  clock = nowMs();
+  summary.assemble_ms += clock - jacobians_done;
+}
+
+/// Optimizer::evaluateChi2 and Optimizer::linearizeAndAssemble in one pass over the edges: each
+/// run's errors are computed (the χ² summed in graph order, exactly as evaluateChi2) and the run's
+/// active edges, a contiguous stretch of activeEdges() since both lists keep graph order, are
+/// linearised and added while they are in cache. The errors are on no phase clock, as before.
+double evaluateChi2AndLinearize(const std::vector<std::unique_ptr<EdgeBase>>& edges, SparseSystem& system,
+                                SolverSummary& summary, std::string* first_bad) {
+  const std::vector<EdgeBase*>& active = system.activeEdges();
+  double clock = nowMs();
+  system.beginAssembly();
+  summary.assemble_ms += nowMs() - clock;
+  double sum = 0.0;
+  size_t next_active = 0;
+  for (size_t begin = 0; begin < edges.size(); begin += kEdgeRun) {
+    const size_t end = std::min(edges.size(), begin + kEdgeRun);
+    const size_t run_begin = next_active;
+    for (size_t k = begin; k < end; ++k) {
+      EdgeBase* edge = edges[k].get();
+      edge->computeError();
+      sum += edgeChi2(*edge, first_bad);
+      if (next_active < active.size() && active[next_active] == edge) ++next_active;
+    }
+    clock = nowMs();
+    linearizeRun(system, run_begin, next_active, clock, summary);
+  }
+  system.finishAssembly();
+  summary.assemble_ms += nowMs() - clock;
+  return sum;
+}
+
+}  // namespace
 
 const char* terminationReasonName(TerminationReason reason) {
   switch (reason) {
@@ -59,48 +129,25 @@ Status Optimizer::ensureStructure(SolverSummary& summary) {
 
 double Optimizer::evaluateChi2(std::string* first_bad) {
   errors_stale_ = false;
-  const auto& edges = graph_.edges();
   double sum = 0.0;
-  for (size_t k = 0; k < edges.size(); ++k) {
-    edges[k]->computeError();
-    // A kernel can map an infinite eᵀΩe to a finite ρ (Tukey's plateau); the error is still
-    // unusable (its weight 0 times ∞ poisons b), so the plain χ² decides finiteness.
-    double chi2 = edges[k]->chi2();
-    const RobustKernel* kernel = edges[k]->robustKernel();
-    if (kernel != nullptr && std::isfinite(chi2)) chi2 = kernel->robustify(chi2)[0];
-    if (!std::isfinite(chi2) && first_bad != nullptr && first_bad->empty()) {
-      *first_bad = "edge between vertices";
-      for (const VertexBase* v : edges[k]->vertices()) *first_bad += " " + std::to_string(v->id());
-      if (edges[k]->sourceLine() > 0) *first_bad += " (line " + std::to_string(edges[k]->sourceLine()) + ")";
-      *first_bad += " has a non-finite χ²";
-    }
-    sum += chi2;
+  for (const auto& edge : graph_.edges()) {
+    edge->computeError();
+    sum += edgeChi2(*edge, first_bad);
   }
   return sum;
 }
 
 void Optimizer::linearizeAndAssemble(SolverSummary& summary) {
   // Every caller evaluated χ² (hence every error) at the current estimate just before, so only
-  // Jacobians are computed. Edges go in runs small enough that the Jacobians just written are
-  // still in L1/L2 when the run is added to H, instead of one pass writing every Jacobian and a
-  // second reading them all back from memory; each phase keeps its own clock.
-  constexpr size_t kRun = 32;
-  const std::vector<EdgeBase*>& edges = system_.activeEdges();
-  {
-    PhaseTimer timer(summary.assemble_ms);
-    system_.beginAssembly();
+  // Jacobians are computed.
+  double clock = nowMs();
+  system_.beginAssembly();
+  const size_t num_active = system_.activeEdges().size();
+  for (size_t begin = 0; begin < num_active; begin += kEdgeRun) {
+    linearizeRun(system_, begin, std::min(num_active, begin + kEdgeRun), clock, summary);
   }
-  for (size_t begin = 0; begin < edges.size(); begin += kRun) {
-    const size_t end = std::min(edges.size(), begin + kRun);
-    {
-      PhaseTimer timer(summary.linearize_ms);
-      for (size_t e = begin; e < end; ++e) edges[e]->computeJacobians();
-    }
-    PhaseTimer timer(summary.assemble_ms);
-    system_.assembleEdges(begin, end);
-  }
-  PhaseTimer timer(summary.assemble_ms);
   system_.finishAssembly();
+  summary.assemble_ms += nowMs() - clock;
 }
 
 Status Optimizer::solveStep(SolverSummary& summary) {
@@ -136,7 +183,16 @@ SolverSummary Optimizer::optimize(const OptimizerParams& params) {
   summary.nonzeros = system_.dim() > 0 ? system_.matrix().nnz() : 0;
 
   std::string first_bad;
-  summary.initial_chi2 = summary.final_chi2 = evaluateChi2(&first_bad);
+  // Both algorithms start from H and b at the initial estimate, so when one will run, the initial
+  // χ² and that linearisation share one pass over the edges (the system is simply unused if the
+  // χ² turns out non-finite).
+  if (structure.ok() && system_.dim() > 0 && params.max_iterations > 0) {
+    errors_stale_ = false;
+    summary.initial_chi2 = evaluateChi2AndLinearize(graph_.edges(), system_, summary, &first_bad);
+  } else {
+    summary.initial_chi2 = evaluateChi2(&first_bad);
+  }
+  summary.final_chi2 = summary.initial_chi2;
   if (!structure.ok()) {
     summary.termination = TerminationReason::kLinearSolverFailure;
     summary.message = structure.message();

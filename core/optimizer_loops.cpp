@@ -21,13 +21,15 @@ void discardAll(const std::vector<VertexBase*>& vertices) {
 
 }  // namespace
 
+// Both loops start with H and b assembled at the current estimate, whose χ² is
+// summary.initial_chi2 (optimize() computes both in one pass).
+
 void Optimizer::runLevenbergMarquardt(const OptimizerParams& params, SolverSummary& summary) {
   const auto& active = system_.activeVertices();
   const auto out_of_time = [&] {
     return params.time_budget_ms > 0.0 && nowMs() - start_time_ms_ >= params.time_budget_ms;
   };
   double chi2 = summary.initial_chi2;
-  linearizeAndAssemble(summary);
   double lambda = params.initial_lambda > 0.0 ? params.initial_lambda
                                               : params.tau * std::max(system_.maxDiagonal(), 1e-12);
   double nu = 2.0;
@@ -130,7 +132,7 @@ void Optimizer::runGaussNewton(const OptimizerParams& params, SolverSummary& sum
   for (int iteration = 1; iteration <= params.max_iterations; ++iteration) {
     const double iteration_start = nowMs();
     summary.iterations = iteration;
-    linearizeAndAssemble(summary);
+    if (iteration > 1) linearizeAndAssemble(summary);
     system_.setDamping(0.0);
     const Status solved = solveStep(summary);
     if (!solved.ok()) {
@@ -159,7 +161,7 @@ void Optimizer::runGaussNewton(const OptimizerParams& params, SolverSummary& sum
     summary.final_chi2 = chi2;
     IterationSummary progress;
     progress.iteration = iteration;
-      progress.chi2 = chi2;
+    progress.chi2 = chi2;
     progress.trials = 1;
     progress.step_accepted = true;
     progress.iteration_ms = nowMs() - iteration_start;
