@@ -19,6 +19,8 @@ void EdgeSE3::computeError() {
   error_rotation_ = error_pose.linear();
 }
 
+void EdgeSE3::prefetch() const { prefetchBytes(this, sizeof(EdgeSE3)); }
+
 void EdgeSE3::linearizeOplus() {
   // Right increments Δ(δ) = (R_δ ≈ I + 2[δq]×, δt), written with the error pose E = (R_E, t_E)
   // and its sign-fixed unit quaternion (w, v) = (error_w_, error_.tail<3>()) kept by

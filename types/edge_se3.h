@@ -29,6 +29,7 @@ class EdgeSE3 final : public BaseEdge<6, Eigen::Isometry3d, VertexSE3, VertexSE3
   const Eigen::Isometry3d& inverseMeasurement() const { return j_T_i_measured_; }
 
   void computeError() override;
+  void prefetch() const override;
   Status read(TokenReader& in, const ParameterContainer& parameters) override;
   void write(std::ostream& out) const override;
 
