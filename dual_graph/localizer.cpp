@@ -78,7 +78,7 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
   if (params_.mode == LocalizerMode::kDual && main_->keyframes().back().t < sample.t &&
       exceeds(main_->keyframes().back().odom_T_body.inverse() * sample.odom_T_body, params_.d_main,
               params_.theta_main)) {
-    const Status closed = closeInterval(false);
+    const Status closed = closeInterval();
     if (!closed.ok()) counters_.last_error = closed.message();
   }
   return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body};
@@ -177,7 +177,7 @@ Status Localizer::closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body
   return Status();
 }
 
-Status Localizer::closeInterval(bool final_row) {
+Status Localizer::closeInterval() {
   const OdometrySample& newest = history_.newest();
   KeyframeStats row;
   if (main_->keyframes().back().t < newest.t) {
@@ -198,7 +198,6 @@ Status Localizer::closeInterval(bool final_row) {
   row.gates_skipped = distilled.skipped_gates + outcome.failed;
   if (!distilled.skip_reason.empty()) counters_.last_error = distilled.skip_reason;
   if (!outcome.message.empty()) counters_.last_error = outcome.message;
-  (void)final_row;
   optimizeAndRecord(row);
   history_.discardBefore(newest.t);
   return Status();
@@ -225,7 +224,7 @@ Status Localizer::finish() {
   pending_.clear();
   if (history_.empty()) return Status(StatusCode::kFailedPrecondition, "finish: no odometry was given");
   if (params_.mode == LocalizerMode::kSingle) return closeSingleNode(history_.newest().t, history_.newest().odom_T_body, true);
-  return closeInterval(true);
+  return closeInterval();
 }
 
 Eigen::Isometry3d Localizer::mapTOdom() const {

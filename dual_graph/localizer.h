@@ -89,7 +89,7 @@ class Localizer {
   Status processObservation(const GateObservation& observation);
   Status processSingleObservation(const GateObservation& observation, const Eigen::Isometry3d& odom_T_body);
   /// Dual mode: keyframe at the newest sample (unless it is one already), distillation, optimisation.
-  Status closeInterval(bool final_row);
+  Status closeInterval();
   /// Single mode: commits the newest node's edges, adds a node at (t, odom_T_body) unless final, optimises.
   Status closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body, bool final_row);
   void optimizeAndRecord(KeyframeStats& row);

@@ -127,6 +127,46 @@ double MainGraph::innovationChi2(EdgeBase& edge, const Eigen::MatrixXd& joint_co
   return error.dot(llt.solve(error));
 }
 
+Status MainGraph::predictJointCovariances(int keyframe_id, const std::vector<int>& landmark,
+                                          const std::vector<EdgeBase*>& edges, std::vector<Eigen::MatrixXd>& joint) {
+  // The new edges are already in (one structure, one symbolic analysis per keyframe); their
+  // information is zeroed for this one factorisation, so H is the graph's without them.
+  std::vector<Eigen::MatrixXd> saved(edges.size());
+  for (size_t k = 0; k < edges.size(); ++k) {
+    if (edges[k] == nullptr) continue;
+    Eigen::Map<Eigen::MatrixXd> information(edges[k]->mutableInformationData(), edges[k]->errorDim(),
+                                            edges[k]->errorDim());
+    saved[k] = information;
+    information.setZero();
+  }
+  // One block solve for the keyframe and every gated landmark; offsets of each in the result.
+  std::vector<int> ids = {keyframe_id};
+  std::vector<int> offsets = {0};
+  int total = graph_.vertex(keyframe_id)->tangentDim();
+  for (size_t k = 0; k < edges.size(); ++k) {
+    if (edges[k] == nullptr || std::find(ids.begin(), ids.end(), landmark[k]) != ids.end()) continue;
+    ids.push_back(landmark[k]);
+    offsets.push_back(total);
+    total += graph_.vertex(landmark[k])->tangentDim();
+  }
+  MarginalCovariance marginals;
+  Status status = marginals.compute(optimizer_, graph_);
+  Result<Eigen::MatrixXd> all = status.ok() ? marginals.jointBlock(ids) : Result<Eigen::MatrixXd>(status);
+  if (!all.ok()) status = all.status();
+  joint.assign(edges.size(), Eigen::MatrixXd());
+  for (size_t k = 0; k < edges.size(); ++k) {
+    if (edges[k] == nullptr) continue;
+    Eigen::Map<Eigen::MatrixXd>(edges[k]->mutableInformationData(), saved[k].rows(), saved[k].cols()) = saved[k];
+    if (!status.ok()) continue;
+    const size_t slot = static_cast<size_t>(std::find(ids.begin(), ids.end(), landmark[k]) - ids.begin());
+    std::vector<int> rows;
+    for (int r = 0; r < graph_.vertex(keyframe_id)->tangentDim(); ++r) rows.push_back(r);
+    for (int r = 0; r < graph_.vertex(landmark[k])->tangentDim(); ++r) rows.push_back(offsets[slot] + r);
+    joint[k] = (*all)(rows, rows);
+  }
+  return status;
+}
+
 GateEdgeOutcome MainGraph::addGateEdges(size_t keyframe_index, const GateEdgeMeasurements& measurements) {
   GateEdgeOutcome outcome;
   auto fail = [&outcome](const Status& status) {
@@ -156,61 +196,24 @@ GateEdgeOutcome MainGraph::addGateEdges(size_t keyframe_index, const GateEdgeMea
     Result<EdgeBase*> edge = addGateEdge(graph_, keyframe_id, landmark[k], measurements[k], kernel_);
     if (!edge.ok()) {
       fail(edge.status());
-      gated[k] = false;
       continue;
     }
     edges[k] = *edge;
   }
-  // 3. The χ² gate: the joint marginal of (keyframe, gate) from the graph *without* the gated edges,
-  // obtained by zeroing their information for one factorisation (same pattern, no second analysis).
-  std::vector<Eigen::MatrixXd> joint(measurements.size());
+  // 3. The χ² gate against the graph without the gated edges.
+  std::vector<EdgeBase*> to_gate(measurements.size(), nullptr);
+  for (size_t k = 0; k < measurements.size(); ++k) to_gate[k] = gated[k] ? edges[k] : nullptr;
+  std::vector<Eigen::MatrixXd> joint;
   if (any_gated) {
-    std::vector<Eigen::MatrixXd> saved(measurements.size());
-    for (size_t k = 0; k < measurements.size(); ++k) {
-      if (!gated[k] || edges[k] == nullptr) continue;
-      const int rows = edges[k]->errorDim();
-      Eigen::Map<Eigen::MatrixXd> information(edges[k]->mutableInformationData(), rows, rows);
-      saved[k] = information;
-      information.setZero();
-    }
-    // One block solve for the keyframe and every gated landmark, then a (keyframe, gate) slice each.
-    std::vector<int> ids = {keyframe_id};
-    std::vector<int> position(measurements.size(), -1);
-    for (size_t k = 0; k < measurements.size(); ++k) {
-      if (!gated[k] || edges[k] == nullptr) continue;
-      const auto known = std::find(ids.begin(), ids.end(), landmark[k]);
-      position[k] = static_cast<int>(known - ids.begin());
-      if (known == ids.end()) ids.push_back(landmark[k]);
-    }
-    MarginalCovariance marginals;
-    Status computed = marginals.compute(optimizer_, graph_);
-    Result<Eigen::MatrixXd> all = computed.ok() ? marginals.jointBlock(ids) : Result<Eigen::MatrixXd>(computed);
-    if (!all.ok()) computed = all.status();
-    const int keyframe_dim = graph_.vertex(keyframe_id)->tangentDim();
-    for (size_t k = 0; k < measurements.size() && computed.ok(); ++k) {
-      if (position[k] < 0) continue;
-      const int gate_dim = graph_.vertex(landmark[k])->tangentDim();
-      int gate_offset = keyframe_dim;
-      for (int j = 1; j < position[k]; ++j) gate_offset += graph_.vertex(ids[j])->tangentDim();
-      Eigen::MatrixXd& block = joint[k];
-      block.resize(keyframe_dim + gate_dim, keyframe_dim + gate_dim);
-      block.topLeftCorner(keyframe_dim, keyframe_dim) = all->topLeftCorner(keyframe_dim, keyframe_dim);
-      block.topRightCorner(keyframe_dim, gate_dim) = all->block(0, gate_offset, keyframe_dim, gate_dim);
-      block.bottomLeftCorner(gate_dim, keyframe_dim) = all->block(gate_offset, 0, gate_dim, keyframe_dim);
-      block.bottomRightCorner(gate_dim, gate_dim) = all->block(gate_offset, gate_offset, gate_dim, gate_dim);
-    }
-    for (size_t k = 0; k < measurements.size(); ++k) {
-      if (saved[k].size() == 0) continue;
-      Eigen::Map<Eigen::MatrixXd>(edges[k]->mutableInformationData(), saved[k].rows(), saved[k].cols()) = saved[k];
-    }
-    if (!computed.ok()) {  // cannot judge: keep the edges ungated, say so
-      std::fill(gated.begin(), gated.end(), false);
-      if (outcome.message.empty()) outcome.message = "chi2 gate not applied: " + computed.message();
+    const Status predicted = predictJointCovariances(keyframe_id, landmark, to_gate, joint);
+    if (!predicted.ok()) {  // cannot judge: keep the edges ungated, say so
+      std::fill(to_gate.begin(), to_gate.end(), nullptr);
+      if (outcome.message.empty()) outcome.message = "chi2 gate not applied: " + predicted.message();
     }
   }
   for (size_t k = 0; k < measurements.size(); ++k) {
     if (edges[k] == nullptr) continue;
-    if (gated[k] && !(innovationChi2(*edges[k], joint[k]) <= gateThreshold())) {
+    if (to_gate[k] != nullptr && !(innovationChi2(*edges[k], joint[k]) <= gateThreshold())) {
       (void)graph_.removeEdge(edges[k]);
       ++outcome.rejected;
       continue;

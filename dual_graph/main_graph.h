@@ -60,6 +60,10 @@ class MainGraph {
  private:
   Result<int> findOrCreateLandmark(int gate_id, size_t keyframe_index, const GateEdgeMeasurement& measurement,
                                    bool& constrained);
+  /// The joint marginal of (keyframe, landmark[k]) for every non-null edges[k], from the graph without
+  /// those edges (their information zeroed for one factorisation, then restored).
+  Status predictJointCovariances(int keyframe_id, const std::vector<int>& landmark, const std::vector<EdgeBase*>& edges,
+                                 std::vector<Eigen::MatrixXd>& joint);
   /// eᵀS⁻¹e of `edge` with S = J Σ Jᵀ + Ω⁻¹, Σ the joint marginal of its two vertices.
   static double innovationChi2(EdgeBase& edge, const Eigen::MatrixXd& joint_covariance);
   double gateThreshold() const;

@@ -43,8 +43,9 @@ Result<Matrix6d> OdometryHistory::relativeCovariance(double t_a, double t_b, con
   Result<Eigen::Isometry3d> pose_b = poseAt(t_b);
   if (!pose_b.ok()) return pose_b.status();
   const size_t first = indexAtOrBefore(t_a);
-  const size_t last = std::min(indexAtOrBefore(t_b) + (samples_[indexAtOrBefore(t_b)].t < t_b ? 1 : 0),
-                               samples_.size() - 1);
+  // The last sample the walk needs: the one at t_b, or the first after it.
+  size_t last = indexAtOrBefore(t_b);
+  if (samples_[last].t < t_b) last = std::min(last + 1, samples_.size() - 1);
   bool all_have_covariance = model.use_input_covariance && t_b > t_a;
   for (size_t k = first + 1; k <= last && all_have_covariance; ++k) {
     all_have_covariance = samples_[k].relative_covariance.has_value();

@@ -48,10 +48,7 @@ class TemporaryGraph {
                             const OdometryHistory& history);
 
   bool empty() const { return nodes_.empty(); }
-  size_t numNodes() const { return nodes_.size(); }
   size_t numObservations() const { return observations_.size(); }
-  /// Time of the first node (the oldest instant the record needs from the odometry history).
-  double firstNodeTime() const { return nodes_.front().t; }
   void clear();
 
  private:
