@@ -11,7 +11,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${BUILD_DIR:-$root/build}
 
 packages=(build-essential cmake libeigen3-dev libsuitesparse-dev libopenblas-dev libgtest-dev
-          libbenchmark-dev libcli11-dev libyaml-cpp-dev)
+          libbenchmark-dev libcli11-dev libyaml-cpp-dev libopencv-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
