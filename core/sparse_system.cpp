@@ -216,13 +216,15 @@ void SparseSystem::assembleEdgeFixed(size_t edge_index) {
     return;
   }
   Square weighted[kMaxSlots];  // G_a = w Ω J_a for the active slots
+  const double* jacobians[kMaxSlots];
   for (int a = 0; a < num_slots; ++a) {
     const int offset_a = edge_vertex_offset_[v_begin + a];
     if (offset_a < 0) continue;
+    jacobians[a] = edge.jacobianData(a);
     if (kernel != nullptr) {
-      weighted[a].noalias() = weight * (information * SquareMap(edge.jacobianData(a)));
+      weighted[a].noalias() = weight * (information * SquareMap(jacobians[a]));
     } else {
-      weighted[a].noalias() = information * SquareMap(edge.jacobianData(a));
+      weighted[a].noalias() = information * SquareMap(jacobians[a]);
     }
     rhs_.template segment<N>(offset_a).noalias() -= weighted[a].transpose() * error;
   }
@@ -235,14 +237,20 @@ void SparseSystem::assembleEdgeFixed(size_t edge_index) {
       // The stored block is J_rᵀ G_c: (a, b), or (b, a) when it lands transposed.
       const int r = slot.transposed ? b : a;
       const int c = slot.transposed ? a : b;
-      const SquareMap jacobian_r(edge.jacobianData(r));
+      const SquareMap jacobian_r(jacobians[r]);
       const Square& weighted_c = weighted[c];
       double* values = values_.data() + slot.row_offset;
       const int* col_ptr = col_ptr_.data() + slot.first_column;
-      for (int col = 0; col < N; ++col) {
-        double* column = values + col_ptr[col];
-        const int rows = slot.diagonal ? col + 1 : N;
-        for (int row = 0; row < rows; ++row) column[row] += jacobian_r.col(row).dot(weighted_c.col(col));
+      if (slot.diagonal) {
+        for (int col = 0; col < N; ++col) {
+          double* column = values + col_ptr[col];
+          for (int row = 0; row <= col; ++row) column[row] += jacobian_r.col(row).dot(weighted_c.col(col));
+        }
+      } else {
+        for (int col = 0; col < N; ++col) {
+          double* column = values + col_ptr[col];
+          for (int row = 0; row < N; ++row) column[row] += jacobian_r.col(row).dot(weighted_c.col(col));
+        }
       }
     }
   }
