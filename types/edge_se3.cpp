@@ -32,21 +32,26 @@ void EdgeSE3::linearizeOplus() {
   //     q: q_A ⊗ (1, −δq) ⊗ q_B = q_E + (0, −R_A δq) ⊗ q_E, and vec((0, p) ⊗ (w, v)) = (w I − [v]×) p
   //     J_i = [[−R_A, 2 [t_E − t_A]× R_A], [0, ([v]× − w I) R_A]]
   // (the same matrices as g2oChartJacobianOfProduct(Z⁻¹, B) and (E, I), up to round-off).
-  const Eigen::Matrix3d rotation_a = j_T_i_measured_.linear();
+  // Written column by column with cross products (a_k = R_A e_k, u = 2 (t_E − t_A)):
+  //   J_i e_k = [−a_k; 0],  J_i e_{3+k} = [u × a_k; v × a_k − w a_k],  J_j = [[R_E, 0], [0, w I + [v]×]].
+  const Eigen::Vector3d u = 2.0 * (error_.head<3>() - j_T_i_measured_.translation());
   const Eigen::Vector3d v = error_.tail<3>();
-  const Eigen::Matrix3d v_cross = skew(v);
-  const Eigen::Matrix3d w_identity = error_w_ * Eigen::Matrix3d::Identity();
+  const double w = error_w_;
   auto& j_i = jacobianOplus<0>();
-  j_i.topLeftCorner<3, 3>() = -rotation_a;
-  j_i.topRightCorner<3, 3>().noalias() =
-      2.0 * skew(error_.head<3>() - j_T_i_measured_.translation()) * rotation_a;
-  j_i.bottomLeftCorner<3, 3>().setZero();
-  j_i.bottomRightCorner<3, 3>().noalias() = (v_cross - w_identity) * rotation_a;
   auto& j_j = jacobianOplus<1>();
-  j_j.topLeftCorner<3, 3>() = error_rotation_;
+  j_i.bottomLeftCorner<3, 3>().setZero();
   j_j.topRightCorner<3, 3>().setZero();
   j_j.bottomLeftCorner<3, 3>().setZero();
-  j_j.bottomRightCorner<3, 3>() = w_identity + v_cross;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d a = j_T_i_measured_.linear().col(k);
+    j_i.block<3, 1>(0, k) = -a;
+    j_i.block<3, 1>(0, 3 + k) = u.cross(a);
+    j_i.block<3, 1>(3, 3 + k) = v.cross(a) - w * a;
+  }
+  j_j.topLeftCorner<3, 3>() = error_rotation_;
+  j_j.bottomRightCorner<3, 3>() << w, -v.z(), v.y(),
+                                   v.z(), w, -v.x(),
+                                   -v.y(), v.x(), w;
 }
 
 Status EdgeSE3::read(TokenReader& in, const ParameterContainer& /*parameters*/) {
