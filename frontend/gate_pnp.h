@@ -1,0 +1,98 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <string>
+
+#include "dual_graph/measurements.h"
+#include "frontend/camera_model.h"
+#include "types/se3_math.h"
+
+namespace dualgraph {
+
+/// The four inner corners of a gate as they appear in the image [px], columns in the order of
+/// DESIGN.md §6: top-left, top-right, bottom-right, bottom-left (a clockwise cycle in the image).
+using GateCornerPixels = Eigen::Matrix<double, 2, 4>;
+
+/// Which face of the gate the camera sees; the association stage decides.
+/// Gate frame: origin at the centre of the inner square, x along the gate normal (the direction of
+/// flight through it), z up, y = z × x (left when flying through). Seen from the front (camera on
+/// the −x side) the image corners tl, tr, br, bl are (0, +s/2, +s/2), (0, −s/2, +s/2), (0, −s/2, −s/2),
+/// (0, +s/2, −s/2). Seen from behind they are the same points of the frame turned 180° about z, i.e.
+/// y negated: left and right swap.
+enum class GateSide { kFront, kBack };
+
+/// Why solveGatePnp refused a detection.
+enum class GatePnpRejection {
+  kNone = 0,
+  kNonFiniteInput,     ///< a corner pixel is NaN or infinite
+  kInvalidInput,       ///< the camera fails CameraModel::validate or the parameters are out of range
+  kNotConvex,          ///< the undistorted corners are not a convex clockwise quadrilateral (self-intersecting, or wrong order)
+  kDegenerate,         ///< an interior angle within min_corner_angle_deg of 0° or 180°, or JᵀJ ill-conditioned
+  kSolverFailed,       ///< undistortion or OpenCV's solver failed, or the pose puts a corner behind the camera
+  kReprojectionError,  ///< reprojection RMS above max_reprojection_rms
+  kRangeOutOfBounds,   ///< distance camera → gate centre outside [min_range, max_range]
+};
+/// "NonFiniteInput", ...
+const char* gatePnpRejectionName(GatePnpRejection rejection);
+
+struct GatePnpParams {
+  double gate_size = 1.5;               ///< side of the inner square [m]
+  double pixel_sigma = 1.0;             ///< corner noise, standard deviation per pixel coordinate [px]
+  double max_reprojection_rms = 2.0;    ///< [px], sqrt of the mean squared corner distance
+  double min_range = 0.3;               ///< [m], |camera_T_gate.translation()|
+  double max_range = 50.0;              ///< [m]
+  double min_corner_angle_deg = 5.0;    ///< [deg], in the undistorted normalised plane
+  double max_condition_number = 1e10;   ///< of JᵀJ (J in px per m and px per rad)
+  int max_refinement_iterations = 20;   ///< Gauss–Newton steps in pixel space after IPPE
+};
+
+/// The pose of one gate from its corners, or the reason it was rejected.
+///
+/// Method: the corner pixels are undistorted to normalised coordinates (one path for both lens
+/// models; cv::solvePnP has no equidistant model) and cv::solvePnPGeneric(SOLVEPNP_IPPE_SQUARE) gives
+/// IPPE's two candidate poses. Each is refined by Gauss–Newton on the *pixel* reprojection error
+/// through CameraModel::project, so the estimate is the maximum-likelihood pose under isotropic pixel
+/// noise (the normalised-plane error that IPPE minimises weights pixels unequally: fx ≠ fy, distortion),
+/// and the lower-RMS candidate is returned.
+///
+/// Covariance: metric [t; θ] (m², rad²), a right perturbation in the gate frame,
+/// camera_T_gate_true = camera_T_gate · exp(ε), Σ = σ² (JᵀJ)⁻¹ with J = ∂pixels/∂ε (8×6, central
+/// differences through project). Because body_T_gate = body_T_camera · camera_T_gate shares that
+/// perturbation, the same Σ is the covariance of body_T_gate, as GateObservation expects.
+///
+/// Ambiguity: near-frontal views of a small square have two poses (mirrored tilts) explaining the
+/// pixels almost equally; `ambiguous` is set when the other refined candidate is also within
+/// max_reprojection_rms and differs by more than 1° in rotation; it is kept in `alternative_*`.
+/// The returned pose is still the lower-RMS one, and Σ (large along the tilt) says how little
+/// the tilt is known.
+struct GatePnpSolution {
+  GatePnpRejection rejection = GatePnpRejection::kNone;
+  std::string message;  ///< why it was rejected (empty when accepted)
+  Eigen::Isometry3d camera_T_gate = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d body_T_gate = Eigen::Isometry3d::Identity();
+  Matrix6d covariance = Matrix6d::Identity();  ///< see above; valid only when accepted
+  double reprojection_rms = 0.0;                ///< [px]
+  double condition_number = 0.0;                ///< of JᵀJ
+  bool ambiguous = false;
+  Eigen::Isometry3d alternative_camera_T_gate = Eigen::Isometry3d::Identity();
+  double alternative_reprojection_rms = 0.0;  ///< [px]; 0 when IPPE gave one candidate only
+
+  bool ok() const { return rejection == GatePnpRejection::kNone; }
+  /// The kPose GateObservation of an accepted solution (body_T_gate, covariance).
+  GateObservation observation(double t, int gate_id) const {
+    return GateObservation::pose(t, gate_id, body_T_gate, covariance);
+  }
+
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+/// The corners tl, tr, br, bl in the gate frame [m] (columns) for a gate of inner side `gate_size`.
+Eigen::Matrix<double, 3, 4> gateCornersInGateFrame(double gate_size, GateSide side = GateSide::kFront);
+
+/// Pose of the gate from its four corner pixels (order above), seen from `side`. Never throws.
+GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel& camera,
+                             GateSide side = GateSide::kFront, const GatePnpParams& params = GatePnpParams{});
+
+}  // namespace dualgraph
