@@ -36,6 +36,8 @@ Result<Assignment> solveAssignment(const Eigen::MatrixXd& cost,
                                    double forbidden = std::numeric_limits<double>::infinity());
 
 /// True when `cost(row, col)` may be used under the rule above (finite and < `forbidden`).
-inline bool isAllowedCost(double cost, double forbidden) { return cost < forbidden && cost < std::numeric_limits<double>::infinity(); }
+inline bool isAllowedCost(double cost, double forbidden) {
+  return cost < forbidden && cost < std::numeric_limits<double>::infinity();
+}
 
 }  // namespace dualgraph
