@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: MIT
+#include "frontend/detection_io.h"
+
+#include <sstream>
+
+#include "frontend/text_table.h"
+
+namespace dualgraph {
+namespace {
+
+const std::vector<std::string>& cornerNames() {
+  static const std::vector<std::string> names = {"t",    "gate_id", "u_tl", "v_tl", "u_tr",
+                                                 "v_tr", "u_br",    "v_br", "u_bl", "v_bl"};
+  return names;
+}
+
+const std::vector<std::string>& poseNames() {
+  static const std::vector<std::string> names = {"t", "gate_id", "x", "y", "z", "qx", "qy", "qz", "qw"};
+  return names;
+}
+
+std::string formatTime(double t) {
+  std::ostringstream out;
+  out.precision(17);
+  out << t;
+  return out.str();
+}
+
+/// Names joined with commas, for messages.
+std::string joined(const std::vector<std::string>& names, size_t count) {
+  std::string text;
+  for (size_t k = 0; k < count && k < names.size(); ++k) text += (k ? "," : "") + names[k];
+  return text;
+}
+
+/// True when `line` is a header (its first field is the first expected name); then checks it against
+/// `expected` (field by field) and the counts in `allowed`. Anything else is left to the data parser.
+Result<bool> checkHeader(const std::string& path, const TextLine& line, const std::vector<std::string>& expected,
+                         std::initializer_list<size_t> allowed) {
+  if (line.fields.empty() || line.fields[0] != expected[0]) return false;
+  const RowReader row(path, line);
+  for (size_t k = 0; k < line.fields.size(); ++k) {
+    if (k >= expected.size() || line.fields[k] != expected[k]) {
+      return row.fieldError(line.fields[k], "unexpected header column " + std::to_string(k + 1) +
+                                                " (the header must read " + joined(expected, 9) + "...)");
+    }
+  }
+  DG_RETURN_IF_ERROR(row.expectFieldCount(allowed));
+  return true;
+}
+
+/// The time stamp and gate id every detection row starts with; stamps must not decrease.
+Status readStampAndGate(const RowReader& row, double previous_t, bool first, double& t, int& gate_id) {
+  DG_RETURN_IF_ERROR(row.readDouble(0, "t", t));
+  if (!first && t < previous_t) {
+    return row.fieldError("t", "time stamp " + formatTime(t) + " is before the previous row's " +
+                                   formatTime(previous_t) + " (must not decrease)");
+  }
+  DG_RETURN_IF_ERROR(row.readInt(1, "gate_id", gate_id));
+  if (gate_id < -1) return row.fieldError("gate_id", std::to_string(gate_id) + " is below -1 (-1 means unknown)");
+  return Status();
+}
+
+Status noDataRows(const std::string& path, size_t lines) {
+  return Status(StatusCode::kParseError,
+                path + ": no data rows (" + std::to_string(lines) + " non-blank line(s), all comments or header)");
+}
+
+}  // namespace
+
+Result<std::vector<CornerDetection>> readCornerDetections(const std::string& path) {
+  Result<std::vector<TextLine>> lines = readTextLines(path, FieldSeparator::kComma);
+  if (!lines.ok()) return lines.status();
+  std::vector<CornerDetection> detections;
+  bool header_possible = true;
+  for (const TextLine& line : *lines) {
+    if (line.comment) continue;
+    if (header_possible) {
+      header_possible = false;
+      Result<bool> header = checkHeader(path, line, cornerNames(), {10});
+      if (!header.ok()) return header.status();
+      if (*header) continue;
+    }
+    const RowReader row(path, line);
+    DG_RETURN_IF_ERROR(row.expectFieldCount({10}));
+    CornerDetection detection;
+    detection.line = line.number;
+    DG_RETURN_IF_ERROR(readStampAndGate(row, detections.empty() ? 0.0 : detections.back().t, detections.empty(),
+                                        detection.t, detection.gate_id));
+    for (size_t c = 0; c < 4; ++c) {
+      for (size_t k = 0; k < 2; ++k) {
+        DG_RETURN_IF_ERROR(row.readDouble(2 + 2 * c + k, cornerNames()[2 + 2 * c + k], detection.corners[c][k]));
+      }
+    }
+    detections.push_back(detection);
+  }
+  if (detections.empty()) return noDataRows(path, lines->size());
+  return detections;
+}
+
+Result<std::vector<GateObservation>> readPoseDetections(const std::string& path, const Matrix6d& default_covariance) {
+  const Status default_valid = checkCovariance(default_covariance, "readPoseDetections: default_covariance");
+  if (!default_valid.ok()) return default_valid;
+  Result<std::vector<TextLine>> lines = readTextLines(path, FieldSeparator::kComma);
+  if (!lines.ok()) return lines.status();
+  std::vector<std::string> names = poseNames();
+  names.insert(names.end(), covarianceFieldNames().begin(), covarianceFieldNames().end());
+  std::vector<GateObservation> observations;
+  bool header_possible = true;
+  for (const TextLine& line : *lines) {
+    if (line.comment) continue;
+    if (header_possible) {
+      header_possible = false;
+      Result<bool> header = checkHeader(path, line, names, {9, 30});
+      if (!header.ok()) return header.status();
+      if (*header) continue;
+    }
+    const RowReader row(path, line);
+    DG_RETURN_IF_ERROR(row.expectFieldCount({9, 30}));
+    double t = 0.0;
+    int gate_id = -1;
+    DG_RETURN_IF_ERROR(readStampAndGate(row, observations.empty() ? 0.0 : observations.back().t,
+                                        observations.empty(), t, gate_id));
+    Eigen::Vector3d p;
+    for (int k = 0; k < 3; ++k) DG_RETURN_IF_ERROR(row.readDouble(2 + k, names[2 + k], p[k]));
+    Eigen::Quaterniond q;
+    DG_RETURN_IF_ERROR(readQuaternion(row, 5, QuaternionOrder::kXyzw, {"qx", "qy", "qz", "qw"}, q));
+    Matrix6d covariance = default_covariance;
+    if (row.size() == 30) DG_RETURN_IF_ERROR(readCovariance(row, 9, covariance));
+    Eigen::Isometry3d body_T_gate = Eigen::Isometry3d::Identity();
+    body_T_gate.linear() = q.toRotationMatrix();
+    body_T_gate.translation() = p;
+    observations.push_back(GateObservation::pose(t, gate_id, body_T_gate, covariance));
+  }
+  if (observations.empty()) return noDataRows(path, lines->size());
+  return observations;
+}
+
+}  // namespace dualgraph

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+#include "dual_graph/measurements.h"
+
+namespace dualgraph {
+
+/// One gate seen in one image at time `t` [s]: the pixel coordinates [px] of its four inner corners
+/// as they appear in the image (DESIGN.md §6): top-left, top-right, bottom-right, bottom-left — a
+/// clockwise cycle with v pointing down. `gate_id` is the map id, or -1 when unknown (the association
+/// decides). `line` is the 1-based line of the file it came from, for later messages.
+struct CornerDetection {
+  double t = 0.0;
+  int gate_id = -1;
+  std::array<Eigen::Vector2d, 4> corners;
+  int line = 0;
+};
+
+/// Corner detections CSV: `t,gate_id,u_tl,v_tl,u_tr,v_tr,u_br,v_br,u_bl,v_bl`. A header line is
+/// optional (a first non-comment line whose first field is `t`); when present it must be exactly
+/// these names. Time stamps non-decreasing (one image may hold several gates); gate_id ≥ -1;
+/// pixel coordinates finite. `#` comments and blank lines skipped; errors name file, line and field.
+Result<std::vector<CornerDetection>> readCornerDetections(const std::string& path);
+
+/// Pose detections CSV: `t,gate_id,x,y,z,qx,qy,qz,qw` — body_T_gate (translation [m] of the gate
+/// centre in the body frame, Hamilton quaternion [x y z w], normalised on reading) — optionally
+/// followed by the 21 upper-triangular entries `cov_00,cov_01,...,cov_55` of its covariance, metric
+/// [t; θ] (m², rad²), a right perturbation in the gate frame. Rows without covariance get
+/// `default_covariance` (checked once; same convention). Header optional as above (with or without
+/// the covariance names); each row may or may not carry a covariance; time stamps non-decreasing;
+/// gate_id ≥ -1. An unknown gate (-1) is kept as read: it must be associated before the Localizer sees
+/// it (validateGateObservation rejects gate_id < 0).
+Result<std::vector<GateObservation>> readPoseDetections(const std::string& path, const Matrix6d& default_covariance);
+
+}  // namespace dualgraph

@@ -1,0 +1,20 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Geometry>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/status.h"
+
+namespace dualgraph {
+
+/// Writes a TUM trajectory of (t [s], world_T_body) pairs — or any a_T_b the caller means — one
+/// `t tx ty tz qx qy qz qw` line per pose (s, m, Hamilton [x y z w] with w ≥ 0), 17 significant digits so every double reads back bit-exact, after a `#` header line.
+/// Atomic: written to `path.tmp` and renamed, so a failure never leaves a half-written file.
+/// kInvalidArgument naming the index when a time or pose is not finite or the rotation is not a
+/// rotation; kIoError when the file cannot be written.
+Status writeTum(const std::string& path, const std::vector<std::pair<double, Eigen::Isometry3d>>& poses);
+
+}  // namespace dualgraph
