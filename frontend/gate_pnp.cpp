@@ -171,6 +171,13 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
   try {
     cv::solvePnPGeneric(square, image, cv::Matx33d::eye(), cv::noArray(), rvecs, tvecs, false,
                         cv::SOLVEPNP_IPPE_SQUARE);
+    // OpenCV's IPPE degrades at an exactly fronto-parallel view (rotation off by tens of degrees);
+    // SQPnP's global minimum is one more starting point for the refinement there.
+    std::vector<cv::Mat> sq_rvecs, sq_tvecs;
+    cv::solvePnPGeneric(square, image, cv::Matx33d::eye(), cv::noArray(), sq_rvecs, sq_tvecs, false,
+                        cv::SOLVEPNP_SQPNP);
+    rvecs.insert(rvecs.end(), sq_rvecs.begin(), sq_rvecs.end());
+    tvecs.insert(tvecs.end(), sq_tvecs.begin(), sq_tvecs.end());
   } catch (const cv::Exception& e) {
     return reject(solution, GatePnpRejection::kSolverFailed, std::string("OpenCV: ") + e.what());
   }
@@ -199,16 +206,23 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
     }
   }
   if (candidates.empty()) return reject(solution, GatePnpRejection::kSolverFailed, "every IPPE pose puts a corner behind the camera");
-  const size_t best = candidates.size() > 1 && candidate_rms[1] < candidate_rms[0] ? 1 : 0;
+  size_t best = 0;
+  for (size_t k = 1; k < candidates.size(); ++k) best = candidate_rms[k] < candidate_rms[best] ? k : best;
   solution.camera_T_gate = candidates[best];
   solution.body_T_gate = camera.body_T_camera * solution.camera_T_gate;
   solution.reprojection_rms = candidate_rms[best];
-  if (candidates.size() > 1) {
-    const size_t other = 1 - best;
-    solution.alternative_camera_T_gate = candidates[other];
-    solution.alternative_reprojection_rms = candidate_rms[other];
-    const double angle = so3Log(candidates[best].linear().transpose() * candidates[other].linear()).norm();
-    solution.ambiguous = candidate_rms[other] <= params.max_reprojection_rms && angle > kPi / 180.0;
+  // The alternative: the lowest-RMS candidate whose rotation differs from the best by more than 1°.
+  int alternative = -1;
+  for (size_t k = 0; k < candidates.size(); ++k) {
+    const double angle = so3Log(candidates[best].linear().transpose() * candidates[k].linear()).norm();
+    if (angle > kPi / 180.0 && (alternative < 0 || candidate_rms[k] < candidate_rms[static_cast<size_t>(alternative)])) {
+      alternative = static_cast<int>(k);
+    }
+  }
+  if (alternative >= 0) {
+    solution.alternative_camera_T_gate = candidates[static_cast<size_t>(alternative)];
+    solution.alternative_reprojection_rms = candidate_rms[static_cast<size_t>(alternative)];
+    solution.ambiguous = solution.alternative_reprojection_rms <= params.max_reprojection_rms;
   }
 
   Matrix86d J;

@@ -52,7 +52,8 @@ struct GatePnpParams {
 ///
 /// Method: the corner pixels are undistorted to normalised coordinates (one path for both lens
 /// models; cv::solvePnP has no equidistant model) and cv::solvePnPGeneric(SOLVEPNP_IPPE_SQUARE) gives
-/// IPPE's two candidate poses. Each is refined by Gauss–Newton on the *pixel* reprojection error
+/// IPPE's two candidate poses (plus SQPnP's, a safeguard: OpenCV's IPPE degrades at an exactly
+/// fronto-parallel view). Each is refined by Gauss–Newton on the *pixel* reprojection error
 /// through CameraModel::project, so the estimate is the maximum-likelihood pose under isotropic pixel
 /// noise (the normalised-plane error that IPPE minimises weights pixels unequally: fx ≠ fy, distortion),
 /// and the lower-RMS candidate is returned.
@@ -63,8 +64,8 @@ struct GatePnpParams {
 /// perturbation, the same Σ is the covariance of body_T_gate, as GateObservation expects.
 ///
 /// Ambiguity: near-frontal views of a small square have two poses (mirrored tilts) explaining the
-/// pixels almost equally; `ambiguous` is set when the other refined candidate is also within
-/// max_reprojection_rms and differs by more than 1° in rotation; it is kept in `alternative_*`.
+/// pixels almost equally; `ambiguous` is set when the best other refined candidate that differs by
+/// more than 1° in rotation is also within max_reprojection_rms; it is kept in `alternative_*`.
 /// The returned pose is still the lower-RMS one, and Σ (large along the tilt) says how little
 /// the tilt is known.
 struct GatePnpSolution {
@@ -77,7 +78,7 @@ struct GatePnpSolution {
   double condition_number = 0.0;                ///< of JᵀJ
   bool ambiguous = false;
   Eigen::Isometry3d alternative_camera_T_gate = Eigen::Isometry3d::Identity();
-  double alternative_reprojection_rms = 0.0;  ///< [px]; 0 when IPPE gave one candidate only
+  double alternative_reprojection_rms = 0.0;  ///< [px]; 0 when no candidate differs by > 1°
 
   bool ok() const { return rejection == GatePnpRejection::kNone; }
   /// The kPose GateObservation of an accepted solution (body_T_gate, covariance).
