@@ -184,6 +184,10 @@ Result<RelativeCovarianceReport> toRelativeCovariances(OdometryLog& log, double 
     const Matrix6d adjoint = se3Adjoint(increment.inverse());
     Matrix6d relative = log.absolute_covariances[k] - adjoint * log.absolute_covariances[k - 1] * adjoint.transpose();
     relative = 0.5 * (relative + relative.transpose()).eval();
+    if (!relative.allFinite()) {  // the readers check their covariances; a log built by hand may not be
+      return Status(StatusCode::kNumericalError, "toRelativeCovariances: sample " + std::to_string(k) +
+                                                     ": non-finite covariance (absolute covariances not finite?)");
+    }
     Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(relative);
     Vector6d values = eigen.eigenvalues();
     const double lowest = std::max(floor, 1e-11 * values.maxCoeff());

@@ -27,7 +27,8 @@ struct OdometryLog {
 /// trajectories without covariance; OpenVINS' 20-column `Pr.. Pt..` covariance layout is rejected.
 Result<OdometryLog> readTumOdometry(const std::string& path);
 
-/// EuRoC/ASL CSV (e.g. `state_groundtruth_estimate0/data.csv`): a header line is required, such as
+/// EuRoC/ASL CSV (e.g. `state_groundtruth_estimate0/data.csv`): the first non-blank line must be the
+/// header, such as
 /// `#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []`
 /// (columns matched by name, units in brackets ignored, any order); t in integer nanoseconds (stored
 /// in seconds), quaternion w first, R = odometry frame, S = body. The other standard columns
@@ -46,7 +47,8 @@ struct RelativeCovarianceReport {
 /// Σ_k = Ad(inc⁻¹) Σ_{k-1} Ad(inc⁻¹)ᵀ + Σ_rel, so Σ_rel = Σ_k − Ad(inc⁻¹) Σ_{k-1} Ad(inc⁻¹)ᵀ,
 /// symmetrised, with eigenvalues raised to max(floor, 1e-11 · largest) so that `checkCovariance`
 /// accepts the result. Sample 0 has no previous sample and gets none. kFailedPrecondition when the
-/// log has no absolute covariances (or not one per sample), kInvalidArgument when floor ≤ 0.
+/// log has no absolute covariances (or not one per sample), kInvalidArgument when floor ≤ 0,
+/// kNumericalError naming the sample when a covariance is not finite.
 Result<RelativeCovarianceReport> toRelativeCovariances(OdometryLog& log, double floor = 1e-10);
 
 /// The increment odom_T_body(a)⁻¹ · odom_T_body(b) between samples `a` and `b` (indices, any order).

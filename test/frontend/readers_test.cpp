@@ -161,6 +161,8 @@ TEST(TumOdometry, ShrinkingAbsoluteCovarianceIsClampedAndReported) {
   EXPECT_TRUE(checkCovariance(*log.samples[2].relative_covariance, "relative").ok());
   EXPECT_NEAR(log.samples[2].relative_covariance->minCoeff(), 0.0, 1e-7);
   EXPECT_TRUE(log.samples[1].relative_covariance->isApprox(Matrix6d::Identity() * 1e-2, 1e-12));
+  log.absolute_covariances[1](0, 0) = std::nan("");
+  EXPECT_EQ(toRelativeCovariances(log).status().code(), StatusCode::kNumericalError);
   log.absolute_covariances.pop_back();
   EXPECT_EQ(toRelativeCovariances(log).status().code(), StatusCode::kFailedPrecondition);
 }
