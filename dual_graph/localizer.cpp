@@ -1,20 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "dual_graph/localizer.h"
 
-#include <sstream>
 
 #include "core/wall_clock.h"
 #include "dual_graph/se3_uncertainty.h"
 
 namespace dualgraph {
 namespace {
-
-std::string timeText(double t) {
-  std::ostringstream text;
-  text.precision(17);
-  text << t;
-  return text.str();
-}
 
 bool exceeds(const Eigen::Isometry3d& increment, double distance, double angle) {
   return translationOf(increment) >= distance || rotationAngleOf(increment) >= angle;
@@ -52,8 +44,8 @@ double Localizer::openIntervalStart() const {
 Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
   Status valid = validateOdometrySample(sample);
   if (valid.ok() && !history_.empty() && !(sample.t > history_.newest().t)) {
-    valid = Status(StatusCode::kInvalidArgument, "odometry sample at t=" + timeText(sample.t) +
-                                                     " is not after the previous one at t=" + timeText(history_.newest().t));
+    valid = Status(StatusCode::kInvalidArgument, "odometry sample at t=" + formatTimestamp(sample.t) +
+                                                     " is not after the previous one at t=" + formatTimestamp(history_.newest().t));
   }
   if (!valid.ok()) {
     ++counters_.odometry_rejected;
@@ -86,7 +78,7 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
 
 Status Localizer::checkObservation(const GateObservation& observation) const {
   DG_RETURN_IF_ERROR(validateGateObservation(observation));
-  const std::string what = "observation of gate " + std::to_string(observation.gate_id) + " at t=" + timeText(observation.t);
+  const std::string what = "observation of gate " + std::to_string(observation.gate_id) + " at t=" + formatTimestamp(observation.t);
   if (history_.empty()) return Status(StatusCode::kFailedPrecondition, what + " arrived before any odometry");
   if (!params_.mapping && !map_.contains(observation.gate_id)) {
     return Status(StatusCode::kNotFound, what + ": gate " + std::to_string(observation.gate_id) + " is not in the map");
@@ -96,11 +88,11 @@ Status Localizer::checkObservation(const GateObservation& observation) const {
   }
   if (observation.t < last_observation_t_) {
     return Status(StatusCode::kInvalidArgument, what + " is older than the previous observation at t=" +
-                                                    timeText(last_observation_t_));
+                                                    formatTimestamp(last_observation_t_));
   }
   if (observation.t < openIntervalStart() || observation.t < history_.oldestTime()) {
     return Status(StatusCode::kFailedPrecondition, what + " arrived after the keyframe at t=" +
-                                                       timeText(openIntervalStart()) + " that closed its interval");
+                                                       formatTimestamp(openIntervalStart()) + " that closed its interval");
   }
   return Status();
 }

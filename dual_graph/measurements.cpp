@@ -39,6 +39,13 @@ Eigen::Matrix3d GateObservation::centreCovarianceInBody() const {
   return rotation * pose_covariance.topLeftCorner<3, 3>() * rotation.transpose();
 }
 
+std::string formatTimestamp(double t) {
+  std::ostringstream text;
+  text.precision(17);
+  text << t;
+  return text.str();
+}
+
 Status checkCovariance(const Eigen::MatrixXd& m, const std::string& what) {
   if (m.rows() != m.cols() || m.rows() == 0) return Status(StatusCode::kInvalidArgument, what + " is not square");
   if (!m.allFinite()) return Status(StatusCode::kInvalidArgument, what + " has a non-finite entry");

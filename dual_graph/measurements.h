@@ -3,6 +3,7 @@
 
 #include <Eigen/Geometry>
 #include <optional>
+#include <string>
 
 #include "core/status.h"
 #include "types/se3_math.h"
@@ -51,6 +52,9 @@ struct GateObservation {
 
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
+
+/// A time stamp [s] with 17 significant digits, for messages (round-trips exactly).
+std::string formatTimestamp(double t);
 
 /// kInvalidArgument naming the field when `t` or the pose is not finite, the rotation is not
 /// orthonormal (|RᵀR − I| > 1e-6 or det ≤ 0), or the covariance is not finite, symmetric and positive definite.

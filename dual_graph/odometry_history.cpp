@@ -2,7 +2,6 @@
 #include "dual_graph/odometry_history.h"
 
 #include <algorithm>
-#include <sstream>
 
 #include "dual_graph/se3_uncertainty.h"
 
@@ -10,10 +9,8 @@ namespace dualgraph {
 namespace {
 
 Status notCovered(double t, double oldest, double newest) {
-  std::ostringstream message;
-  message.precision(17);
-  message << "time " << t << " is outside the odometry history [" << oldest << ", " << newest << "]";
-  return Status(StatusCode::kFailedPrecondition, message.str());
+  return Status(StatusCode::kFailedPrecondition, "time " + formatTimestamp(t) + " is outside the odometry history [" +
+                                                     formatTimestamp(oldest) + ", " + formatTimestamp(newest) + "]");
 }
 
 }  // namespace

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "frontend/detection_io.h"
 
-#include <sstream>
 
 #include "frontend/text_table.h"
 
@@ -17,13 +16,6 @@ const std::vector<std::string>& cornerNames() {
 const std::vector<std::string>& poseNames() {
   static const std::vector<std::string> names = {"t", "gate_id", "x", "y", "z", "qx", "qy", "qz", "qw"};
   return names;
-}
-
-std::string formatTime(double t) {
-  std::ostringstream out;
-  out.precision(17);
-  out << t;
-  return out.str();
 }
 
 /// Names joined with commas, for messages.
@@ -53,8 +45,8 @@ Result<bool> checkHeader(const std::string& path, const TextLine& line, const st
 Status readStampAndGate(const RowReader& row, double previous_t, bool first, double& t, int& gate_id) {
   DG_RETURN_IF_ERROR(row.readDouble(0, "t", t));
   if (!first && t < previous_t) {
-    return row.fieldError("t", "time stamp " + formatTime(t) + " is before the previous row's " +
-                                   formatTime(previous_t) + " (must not decrease)");
+    return row.fieldError("t", "time stamp " + formatTimestamp(t) + " is before the previous row's " +
+                                   formatTimestamp(previous_t) + " (must not decrease)");
   }
   DG_RETURN_IF_ERROR(row.readInt(1, "gate_id", gate_id));
   if (gate_id < -1) return row.fieldError("gate_id", std::to_string(gate_id) + " is below -1 (-1 means unknown)");

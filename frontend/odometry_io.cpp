@@ -6,20 +6,12 @@
 #include <array>
 #include <cmath>
 #include <map>
-#include <sstream>
 
 #include "dual_graph/se3_uncertainty.h"
 #include "frontend/text_table.h"
 
 namespace dualgraph {
 namespace {
-
-std::string formatTime(double t) {
-  std::ostringstream out;
-  out.precision(17);
-  out << t;
-  return out.str();
-}
 
 Status noDataRows(const std::string& path, const std::vector<TextLine>& lines) {
   return Status(StatusCode::kParseError, path + ": no data rows (" + std::to_string(lines.size()) +
@@ -30,8 +22,8 @@ Status noDataRows(const std::string& path, const std::vector<TextLine>& lines) {
 Status appendSample(const RowReader& row, const std::string& t_field, double t, const Eigen::Vector3d& p,
                     const Eigen::Quaterniond& q, OdometryLog& log) {
   if (!log.samples.empty() && !(t > log.samples.back().t)) {
-    return row.fieldError(t_field, "time stamp " + formatTime(t) + " is not after the previous sample's " +
-                                       formatTime(log.samples.back().t) + " (must increase strictly)");
+    return row.fieldError(t_field, "time stamp " + formatTimestamp(t) + " is not after the previous sample's " +
+                                       formatTimestamp(log.samples.back().t) + " (must increase strictly)");
   }
   OdometrySample sample;
   sample.t = t;
@@ -216,9 +208,9 @@ namespace {
 Result<Eigen::Isometry3d> poseAt(const std::vector<OdometrySample>& samples, double t) {
   if (samples.empty() || !(t >= samples.front().t) || !(t <= samples.back().t)) {
     return Status(StatusCode::kFailedPrecondition,
-                  "odometryIncrementBetween: time " + formatTime(t) + " is outside the samples' span" +
+                  "odometryIncrementBetween: time " + formatTimestamp(t) + " is outside the samples' span" +
                       (samples.empty() ? std::string(" (no samples)")
-                                       : " [" + formatTime(samples.front().t) + ", " + formatTime(samples.back().t) + "]"));
+                                       : " [" + formatTimestamp(samples.front().t) + ", " + formatTimestamp(samples.back().t) + "]"));
   }
   const auto after = std::upper_bound(samples.begin(), samples.end(), t,
                                       [](double value, const OdometrySample& s) { return value < s.t; });
