@@ -118,6 +118,15 @@ Status SparseSystem::build(const Graph& graph) {
   }
   edge_vertex_begin_.push_back(static_cast<int>(edge_vertex_offset_.size()));
   edge_slot_begin_.push_back(static_cast<int>(slots_.size()));
+  // An edge's blocks lie in the columns of its free vertices; the last of them ends its reach.
+  edge_values_end_.clear();
+  for (const EdgeBase* edge : active_edges_) {
+    int last_block = -1;
+    for (const VertexBase* v : edge->vertices()) {
+      if (!v->fixed()) last_block = std::max(last_block, block_of.at(v));
+    }
+    edge_values_end_.push_back(col_ptr_[active_offset_[last_block] + active_[last_block]->tangentDim()]);
+  }
   scratch_stride_ = max_edge_dim * max_edge_dim;
   scratch_.assign(2 * scratch_stride_ + max_edge_dim, 0.0);
   // Per-edge products: the rhs part of every active vertex, then every block, in slot order.
@@ -165,11 +174,17 @@ void SparseSystem::assemble() {
 }
 
 void SparseSystem::beginAssembly() {
-  std::fill(values_.begin(), values_.end(), 0.0);
+  values_cleared_ = 0;
   rhs_.setZero();
 }
 
 void SparseSystem::assembleEdges(size_t begin, size_t end) {
+  size_t reach = values_cleared_;
+  for (size_t e = begin; e < end; ++e) reach = std::max(reach, static_cast<size_t>(edge_values_end_[e]));
+  if (reach > values_cleared_) {
+    std::fill(values_.begin() + values_cleared_, values_.begin() + reach, 0.0);
+    values_cleared_ = reach;
+  }
   // Fixed-size edges scatter straight from registers; others through a small per-edge buffer.
   for (size_t e = begin; e < end; ++e) {
     switch (edge_kernel_[e]) {
@@ -184,6 +199,8 @@ void SparseSystem::assembleEdges(size_t begin, size_t end) {
 }
 
 void SparseSystem::finishAssembly() {
+  std::fill(values_.begin() + values_cleared_, values_.end(), 0.0);  // nothing normally: every column is reached
+  values_cleared_ = values_.size();
   for (int k = 0; k < dim_; ++k) undamped_diagonal_[k] = values_[diagonal_index_[k]];
 }
 

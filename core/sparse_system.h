@@ -28,9 +28,10 @@ class SparseSystem {
   /// Same as `beginAssembly(); assembleEdges(0, activeEdges().size()); finishAssembly();`.
   void assemble();
   /// The same in pieces, so a caller can linearise a run of edges and add it while its Jacobians
-  /// are still in cache: clears H and b, ...
+  /// are still in cache: clears b, ...
   void beginAssembly();
-  /// ... adds active edges [begin, end) (their errors and Jacobians must be current), ...
+  /// ... adds active edges [begin, end) (their errors and Jacobians must be current; every active
+  /// edge once, in increasing order), clearing the columns of H they reach first, ...
   void assembleEdges(size_t begin, size_t end);
   /// ... and records the undamped diagonal once every edge is in.
   void finishAssembly();
@@ -82,6 +83,11 @@ class SparseSystem {
   std::vector<int> col_ptr_;
   std::vector<int> row_index_;
   std::vector<double> values_;
+  /// Per active edge: end (in values_) of the last column its blocks reach. H is cleared up to a
+  /// watermark just before the edges that reach further, so each part is zeroed right before it
+  /// is added to (still in cache) rather than all 2 MB up front.
+  std::vector<int> edge_values_end_;
+  size_t values_cleared_ = 0;
   std::vector<int> diagonal_index_;          ///< position of H(k,k) in values_
   std::vector<double> undamped_diagonal_;
   Eigen::VectorXd rhs_;
