@@ -20,22 +20,7 @@ namespace dualgraph {
 namespace {
 
 namespace fs = std::filesystem;
-using testing::addEdge;
-using testing::addPoint;
-using testing::buildGraphForWriting;
-using testing::contains;
-using testing::EdgePoint2Prior;
-using testing::EdgePoint2Range;
-using testing::EdgePoint2Relative;
-using testing::expectEmpty;
-using testing::ParameterScale;
-using testing::readText;
-using testing::slurp;
-using testing::TempDir;
-using testing::testRegistry;
-using testing::VertexPoint2;
-using testing::VertexVector;
-using testing::writeText;
+using namespace dualgraph::testing;
 
 TEST(G2oIo, CommentsBlankLinesAndWindowsLineEndsAreIgnored) {
   Graph graph;

@@ -18,28 +18,7 @@
 namespace dualgraph {
 namespace {
 
-using testing::activeEdgeCount;
-using testing::addEdge;
-using testing::addPoint;
-using testing::buildLinearProblem;
-using testing::buildRangeProblem;
-using testing::chi2At;
-using testing::contains;
-using testing::denseLeastSquares;
-using testing::DenseTestSolver;
-using testing::EdgePoint2Prior;
-using testing::EdgePoint2Range;
-using testing::EdgePoint2Relative;
-using testing::expectAtSolution;
-using testing::expectCleanStacks;
-using testing::FailingSolver;
-using testing::kNaN;
-using testing::paramsFor;
-using testing::pointOf;
-using testing::RangeProblem;
-using testing::ScriptedSolver;
-using testing::snapshot;
-using testing::VertexPoint2;
+using namespace dualgraph::testing;
 
 TEST(Optimizer, NonFiniteErrorAtTheStartIsInvalidInputAndLeavesTheEstimate) {
   for (Algorithm algorithm : {Algorithm::kLevenbergMarquardt, Algorithm::kGaussNewton}) {
