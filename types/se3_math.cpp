@@ -162,16 +162,6 @@ Vector6d g2oChart(const Eigen::Isometry3d& pose) {
   return g2oChart(pose, w);
 }
 
-Vector6d g2oChart(const Eigen::Isometry3d& pose, double& w) {
-  Eigen::Quaterniond q = quatFromRotation(pose.linear());
-  if (q.w() < 0.0) q.coeffs() *= -1.0;
-  w = q.w();
-  Vector6d v;
-  v.head<3>() = pose.translation();
-  v.tail<3>() = q.vec();
-  return v;
-}
-
 Matrix6d g2oChartJacobianOfProduct(const Eigen::Isometry3d& A, const Eigen::Isometry3d& B) {
   // E(δ) = A · Δ(δ) · B with Δ = (R_δ, δt), R_δ ≈ I + 2[δq]×:
   //   t_E = t_A + R_A (δt + R_δ t_B)  →  ∂/∂δt = R_A,  ∂/∂δq = −2 R_A [t_B]×
@@ -192,12 +182,6 @@ Matrix6d g2oChartJacobianOfProduct(const Eigen::Isometry3d& A, const Eigen::Quat
   J.topRightCorner<3, 3>() = -2.0 * rotation_a * skew(t_b);
   J.bottomRightCorner<3, 3>() = sign * product.bottomRightCorner<3, 3>();
   return J;
-}
-
-Eigen::Quaterniond quatFromRotation(const Eigen::Matrix3d& rotation) {
-  Eigen::Quaterniond q(rotation);
-  q.normalize();
-  return q;
 }
 
 void approximateNearestRotation(Eigen::Matrix3d& rotation) {

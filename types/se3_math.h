@@ -64,7 +64,8 @@ Eigen::Isometry3d g2oIncrement(const Vector6d& v);
 /// that w ≥ 0.
 Vector6d g2oChart(const Eigen::Isometry3d& pose);
 /// The same, also giving that quaternion's w (≥ 0), which the SE(3) edges' Jacobians use.
-Vector6d g2oChart(const Eigen::Isometry3d& pose, double& w);
+/// Inline (below): it is in every χ² evaluation of the SE(3) edges.
+inline Vector6d g2oChart(const Eigen::Isometry3d& pose, double& w);
 /// d g2oChart(A · g2oIncrement(δ) · B) / dδ at δ = 0, a 6×6 matrix (rows [t; q.vec], columns
 /// [δt; δq]). The shared building block of every analytic Jacobian of the SE(3) edges.
 Matrix6d g2oChartJacobianOfProduct(const Eigen::Isometry3d& A, const Eigen::Isometry3d& B);
@@ -73,7 +74,7 @@ Matrix6d g2oChartJacobianOfProduct(const Eigen::Isometry3d& A, const Eigen::Quat
                                    const Eigen::Vector3d& t_b, const Eigen::Quaterniond& q_b);
 /// Unit quaternion of a rotation matrix's upper-left 3×3 block as g2o extracts it, normalised,
 /// sign not changed (w may be negative).
-Eigen::Quaterniond quatFromRotation(const Eigen::Matrix3d& rotation);
+inline Eigen::Quaterniond quatFromRotation(const Eigen::Matrix3d& rotation);
 /// g2o's cheap re-orthonormalisation R ← R − ½ R (RᵀR − I), applied periodically to poses that
 /// accumulate many increments so their rotation does not drift away from SO(3).
 void approximateNearestRotation(Eigen::Matrix3d& rotation);
@@ -93,5 +94,25 @@ Matrix6d covarianceMetricToG2o(const Matrix6d& covariance_metric);
 Matrix6d informationG2oToMetric(const Matrix6d& information_g2o);
 /// Σ_metric = D Σ_g2o D.
 Matrix6d covarianceG2oToMetric(const Matrix6d& covariance_g2o);
+
+// ---------------------------------------------------------------------------------------------
+// Inline definitions (hot paths).
+// ---------------------------------------------------------------------------------------------
+
+inline Eigen::Quaterniond quatFromRotation(const Eigen::Matrix3d& rotation) {
+  Eigen::Quaterniond q(rotation);
+  q.normalize();
+  return q;
+}
+
+inline Vector6d g2oChart(const Eigen::Isometry3d& pose, double& w) {
+  Eigen::Quaterniond q = quatFromRotation(pose.linear());
+  if (q.w() < 0.0) q.coeffs() *= -1.0;
+  w = q.w();
+  Vector6d v;
+  v.head<3>() = pose.translation();
+  v.tail<3>() = q.vec();
+  return v;
+}
 
 }  // namespace dualgraph
