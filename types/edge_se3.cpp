@@ -13,8 +13,19 @@ void EdgeSE3::setMeasurement(const Eigen::Isometry3d& i_T_j) {
 void EdgeSE3::computeError() {
   const Eigen::Isometry3d& world_T_i = vertexAs<0>()->estimate();
   const Eigen::Isometry3d& world_T_j = vertexAs<1>()->estimate();
-  // Same product order as g2o, so the χ² of a g2o file agrees to round-off.
-  const Eigen::Isometry3d error_pose = j_T_i_measured_ * world_T_i.inverse() * world_T_j;
+  // E = (Z⁻¹ · world_T_i⁻¹) · world_T_j, g2o's product order, so the χ² of a g2o file agrees to
+  // round-off. Written out as Eigen's Isometry inverse() and operator* compute it (the same
+  // expressions on the same 4×4 storage, hence the same bits) but inline and without the
+  // bottom rows, which the chart does not read.
+  Eigen::Isometry3d i_T_world;
+  i_T_world.linear() = world_T_i.linear().transpose();
+  i_T_world.translation() = -i_T_world.linear() * world_T_i.translation();
+  Eigen::Isometry3d j_T_world;
+  j_T_world.linear() = j_T_i_measured_.linear() * i_T_world.linear();
+  j_T_world.translation() = j_T_i_measured_.linear() * i_T_world.translation() + j_T_i_measured_.translation();
+  Eigen::Isometry3d error_pose;
+  error_pose.linear() = j_T_world.linear() * world_T_j.linear();
+  error_pose.translation() = j_T_world.linear() * world_T_j.translation() + j_T_world.translation();
   error_ = g2oChart(error_pose, error_w_);
   error_rotation_ = error_pose.linear();
 }
