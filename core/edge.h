@@ -86,18 +86,27 @@ class EdgeBase {
   void setSourceLine(int line) { source_line_ = line; }
 
  protected:
-  /// Prefetches the cache lines of [begin, begin + bytes).
-  static void prefetchBytes(const void* begin, size_t bytes) {
+  /// Prefetches the cache lines of [begin, begin + Bytes) (unrolled: Bytes is a constant).
+  template <size_t Bytes>
+  static void prefetchBytes(const void* begin) {
 #if defined(__GNUC__)
     const char* p = static_cast<const char*>(begin);
-    for (size_t offset = 0; offset < bytes; offset += 64) __builtin_prefetch(p + offset);
-    if (bytes > 0) __builtin_prefetch(p + bytes - 1);
+    prefetchLines(p, std::make_index_sequence<(Bytes + 63) / 64>{});
+    __builtin_prefetch(p + Bytes - 1);  // the last line when `begin` is not line-aligned
 #else
     (void)begin;
-    (void)bytes;
 #endif
   }
 
+ private:
+#if defined(__GNUC__)
+  template <size_t... Line>
+  static void prefetchLines(const char* p, std::index_sequence<Line...>) {
+    (__builtin_prefetch(p + 64 * Line), ...);
+  }
+#endif
+
+ protected:
   std::vector<VertexBase*> vertices_;
 
  private:
@@ -168,7 +177,7 @@ class BaseEdge : public EdgeBase {
   const double* informationData() const final { return information_.data(); }
   double chi2() const final { return error_.dot(information_ * error_); }
   double* mutableInformationData() final { return information_.data(); }
-  void prefetch() const override { prefetchBytes(this, sizeof(BaseEdge)); }
+  void prefetch() const override { prefetchBytes<sizeof(BaseEdge)>(this); }
 
  protected:
   /// Fills `jacobianOplus<I>()` at the current estimates; the error is already computed.

@@ -30,7 +30,7 @@ void EdgeSE3::computeError() {
   error_rotation_ = error_pose.linear();
 }
 
-void EdgeSE3::prefetch() const { prefetchBytes(this, sizeof(EdgeSE3)); }
+void EdgeSE3::prefetch() const { prefetchBytes<sizeof(EdgeSE3)>(this); }
 
 void EdgeSE3::linearizeOplus() {
   // Right increments Δ(δ) = (R_δ ≈ I + 2[δq]×, δt), written with the error pose E = (R_E, t_E)
