@@ -6,6 +6,8 @@
 #include <map>
 #include <set>
 
+#include "core/atomic_file.h"
+
 namespace dualgraph {
 namespace {
 
@@ -222,22 +224,7 @@ Status writeG2o(std::ostream& out, const TypeRegistry& registry, const Graph& gr
 }
 
 Status writeG2o(const std::string& path, const TypeRegistry& registry, const Graph& graph) {
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary);
-    if (!out) return Status(StatusCode::kIoError, temporary + ": cannot open for writing");
-    const Status written = writeG2o(out, registry, graph);
-    out.close();
-    if (!written.ok() || !out) {
-      std::remove(temporary.c_str());
-      return Status(StatusCode::kIoError, path + ": " + (written.ok() ? "write failed" : written.message()));
-    }
-  }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-    std::remove(temporary.c_str());
-    return Status(StatusCode::kIoError, path + ": cannot rename the temporary file into place");
-  }
-  return Status();
+  return writeFileAtomically(path, [&](std::ostream& out) { return writeG2o(out, registry, graph); });
 }
 
 }  // namespace dualgraph
