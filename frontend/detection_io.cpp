@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "frontend/detection_io.h"
 
+#include <cmath>
+#include <limits>
 
+#include "core/atomic_file.h"
 #include "frontend/text_table.h"
 
 namespace dualgraph {
@@ -126,6 +129,59 @@ Result<std::vector<GateObservation>> readPoseDetections(const std::string& path,
   }
   if (observations.empty()) return noDataRows(path, lines->size());
   return observations;
+}
+
+Status writeCornerDetections(const std::string& path, const std::vector<CornerDetection>& detections) {
+  for (size_t i = 0; i < detections.size(); ++i) {
+    const CornerDetection& d = detections[i];
+    bool finite = std::isfinite(d.t);
+    for (const Eigen::Vector2d& corner : d.corners) finite = finite && corner.allFinite();
+    const std::string what = path + ": detection " + std::to_string(i);
+    if (!finite) return Status(StatusCode::kInvalidArgument, what + ": not finite");
+    if (d.gate_id < -1) return Status(StatusCode::kInvalidArgument, what + ": gate_id below -1");
+    if (i > 0 && d.t < detections[i - 1].t) return Status(StatusCode::kInvalidArgument, what + ": time stamp decreases");
+  }
+  return writeFileAtomically(path, [&](std::ostream& out) {
+    out.precision(std::numeric_limits<double>::max_digits10);
+    out << joined(cornerNames(), cornerNames().size()) << '\n';
+    for (const CornerDetection& d : detections) {
+      out << d.t << ',' << d.gate_id;
+      for (const Eigen::Vector2d& corner : d.corners) out << ',' << corner.x() << ',' << corner.y();
+      out << '\n';
+    }
+    return Status();
+  });
+}
+
+Status writePoseDetections(const std::string& path, const std::vector<GateObservation>& observations) {
+  for (size_t i = 0; i < observations.size(); ++i) {
+    const GateObservation& o = observations[i];
+    const std::string what = path + ": observation " + std::to_string(i);
+    if (o.kind != ObservationKind::kPose) return Status(StatusCode::kInvalidArgument, what + ": not a pose observation");
+    if (!std::isfinite(o.t)) return Status(StatusCode::kInvalidArgument, what + ": time stamp is not finite");
+    if (o.gate_id < -1) return Status(StatusCode::kInvalidArgument, what + ": gate_id below -1");
+    if (i > 0 && o.t < observations[i - 1].t) return Status(StatusCode::kInvalidArgument, what + ": time stamp decreases");
+    DG_RETURN_IF_ERROR(checkRigidTransform(o.body_T_gate, what));
+    DG_RETURN_IF_ERROR(checkCovariance(o.pose_covariance, what));
+  }
+  std::vector<std::string> names = poseNames();
+  names.insert(names.end(), covarianceFieldNames().begin(), covarianceFieldNames().end());
+  return writeFileAtomically(path, [&](std::ostream& out) {
+    out.precision(std::numeric_limits<double>::max_digits10);
+    out << joined(names, names.size()) << '\n';
+    for (const GateObservation& o : observations) {
+      Eigen::Quaterniond q(o.body_T_gate.linear());
+      if (q.w() < 0.0) q.coeffs() = -q.coeffs();
+      const Eigen::Vector3d p = o.body_T_gate.translation();
+      out << o.t << ',' << o.gate_id << ',' << p.x() << ',' << p.y() << ',' << p.z() << ',' << q.x() << ',' << q.y()
+          << ',' << q.z() << ',' << q.w();
+      for (int r = 0; r < 6; ++r) {
+        for (int c = r; c < 6; ++c) out << ',' << o.pose_covariance(r, c);
+      }
+      out << '\n';
+    }
+    return Status();
+  });
 }
 
 }  // namespace dualgraph

@@ -38,4 +38,13 @@ Result<std::vector<CornerDetection>> readCornerDetections(const std::string& pat
 /// it (validateGateObservation rejects gate_id < 0).
 Result<std::vector<GateObservation>> readPoseDetections(const std::string& path, const Matrix6d& default_covariance);
 
+/// Writes corner detections in the CSV form readCornerDetections reads (with the header line,
+/// 17 significant digits). Atomic (temporary file + rename). kInvalidArgument naming the detection
+/// for a non-finite value, gate_id < -1 or a decreasing time stamp; kIoError on write failure.
+Status writeCornerDetections(const std::string& path, const std::vector<CornerDetection>& detections);
+/// Writes kPose observations as the pose detections CSV with all 21 covariance columns and the header.
+/// Atomic. kInvalidArgument naming the observation for a kPosition one, non-finite values, a non-rigid
+/// pose, an invalid covariance (checkCovariance), gate_id < -1 or a decreasing time stamp.
+Status writePoseDetections(const std::string& path, const std::vector<GateObservation>& observations);
+
 }  // namespace dualgraph

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/status.h"
+#include "frontend/odometry_io.h"
 
 namespace dualgraph {
 
@@ -16,5 +17,12 @@ namespace dualgraph {
 /// kInvalidArgument naming the index when a time or pose is not finite or the rotation is not a
 /// rotation; kIoError when the file cannot be written.
 Status writeTum(const std::string& path, const std::vector<std::pair<double, Eigen::Isometry3d>>& poses);
+
+/// Writes an odometry log as TUM (the form readTumOdometry reads back bit-exact): one line per
+/// sample, followed by the 21 upper-triangular entries of its absolute covariance when the log has
+/// them (DESIGN.md §6). Atomic like writeTum. kInvalidArgument naming the sample for a non-finite or
+/// non-increasing time, a non-rigid pose, a non-finite covariance or a covariance count that is
+/// neither 0 nor one per sample; kIoError when the file cannot be written.
+Status writeTumOdometry(const std::string& path, const OdometryLog& log);
 
 }  // namespace dualgraph

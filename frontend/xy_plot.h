@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+
+namespace dualgraph {
+
+/// One polyline of a plot, in data units (metres for XY trajectories).
+struct PlotSeries {
+  std::string label;
+  std::vector<Eigen::Vector2d> points;
+  std::array<std::uint8_t, 3> rgb{0, 0, 0};
+  bool dashed = false;
+};
+
+/// A gate seen from above: a bar of length `size` [m] across its normal (yaw [rad]) at `centre` [m].
+struct PlotGate {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  double yaw = 0.0;
+  double size = 1.5;
+};
+
+/// A line plot with a grid, tick labels, a legend and, for XY trajectories, equal axis scales and
+/// gates drawn as grey rectangles (the paper's Fig. 3 style).
+struct XyPlot {
+  std::string title;
+  std::string x_label = "x [m]";
+  std::string y_label = "y [m]";
+  bool equal_aspect = true;
+  std::vector<PlotSeries> series;
+  std::vector<PlotGate> gates;
+  int width = 1200;   ///< [px]
+  int height = 800;   ///< [px]
+};
+
+/// Renders `plot` as PNG (OpenCV) to `path`, atomically (temporary file + rename). kInvalidArgument
+/// when there is nothing finite to draw or the size is below 200×150 px; kIoError when writing fails.
+/// Non-finite points are skipped (the polyline is broken there), never drawn.
+Status writeXyPlotPng(const std::string& path, const XyPlot& plot);
+
+}  // namespace dualgraph
