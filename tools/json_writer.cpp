@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "core/atomic_file.h"
+
 namespace dualgraph::tools {
 
 std::string jsonEscape(const std::string& text) {
@@ -63,6 +65,13 @@ std::string JsonObject::str() const {
     out += "\"" + jsonEscape(fields_[i].first) + "\": " + fields_[i].second;
   }
   return out + "}";
+}
+
+Status writeJsonFile(const std::string& path, const JsonObject& json) {
+  return writeFileAtomically(path, [&json](std::ostream& out) {
+    out << json.str() << "\n";
+    return Status();
+  });
 }
 
 }  // namespace dualgraph::tools

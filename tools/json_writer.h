@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "core/status.h"
+
 namespace dualgraph::tools {
 
 /// Builds one flat JSON object, keys in insertion order; numbers with 17 significant digits,
@@ -24,5 +26,9 @@ class JsonObject {
 
 /// Escapes a string for a JSON string literal (without the quotes).
 std::string jsonEscape(const std::string& text);
+
+/// Writes `json.str()` and a newline to `path` atomically (core/atomic_file.h: temporary + rename,
+/// so a failure never leaves a half-written file); kIoError naming the path otherwise.
+Status writeJsonFile(const std::string& path, const JsonObject& json);
 
 }  // namespace dualgraph::tools

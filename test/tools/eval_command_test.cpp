@@ -1,0 +1,174 @@
+// SPDX-License-Identifier: MIT
+// `dualgraph eval` as a user runs it (build/bin/dualgraph as a subprocess): metrics of two TUM files
+// written here, the JSON file, bad input → exit 1 with file:line, usage errors → exit 2.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "test/testing/shared_data.h"
+
+namespace dualgraph {
+namespace {
+
+struct CommandRun {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+/// A fresh folder per test process, removed when the process exits.
+std::string tempDir() {
+  static char pattern[] = "/tmp/dualgraph_eval_cli_XXXXXX";
+  static const bool made = [] {
+    if (mkdtemp(pattern) == nullptr) return false;
+    std::atexit([] { std::filesystem::remove_all(pattern); });
+    return true;
+  }();
+  return made ? std::string(pattern) : std::string("/tmp");
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string writeFile(const std::string& name, const std::string& content) {
+  const std::string path = tempDir() + "/" + name;
+  std::ofstream(path) << content;
+  return path;
+}
+
+/// The number after `"key": ` in a one-line JSON object; NaN when absent.
+double jsonNumber(const std::string& json, const std::string& key) {
+  const std::string needle = "\"" + key + "\": ";
+  const auto at = json.find(needle);
+  return at == std::string::npos ? std::nan("") : std::strtod(json.c_str() + at + needle.size(), nullptr);
+}
+
+CommandRun runDualgraph(const std::string& args) {
+  const std::string err_path = tempDir() + "/stderr.txt";
+  const std::string command = "timeout 60 " + testing::binaryPath("dualgraph") + " " + args + " 2>" + err_path;
+  CommandRun run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  char buffer[4096];
+  size_t n = 0;
+  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) run.out.append(buffer, n);
+  const int status = pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  run.err = readFile(err_path);
+  return run;
+}
+
+/// A TUM trajectory on a 3-D loop, yawing along it, at 20 Hz from t0, shifted by `offset` [m];
+/// with `covariance` the 21 upper-triangular entries of 1e-4·I after every pose.
+std::string loopTum(int poses, double t0, const double offset[3], bool covariance) {
+  std::ostringstream text;
+  text.precision(17);
+  text << "# t tx ty tz qx qy qz qw\n";
+  for (int k = 0; k < poses; ++k) {
+    const double t = t0 + 0.05 * k;
+    const double a = 0.2 * t;
+    const double yaw = std::atan2(10.0 * std::cos(2.0 * a), -10.0 * std::sin(a));
+    text << t << ' ' << 10.0 * std::cos(a) + offset[0] << ' ' << 5.0 * std::sin(2.0 * a) + offset[1] << ' '
+         << 1.5 + 0.5 * std::sin(0.3 * t) + offset[2] << " 0 0 " << std::sin(yaw / 2.0) << ' ' << std::cos(yaw / 2.0);
+    for (int row = 0; covariance && row < 6; ++row) {
+      for (int col = row; col < 6; ++col) text << (row == col ? " 1e-4" : " 0");
+    }
+    text << '\n';
+  }
+  return text.str();
+}
+
+const double kNoOffset[3] = {0.0, 0.0, 0.0};
+const double kOffset[3] = {0.3, 0.4, 1.2};  // 1.3 m
+
+TEST(EvalCli, ShiftedEstimateHasZeroAlignedAteAndItsOffsetUnaligned) {
+  const std::string gt = writeFile("gt.tum", loopTum(600, 5.0, kNoOffset, false));
+  const std::string est = writeFile("est_cov.tum", loopTum(600, 5.0, kOffset, true));  // covariances ignored
+  const std::string json_path = tempDir() + "/metrics.json";
+  const CommandRun run = runDualgraph("eval --gt " + gt + " --est " + est + " --json " + json_path);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(run.err.empty()) << run.err;
+  for (const char* row : {"associated     600 of 600", "ATE se3", "ATE 4dof", "ATE unaligned  1.3000 m", "ATE rotation",
+                          "RPE 1 m", "RPE 10 m"}) {
+    EXPECT_NE(run.out.find(row), std::string::npos) << row << "\n" << run.out;
+  }
+  const std::string json = readFile(json_path);
+  EXPECT_EQ(json.front(), '{');
+  EXPECT_LT(jsonNumber(json, "ate_m"), 1e-9) << json;
+  EXPECT_LT(jsonNumber(json, "ate_4dof_m"), 1e-9) << json;
+  EXPECT_NEAR(jsonNumber(json, "ate_unaligned_m"), 1.3, 1e-9) << json;
+  EXPECT_LT(jsonNumber(json, "ate_rot_deg"), 1e-6) << json;
+  EXPECT_LT(jsonNumber(json, "rpe_1m_m"), 1e-9) << json;
+  EXPECT_GT(jsonNumber(json, "rpe_10m_pairs"), 100) << json;
+  EXPECT_EQ(jsonNumber(json, "associated"), 600) << json;
+  EXPECT_EQ(jsonNumber(json, "unassociated"), 0) << json;
+  EXPECT_FALSE(testing::fileExists(json_path + ".tmp"));
+}
+
+TEST(EvalCli, AlignNoneAndUnassociatedPosesAreReported) {
+  const std::string gt = writeFile("gt_short.tum", loopTum(400, 10.0, kNoOffset, false));  // [10, 29.95] s
+  const std::string est = writeFile("est_long.tum", loopTum(600, 5.0, kOffset, false));   // [5, 34.95] s
+  const std::string json_path = tempDir() + "/metrics_none.json";
+  const CommandRun run = runDualgraph("eval --gt " + gt + " --est " + est + " --align none --json " + json_path);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("(before the ground truth 100, after it 100, beyond the gap 0)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("ATE unaligned  1.3000 m  (--align)"), std::string::npos) << run.out;
+  const std::string json = readFile(json_path);
+  EXPECT_NE(json.find("\"alignment\": \"none\""), std::string::npos) << json;
+  EXPECT_EQ(jsonNumber(json, "associated"), 400) << json;
+  EXPECT_EQ(jsonNumber(json, "before_span"), 100) << json;
+  EXPECT_EQ(jsonNumber(json, "after_span"), 100) << json;
+}
+
+TEST(EvalCli, BadFileExitsOneNamingFileAndLineAndWritesNothing) {
+  const std::string gt = writeFile("gt_ok.tum", loopTum(100, 0.0, kNoOffset, false));
+  const std::string bad = writeFile("bad.tum", "# header\n0 0 0 0 0 0 0 1\n0.05 0 0 nan 0 0 0 1\n");
+  const std::string json_path = tempDir() + "/bad.json";
+  for (const std::string& args : {"--gt " + gt + " --est " + bad, "--gt " + bad + " --est " + gt}) {
+    SCOPED_TRACE(args);
+    const CommandRun run = runDualgraph("eval " + args + " --json " + json_path);
+    EXPECT_EQ(run.exit_code, 1) << run.err;
+    EXPECT_NE(run.err.find(bad + ":3:"), std::string::npos) << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    EXPECT_FALSE(testing::fileExists(json_path));
+  }
+  const CommandRun missing = runDualgraph("eval --gt " + gt + " --est " + tempDir() + "/missing.tum");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("missing.tum"), std::string::npos) << missing.err;
+}
+
+TEST(EvalCli, NoOverlapInTimeExitsOneAndWritesNothing) {
+  const std::string gt = writeFile("gt_early.tum", loopTum(100, 0.0, kNoOffset, false));
+  const std::string est = writeFile("est_late.tum", loopTum(100, 50.0, kNoOffset, false));
+  const std::string json_path = tempDir() + "/no_overlap.json";
+  const CommandRun run = runDualgraph("eval --gt " + gt + " --est " + est + " --json " + json_path);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("does not overlap"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find(est), std::string::npos) << run.err;
+  EXPECT_FALSE(testing::fileExists(json_path));
+}
+
+TEST(EvalCli, MissingOrBadArgumentsAreUsageErrors) {
+  const std::string gt = writeFile("gt_usage.tum", loopTum(50, 0.0, kNoOffset, false));
+  EXPECT_EQ(runDualgraph("eval").exit_code, 2);
+  EXPECT_EQ(runDualgraph("eval --gt " + gt).exit_code, 2);
+  EXPECT_EQ(runDualgraph("eval --est " + gt).exit_code, 2);
+  EXPECT_EQ(runDualgraph("eval --gt " + gt + " --est " + gt + " --align sim3").exit_code, 2);
+  EXPECT_EQ(runDualgraph("eval --gt " + gt + " --est " + gt + " --max-gap -1").exit_code, 2);
+  EXPECT_EQ(runDualgraph("eval --gt " + gt + " --est " + gt).exit_code, 0);
+}
+
+}  // namespace
+}  // namespace dualgraph
