@@ -5,6 +5,7 @@
 #include <exception>
 #include <iostream>
 
+#include "tools/eval_command.h"
 #include "tools/optimize_command.h"
 
 int main(int argc, char** argv) {
@@ -12,6 +13,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   dualgraph::tools::OptimizeOptions optimize_options;
   CLI::App* optimize = dualgraph::tools::addOptimizeCommand(app, optimize_options);
+  dualgraph::tools::EvalOptions eval_options;
+  CLI::App* eval = dualgraph::tools::addEvalCommand(app, eval_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -19,6 +22,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (optimize->parsed()) return dualgraph::tools::runOptimizeCommand(optimize_options);
+    if (eval->parsed()) return dualgraph::tools::runEvalCommand(eval_options);
   } catch (const std::exception& e) {
     std::cerr << "dualgraph: internal error: " << e.what() << "\n";
     return 1;
