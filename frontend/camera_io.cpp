@@ -3,136 +3,30 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <charconv>
-#include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <vector>
 
 #include "core/token_reader.h"
-#include "types/se3_math.h"
+#include "frontend/yaml_fields.h"
 
 namespace dualgraph {
 namespace {
 
 using Marks = std::map<std::string, YAML::Mark>;
-
-std::string location(const std::string& source, const YAML::Mark& mark) {
-  return mark.is_null() ? source : source + ":" + std::to_string(mark.line + 1);
-}
-
-Status fieldError(const std::string& source, const YAML::Mark& mark, const std::string& field, const std::string& why) {
-  return Status(StatusCode::kParseError, location(source, mark) + ": field " + TokenReader::quoted(field) + ": " + why);
-}
-
-std::string describe(const YAML::Node& node) {
-  if (node.IsScalar()) return TokenReader::quoted(node.Scalar());
-  if (node.IsSequence()) return "a list of " + std::to_string(node.size());
-  return node.IsMap() ? "a mapping" : "nothing";
-}
-
-Status readNumber(const std::string& source, const std::string& field, const YAML::Node& node, double& out) {
-  double value = 0.0;
-  if (node.IsScalar() && YAML::convert<double>::decode(node, value) && std::isfinite(value)) {
-    out = value;
-    return Status::okStatus();
-  }
-  return fieldError(source, node.Mark(), field, "expected a finite number, got " + describe(node));
-}
-
-/// Decimal only (yaml-cpp would read "010" as octal).
-Status readInteger(const std::string& source, const std::string& field, const YAML::Node& node, int& out) {
-  const std::string text = node.IsScalar() ? node.Scalar() : std::string();
-  const char* first = text.c_str() + (text.size() > 1 && text[0] == '+' ? 1 : 0);
-  const char* last = text.c_str() + text.size();
-  const auto [end, error] = std::from_chars(first, last, out);
-  if (text.empty() || error != std::errc() || end != last) {
-    return fieldError(source, node.Mark(), field, "expected an integer, got " + describe(node));
-  }
-  return Status::okStatus();
-}
-
-/// A list of numbers; exactly `count` of them unless count is 0.
-Status readList(const std::string& source, const std::string& field, const YAML::Node& node, size_t count,
-                std::vector<double>& out) {
-  if (!node.IsSequence() || (count != 0 && node.size() != count)) {
-    const std::string expected = count != 0 ? "a list of " + std::to_string(count) + " numbers" : "a list of numbers";
-    return fieldError(source, node.Mark(), field, "expected " + expected + ", got " + describe(node));
-  }
-  out.assign(node.size(), 0.0);
-  for (size_t i = 0; i < node.size(); ++i) {
-    DG_RETURN_IF_ERROR(readNumber(source, TokenReader::indexedField(field, static_cast<int>(i)), node[i], out[i]));
-  }
-  return Status::okStatus();
-}
-
-Status readMatrix3(const std::string& source, const std::string& field, const YAML::Node& node, Eigen::Matrix3d& out) {
-  if (!node.IsSequence() || node.size() != 3) {
-    return fieldError(source, node.Mark(), field, "expected 3 rows of 3 numbers, got " + describe(node));
-  }
-  for (size_t r = 0; r < 3; ++r) {
-    std::vector<double> row;
-    DG_RETURN_IF_ERROR(readList(source, TokenReader::indexedField(field, static_cast<int>(r)), node[r], 3, row));
-    out.row(static_cast<Eigen::Index>(r)) << row[0], row[1], row[2];
-  }
-  return Status::okStatus();
-}
-
-Status readTransform(const std::string& source, const std::string& field, const YAML::Node& node,
-                     Eigen::Isometry3d& out) {
-  if (!node.IsMap()) {
-    return fieldError(source, node.Mark(), field,
-                      "expected {position: [x, y, z], quaternion_xyzw: [qx, qy, qz, qw]}, got " + describe(node));
-  }
-  std::vector<double> p;
-  std::vector<double> q;
-  for (const auto& entry : node) {
-    const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : describe(entry.first);
-    const std::string sub = field + "." + key;
-    if (key != "position" && key != "quaternion_xyzw") return fieldError(source, entry.first.Mark(), sub, "unknown key");
-    if ((key == "position" ? p : q).size() != 0) return fieldError(source, entry.first.Mark(), sub, "duplicate key");
-    DG_RETURN_IF_ERROR(readList(source, sub, entry.second, key == "position" ? 3 : 4, key == "position" ? p : q));
-  }
-  if (p.empty() || q.empty()) {
-    return fieldError(source, node.Mark(), field, std::string("missing '") + (p.empty() ? "position" : "quaternion_xyzw") + "'");
-  }
-  const Eigen::Quaterniond rotation = quatFromXyzw(q[0], q[1], q[2], q[3]);
-  if (!(rotation.norm() > 1e-12)) {
-    return fieldError(source, node.Mark(), field + ".quaternion_xyzw", "zero norm; cannot normalise");
-  }
-  out = Eigen::Isometry3d::Identity();
-  out.linear() = rotation.normalized().toRotationMatrix();
-  out.translation() << p[0], p[1], p[2];
-  return Status::okStatus();
-}
-
-Result<std::string> readText(const std::string& path) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) return Status(StatusCode::kIoError, path + ": is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status(StatusCode::kIoError, path + ": cannot open for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) return Status(StatusCode::kIoError, path + ": read failed");
-  return text.str();
-}
-
-/// The one mapping document of a file; YAML syntax errors as kParseError with line and column.
-Result<YAML::Node> loadMapping(const std::string& text, const std::string& source) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    const std::string column = e.mark.is_null() ? "" : " (column " + std::to_string(e.mark.column + 1) + ")";
-    return Status(StatusCode::kParseError, location(source, e.mark) + ": YAML syntax error: " + e.msg + column);
-  }
-  if (!root.IsMap()) {
-    return Status(StatusCode::kParseError, location(source, root.Mark()) + ": expected a mapping, got " + describe(root));
-  }
-  return root;
-}
+using yaml_fields::describe;
+using yaml_fields::fieldError;
+using yaml_fields::keyName;
+using yaml_fields::loadMapping;
+using yaml_fields::location;
+using yaml_fields::readInteger;
+using yaml_fields::readList;
+using yaml_fields::readMatrix3;
+using yaml_fields::readNumber;
+using yaml_fields::readText;
+using yaml_fields::readTransform;
+using yaml_fields::yamlError;
 
 /// CameraModel::validate's "camera: field 'NAME': why" placed at NAME's key (aliases: fx → K, K → mtx).
 Status locateInvalid(const std::string& source, const Status& status, const Marks& marks, const YAML::Mark& fallback) {
@@ -164,7 +58,7 @@ Result<CameraModel> parseCameraYaml(const std::string& yaml_text, const std::str
     const char* kIntrinsicNames[4] = {"fx", "fy", "cx", "cy"};
     std::vector<double> coefficients;
     for (const auto& entry : *root) {
-      const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : describe(entry.first);
+      const std::string key = keyName(entry.first);
       const YAML::Mark mark = entry.first.Mark();
       const YAML::Node& value = entry.second;
       if (!marks.emplace(key, mark).second) return fieldError(source, mark, key, "duplicate key");
@@ -209,7 +103,7 @@ Result<CameraModel> parseCameraYaml(const std::string& yaml_text, const std::str
     if (!valid.ok()) return locateInvalid(source, valid, marks, root->Mark());
     return camera;
   } catch (const YAML::Exception& e) {  // yaml-cpp can throw while iterating a malformed node
-    return Status(StatusCode::kParseError, location(source, e.mark) + ": YAML error: " + e.msg);
+    return yamlError(source, e);
   }
 }
 
@@ -279,7 +173,7 @@ Result<CameraModel> loadRatmCalibrationJson(const std::string& path, CameraModel
     if (!valid.ok()) return locateInvalid(path, valid, marks, root->Mark());
     return camera;
   } catch (const YAML::Exception& e) {
-    return Status(StatusCode::kParseError, location(path, e.mark) + ": YAML error: " + e.msg);
+    return yamlError(path, e);
   }
 }
 
