@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+#include "frontend/track.h"
+
+#include <string>
+
+#include "core/status.h"
+
+namespace dualgraph {
+
+Eigen::Isometry3d TrackGate::worldTGate() const {
+  Eigen::Isometry3d world_T_gate = Eigen::Isometry3d::Identity();
+  world_T_gate.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                           Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                           Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+                              .toRotationMatrix();
+  world_T_gate.translation() = position;
+  return world_T_gate;
+}
+
+GateMap Track::gateMap() const {
+  GateMap map;
+  for (const TrackGate& gate : gates) {
+    // A reader-built track never gets here with a bad id (parseTrackYaml rejects both); a hand-built
+    // one that does is a programming error, and silently keeping one of two gates would hide it.
+    if (gate.id < 0) throw ContractViolation("Track::gateMap: negative gate id " + std::to_string(gate.id));
+    if (!map.world_T_gate.emplace(gate.id, gate.worldTGate()).second) {
+      throw ContractViolation("Track::gateMap: duplicate gate id " + std::to_string(gate.id));
+    }
+  }
+  return map;
+}
+
+const char* trackPathTypeName(TrackPath::Type type) {
+  switch (type) {
+    case TrackPath::Type::kEllipse:
+      return "ellipse";
+    case TrackPath::Type::kLemniscate:
+      return "lemniscate";
+    case TrackPath::Type::kWaypoints:
+      return "waypoints";
+    case TrackPath::Type::kNone:
+      break;
+  }
+  return "none";
+}
+
+}  // namespace dualgraph
