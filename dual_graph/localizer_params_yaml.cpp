@@ -3,6 +3,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -223,7 +224,12 @@ Status readFields(const std::string& source, const YAML::Node& mapping, Localize
 }
 
 /// The mapping that holds the fields: the document itself, or the value of its only key `localizer`.
-Result<YAML::Node> fieldsMapping(const std::string& source, const YAML::Node& root) {
+bool isOtherSection(const YAML::Node& key, const std::vector<std::string>& other_sections) {
+  return key.IsScalar() && std::find(other_sections.begin(), other_sections.end(), key.Scalar()) != other_sections.end();
+}
+
+Result<YAML::Node> fieldsMapping(const std::string& source, const YAML::Node& root,
+                                 const std::vector<std::string>& other_sections) {
   if (!root.IsMap()) {
     return Status(StatusCode::kParseError,
                   location(source, root.Mark()) +
@@ -231,9 +237,17 @@ Result<YAML::Node> fieldsMapping(const std::string& source, const YAML::Node& ro
                       "got " + describe(root));
   }
   const YAML::Node nested = root["localizer"];
-  if (!nested) return root;
+  if (!nested) {
+    if (other_sections.empty()) return root;
+    YAML::Node fields(YAML::NodeType::Map);
+    for (const auto& entry : root) {
+      if (!isOtherSection(entry.first, other_sections)) fields.force_insert(entry.first, entry.second);
+    }
+    return fields;
+  }
   int localizer_keys = 0;
   for (const auto& entry : root) {
+    if (isOtherSection(entry.first, other_sections)) continue;
     const bool is_localizer = entry.first.IsScalar() && entry.first.Scalar() == "localizer";
     if (is_localizer && ++localizer_keys == 1) continue;
     return fieldError(source, entry.first.Mark(), entry.first.IsScalar() ? entry.first.Scalar() : describe(entry.first),
@@ -262,7 +276,8 @@ Status locateValidationError(const std::string& source, const Status& status, co
 
 }  // namespace
 
-Result<LocalizerParams> parseLocalizerParams(const std::string& yaml_text, const std::string& source_name) {
+Result<LocalizerParams> parseLocalizerParams(const std::string& yaml_text, const std::string& source_name,
+                                             const std::vector<std::string>& other_sections) {
   LocalizerParams params;
   KeyMarks marks;
   try {
@@ -272,7 +287,7 @@ Result<LocalizerParams> parseLocalizerParams(const std::string& yaml_text, const
                                                  ": a second YAML document; put every field in one");
     }
     if (!documents.empty() && !documents[0].IsNull()) {
-      auto mapping = fieldsMapping(source_name, documents[0]);
+      auto mapping = fieldsMapping(source_name, documents[0], other_sections);
       if (!mapping.ok()) return mapping.status();
       if (!mapping->IsNull()) DG_RETURN_IF_ERROR(readFields(source_name, *mapping, params, marks));
     }

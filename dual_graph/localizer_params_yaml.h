@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/status.h"
 #include "dual_graph/localizer_params.h"
@@ -26,7 +27,10 @@ namespace dualgraph {
 
 /// Reads LocalizerParams from YAML text; keys are the field names; a missing key keeps its default.
 /// `source_name` (usually the file name) starts every error message. Never throws.
-Result<LocalizerParams> parseLocalizerParams(const std::string& yaml_text, const std::string& source_name);
+/// `other_sections`: top-level keys that belong to the caller (e.g. `frontend` in `dualgraph run`'s
+/// config) and are skipped here instead of being reported as unknown.
+Result<LocalizerParams> parseLocalizerParams(const std::string& yaml_text, const std::string& source_name,
+                                             const std::vector<std::string>& other_sections = {});
 
 /// Reads the file (kIoError naming it when unreadable) and parses it.
 Result<LocalizerParams> loadLocalizerParams(const std::string& path);

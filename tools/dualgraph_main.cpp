@@ -7,6 +7,7 @@
 
 #include "tools/eval_command.h"
 #include "tools/optimize_command.h"
+#include "tools/simulate_command.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"dualgraph: drift-corrected localisation with a dual pose graph, and its graph engine"};
@@ -15,6 +16,8 @@ int main(int argc, char** argv) {
   CLI::App* optimize = dualgraph::tools::addOptimizeCommand(app, optimize_options);
   dualgraph::tools::EvalOptions eval_options;
   CLI::App* eval = dualgraph::tools::addEvalCommand(app, eval_options);
+  dualgraph::tools::SimulateOptions simulate_options;
+  CLI::App* simulate = dualgraph::tools::addSimulateCommand(app, simulate_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -23,6 +26,7 @@ int main(int argc, char** argv) {
   try {
     if (optimize->parsed()) return dualgraph::tools::runOptimizeCommand(optimize_options);
     if (eval->parsed()) return dualgraph::tools::runEvalCommand(eval_options);
+    if (simulate->parsed()) return dualgraph::tools::runSimulateCommand(simulate_options);
   } catch (const std::exception& e) {
     std::cerr << "dualgraph: internal error: " << e.what() << "\n";
     return 1;

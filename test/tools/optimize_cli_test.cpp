@@ -14,63 +14,18 @@
 #include <string>
 #include <vector>
 
+#include "test/testing/command_line.h"
 #include "test/testing/shared_data.h"
 
 namespace dualgraph {
 namespace {
 
-struct CommandRun {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-/// A fresh folder per test process, removed when the process exits.
-std::string tempDir() {
-  // A plain char array outlives every static destructor, so the exit handler can still read it.
-  static char pattern[] = "/tmp/dualgraph_cli_XXXXXX";
-  static const bool made = [] {
-    if (mkdtemp(pattern) == nullptr) return false;
-    std::atexit([] { std::filesystem::remove_all(pattern); });
-    return true;
-  }();
-  return made ? std::string(pattern) : std::string("/tmp");
-}
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::string writeFile(const std::string& name, const std::string& content) {
-  const std::string path = tempDir() + "/" + name;
-  std::ofstream(path) << content;
-  return path;
-}
-
-/// The number after `"key": ` in a one-line JSON object; NaN when absent.
-double jsonNumber(const std::string& json, const std::string& key) {
-  const std::string needle = "\"" + key + "\": ";
-  const auto at = json.find(needle);
-  return at == std::string::npos ? std::nan("") : std::strtod(json.c_str() + at + needle.size(), nullptr);
-}
-
-CommandRun runDualgraph(const std::string& args) {
-  const std::string err_path = tempDir() + "/stderr.txt";
-  const std::string command = "timeout 60 " + testing::binaryPath("dualgraph") + " " + args + " 2>" + err_path;
-  CommandRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  char buffer[4096];
-  size_t n = 0;
-  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) run.out.append(buffer, n);
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  run.err = readFile(err_path);
-  return run;
-}
+using testing::CommandRun;
+using testing::jsonNumber;
+using testing::readFile;
+using testing::runDualgraph;
+using testing::tempDir;
+using testing::writeFile;
 
 const char kTwoPoses[] =
     "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\n"

@@ -1,0 +1,126 @@
+// SPDX-License-Identifier: MIT
+// `dualgraph simulate` as a user runs it: the bundled tracks give a complete sequence folder that the
+// frontend's readers accept, the same seed the same bytes; bad tracks and options exit non-zero
+// with one line naming the file, line and field, and write nothing.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "frontend/camera_io.h"
+#include "frontend/detection_io.h"
+#include "frontend/odometry_io.h"
+#include "frontend/track_io.h"
+#include "test/testing/command_line.h"
+#include "test/testing/shared_data.h"
+
+namespace dualgraph {
+namespace {
+
+using testing::runDualgraph;
+using testing::tempDir;
+using testing::writeFile;
+
+std::string track(const std::string& name) { return testing::sourcePath("data/tracks/" + name); }
+
+TEST(SimulateCli, BundledEllipseWritesAReadableSequence) {
+  const std::string out = tempDir() + "/ellipse_seed1";
+  const testing::CommandRun run = runDualgraph("simulate --track " + track("ratm_ellipse.yaml") + " --seed 1 --laps 2 --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("unaligned position RMSE"), std::string::npos) << run.out;
+  for (const char* file : {"gt.tum", "vio.tum", "corners.csv", "gates.yaml", "camera.yaml", "sequence.yaml", "xy.png"}) {
+    EXPECT_TRUE(std::filesystem::exists(out + "/" + file)) << file;
+  }
+  auto gt = readTumOdometry(out + "/gt.tum");
+  ASSERT_TRUE(gt.ok()) << gt.status().message();
+  auto vio = readTumOdometry(out + "/vio.tum");
+  ASSERT_TRUE(vio.ok()) << vio.status().message();
+  EXPECT_EQ(vio->absolute_covariances.size(), vio->samples.size());
+  // Ground truth at 200 Hz, VIO at 100 Hz over the same flight.
+  EXPECT_NEAR(static_cast<double>(gt->samples.size()), 2.0 * static_cast<double>(vio->samples.size()), 2.0);
+  auto corners = readCornerDetections(out + "/corners.csv");
+  ASSERT_TRUE(corners.ok()) << corners.status().message();
+  EXPECT_GT(corners->size(), 100u);
+  auto map = loadTrackYaml(out + "/gates.yaml");
+  ASSERT_TRUE(map.ok()) << map.status().message();
+  EXPECT_EQ(map->gates.size(), 4u);
+  EXPECT_TRUE(loadCameraYaml(out + "/camera.yaml").ok());
+}
+
+TEST(SimulateCli, SameSeedSameBytesOtherSeedOtherBytes) {
+  const std::string a = tempDir() + "/lem_a", b = tempDir() + "/lem_b", c = tempDir() + "/lem_c";
+  const std::string common = "simulate --track " + track("ratm_lemniscate.yaml") + " --laps 1 --no-plot --detections poses";
+  ASSERT_EQ(runDualgraph(common + " --seed 7 --out " + a).exit_code, 0);
+  ASSERT_EQ(runDualgraph(common + " --seed 7 --out " + b).exit_code, 0);
+  ASSERT_EQ(runDualgraph(common + " --seed 8 --out " + c).exit_code, 0);
+  for (const char* file : {"gt.tum", "vio.tum", "detections.csv", "gates.yaml", "sequence.yaml"}) {
+    EXPECT_EQ(testing::readFile(a + "/" + file), testing::readFile(b + "/" + file)) << file;
+  }
+  EXPECT_NE(testing::readFile(a + "/vio.tum"), testing::readFile(c + "/vio.tum"));
+  EXPECT_EQ(testing::readFile(a + "/gt.tum"), testing::readFile(c + "/gt.tum"));  // the flight itself is not random
+  EXPECT_FALSE(std::filesystem::exists(a + "/xy.png"));
+}
+
+struct BadTrack {
+  const char* name;
+  const char* yaml;
+  const char* fragment;  ///< text the one error line must contain (besides the file name)
+};
+
+TEST(SimulateCli, BadTracksExitOneNamingFileLineAndField) {
+  const BadTrack cases[] = {
+      {"one_gate", "gates:\n  - {id: 1, position: [0, 0, 1], yaw: 0}\npath: {type: ellipse, semi_axes: [9, 1.5], height: 1}\n",
+       "gates"},
+      {"negative_size",
+       "gates:\n  - {id: 1, position: [0, 0, 1], yaw: 0}\n  - {id: 2, position: [1, 0, 1], yaw: 0, size: -1.5}\n"
+       "path: {type: ellipse, semi_axes: [9, 1.5], height: 1}\n",
+       ":3:"},
+      {"two_waypoints",
+       "gates:\n  - {id: 1, position: [0, 0, 1], yaw: 0}\n  - {id: 2, position: [1, 0, 1], yaw: 0}\n"
+       "path:\n  type: waypoints\n  waypoints: [[0, 0, 1], [5, 0, 1]]\n",
+       "waypoints"},
+      {"negative_speed",
+       "gates:\n  - {id: 1, position: [0, 0, 1], yaw: 0}\n  - {id: 2, position: [1, 0, 1], yaw: 0}\n"
+       "path: {type: ellipse, semi_axes: [9, 1.5], height: 1}\nspeed: -3\n",
+       "speed"},
+      {"no_path", "gates:\n  - {id: 1, position: [0, 0, 1], yaw: 0}\n  - {id: 2, position: [1, 0, 1], yaw: 0}\n", "path"},
+      {"nan_position",
+       "gates:\n  - {id: 1, position: [.nan, 0, 1], yaw: 0}\n  - {id: 2, position: [1, 0, 1], yaw: 0}\n"
+       "path: {type: ellipse, semi_axes: [9, 1.5], height: 1}\n",
+       ":2:"},
+  };
+  for (const BadTrack& c : cases) {
+    const std::string path = writeFile(std::string(c.name) + ".yaml", c.yaml);
+    const std::string out = tempDir() + "/out_" + c.name;
+    const testing::CommandRun run = runDualgraph("simulate --track " + path + " --out " + out);
+    EXPECT_EQ(run.exit_code, 1) << c.name << ": " << run.err;
+    EXPECT_NE(run.err.find(path), std::string::npos) << c.name << ": " << run.err;
+    EXPECT_NE(run.err.find(c.fragment), std::string::npos) << c.name << ": " << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << c.name << ": " << run.err;
+    EXPECT_FALSE(std::filesystem::exists(out)) << c.name;
+  }
+}
+
+TEST(SimulateCli, UsageErrorsExitTwo) {
+  EXPECT_EQ(runDualgraph("simulate --out " + tempDir() + "/x").exit_code, 2);  // no --track
+  EXPECT_EQ(runDualgraph("simulate --track " + track("ratm_ellipse.yaml") + " --out " + tempDir() +
+                         "/x --detections edges").exit_code, 2);
+  EXPECT_EQ(runDualgraph("simulate --track " + track("ratm_ellipse.yaml") + " --out " + tempDir() + "/x --laps 0").exit_code, 2);
+}
+
+TEST(SimulateCli, InvalidSimulatorParameterExitsOne) {
+  const testing::CommandRun run = runDualgraph("simulate --track " + track("ratm_ellipse.yaml") + " --out " + tempDir() +
+                                               "/p --miss-probability 1.5");
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_NE(run.err.find("miss_probability"), std::string::npos) << run.err;
+}
+
+TEST(SimulateCli, MissingCameraFileExitsOne) {
+  const testing::CommandRun run = runDualgraph("simulate --track " + track("ratm_ellipse.yaml") + " --out " + tempDir() +
+                                               "/q --camera /nonexistent/camera.yaml");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("/nonexistent/camera.yaml"), std::string::npos) << run.err;
+}
+
+}  // namespace
+}  // namespace dualgraph

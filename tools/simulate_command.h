@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <string>
+
+#include "frontend/race_simulator.h"
+
+namespace dualgraph::tools {
+
+/// Options of `dualgraph simulate`: the files, and the simulator's parameters (defaults of
+/// RaceSimParams; laps and speed from the track unless given).
+struct SimulateOptions {
+  std::string track;
+  std::string camera;  ///< empty: the bundled data/cameras/ratm_piloted.yaml
+  std::string out;
+  std::string detections = "corners";
+  int laps = 0;        ///< 0: the track's
+  double speed = 0.0;  ///< 0: the track's
+  bool no_plot = false;
+  RaceSimParams params;
+};
+
+/// Registers the subcommand and its flags on `app`.
+CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& options);
+/// Runs it; returns the process exit code (0 ok, 1 bad input or failure).
+int runSimulateCommand(SimulateOptions options);
+
+/// The folder of the bundled data (configs, tracks, cameras): $DUALGRAPH_DATA_DIR when set, else the
+/// repository's data/ folder compiled in.
+std::string bundledDataDir();
+
+}  // namespace dualgraph::tools
