@@ -45,8 +45,8 @@ void printTable(const TrajectoryMetrics& m) {
     std::printf("%-14s %s%s\n", ate.label, formatMetric(ate.value, "m").c_str(),
                 selected == ate.alignment ? "  (--align)" : "");
   }
-  std::printf("%-14s %s (%s alignment)\n", "ATE rotation", formatMetric(m.ate_rot_deg, "deg").c_str(),
-              selected.c_str());
+  std::printf("%-14s %s (%s)\n", "ATE rotation", formatMetric(m.ate_rot_deg, "deg").c_str(),
+              selected == "none" ? "no alignment" : (selected + " alignment").c_str());
   for (const RelativePoseError& rpe : m.rpe) {
     char label[32];
     std::snprintf(label, sizeof(label), "RPE %g m", rpe.distance_m);
