@@ -9,7 +9,7 @@
 
 namespace dualgraph {
 
-// The YAML form of LocalizerParams (data/config/localizer_default.yaml lists every key with its default):
+// The YAML form of LocalizerParams (the `localizer:` section of data/config/default.yaml lists every key with its default):
 //
 //   localizer:                 # optional; the keys may also sit at the top level
 //     mode: dual               # dual | single

@@ -18,6 +18,13 @@ size_t instantEnd(const std::vector<Detection>& detections, size_t begin) {
 
 }  // namespace
 
+Matrix6d SequenceRunParams::defaultPoseDetectionCovariance() const {
+  Vector6d variance;
+  variance << Eigen::Vector3d::Constant(pose_detection_sigma_t * pose_detection_sigma_t),
+      Eigen::Vector3d::Constant(pose_detection_sigma_r * pose_detection_sigma_r);
+  return variance.asDiagonal();
+}
+
 Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRunParams& params,
                                       const RunProgress& progress) {
   const auto start = std::chrono::steady_clock::now();

@@ -16,6 +16,11 @@ namespace dualgraph {
 struct SequenceRunParams {
   LocalizerParams localizer;
   GateFrontendParams frontend;
+  double pose_detection_sigma_t = 0.1;   ///< covariance of detections.csv rows without one: σ [m]
+  double pose_detection_sigma_r = 0.05;  ///< and [rad] (diagonal, metric [t; θ])
+
+  /// The diagonal covariance from the two sigmas above.
+  Matrix6d defaultPoseDetectionCovariance() const;
 };
 
 /// The outputs of one run over a sequence.

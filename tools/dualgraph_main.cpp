@@ -7,6 +7,7 @@
 
 #include "tools/eval_command.h"
 #include "tools/optimize_command.h"
+#include "tools/run_command.h"
 #include "tools/simulate_command.h"
 
 int main(int argc, char** argv) {
@@ -18,6 +19,8 @@ int main(int argc, char** argv) {
   CLI::App* eval = dualgraph::tools::addEvalCommand(app, eval_options);
   dualgraph::tools::SimulateOptions simulate_options;
   CLI::App* simulate = dualgraph::tools::addSimulateCommand(app, simulate_options);
+  dualgraph::tools::RunOptions run_options;
+  CLI::App* run = dualgraph::tools::addRunCommand(app, run_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -27,6 +30,7 @@ int main(int argc, char** argv) {
     if (optimize->parsed()) return dualgraph::tools::runOptimizeCommand(optimize_options);
     if (eval->parsed()) return dualgraph::tools::runEvalCommand(eval_options);
     if (simulate->parsed()) return dualgraph::tools::runSimulateCommand(simulate_options);
+    if (run->parsed()) return dualgraph::tools::runRunCommand(run_options);
   } catch (const std::exception& e) {
     std::cerr << "dualgraph: internal error: " << e.what() << "\n";
     return 1;

@@ -58,6 +58,13 @@ JsonObject& JsonObject::add(const std::string& key, bool value) {
   return *this;
 }
 
+JsonObject& JsonObject::add(const std::string& key, const std::vector<JsonObject>& items) {
+  std::string array = "[";
+  for (size_t i = 0; i < items.size(); ++i) array += (i > 0 ? ", " : "") + items[i].str();
+  fields_.emplace_back(key, array + "]");
+  return *this;
+}
+
 std::string JsonObject::str() const {
   std::string out = "{";
   for (size_t i = 0; i < fields_.size(); ++i) {

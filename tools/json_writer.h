@@ -18,6 +18,8 @@ class JsonObject {
   JsonObject& add(const std::string& key, const std::string& value);
   JsonObject& add(const std::string& key, const char* value) { return add(key, std::string(value)); }
   JsonObject& add(const std::string& key, bool value);
+  /// An array of objects (e.g. one per lap).
+  JsonObject& add(const std::string& key, const std::vector<JsonObject>& items);
   std::string str() const;
 
  private:

@@ -116,13 +116,16 @@ void expectParseError(const std::string& text, int line, const std::string& fiel
 }
 
 TEST(LocalizerParamsYaml, DefaultConfigFileEqualsDefaultParams) {
-  const auto loaded = loadLocalizerParams(testing::sourcePath("data/config/localizer_default.yaml"));
+  std::ifstream file(testing::sourcePath("data/config/default.yaml"));
+  std::stringstream contents;
+  contents << file.rdbuf();
+  const auto loaded = parseLocalizerParams(contents.str(), "default.yaml", {"frontend"});
   ASSERT_TRUE(loaded.ok()) << loaded.status().toString();
   expectSameParams(*loaded, LocalizerParams{});
 }
 
 TEST(LocalizerParamsYaml, DefaultConfigFileSpellsOutEveryField) {
-  std::ifstream in(testing::sourcePath("data/config/localizer_default.yaml"));
+  std::ifstream in(testing::sourcePath("data/config/default.yaml"));
   std::stringstream text;
   text << in.rdbuf();
   for (const std::string& name : kFieldNames) {

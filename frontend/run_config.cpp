@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: MIT
+#include "frontend/run_config.h"
+
+#include <set>
+
+#include "dual_graph/localizer_params_yaml.h"
+#include "frontend/yaml_fields.h"
+
+namespace dualgraph {
+namespace {
+
+using namespace yaml_fields;
+
+Status readBool(const std::string& source, const std::string& field, const YAML::Node& node, bool& out) {
+  if (node.IsScalar() && (node.Scalar() == "true" || node.Scalar() == "false")) {
+    out = node.Scalar() == "true";
+    return Status();
+  }
+  return fieldError(source, node.Mark(), field, "expected true or false, got " + describe(node));
+}
+
+Status readNonNegativeInt(const std::string& source, const std::string& field, const YAML::Node& node, int& out, int min) {
+  DG_RETURN_IF_ERROR(readInteger(source, field, node, out));
+  if (out < min) return fieldError(source, node.Mark(), field, "must be >= " + std::to_string(min));
+  return Status();
+}
+
+Status readFrontend(const std::string& source, const YAML::Node& section, SequenceRunParams& params) {
+  if (!section.IsMap()) return fieldError(source, section.Mark(), "frontend", "expected a mapping, got " + describe(section));
+  GatePnpParams& pnp = params.frontend.pnp;
+  AssociationParams& association = params.frontend.association;
+  std::set<std::string> seen;
+  for (const auto& entry : section) {
+    const std::string key = keyName(entry.first);
+    const std::string field = "frontend." + key;
+    const YAML::Node& value = entry.second;
+    if (!seen.insert(key).second) return fieldError(source, entry.first.Mark(), field, "duplicate key");
+    Status status;
+    if (key == "trust_ids") status = readBool(source, field, value, params.frontend.trust_ids);
+    else if (key == "pixel_sigma") status = readPositive(source, field, value, pnp.pixel_sigma);
+    else if (key == "max_reprojection_rms") status = readPositive(source, field, value, pnp.max_reprojection_rms);
+    else if (key == "min_range") status = readNumber(source, field, value, pnp.min_range);
+    else if (key == "max_range") status = readPositive(source, field, value, pnp.max_range);
+    else if (key == "min_corner_angle_deg") status = readNumber(source, field, value, pnp.min_corner_angle_deg);
+    else if (key == "max_condition_number") status = readPositive(source, field, value, pnp.max_condition_number);
+    else if (key == "max_refinement_iterations") status = readNonNegativeInt(source, field, value, pnp.max_refinement_iterations, 0);
+    else if (key == "max_association_distance") status = readPositive(source, field, value, association.max_distance);
+    else if (key == "max_normal_angle") status = readNumber(source, field, value, association.max_normal_angle);
+    else if (key == "allow_reversed") status = readBool(source, field, value, association.allow_reversed);
+    else if (key == "mapping_min_sightings") status = readNonNegativeInt(source, field, value, association.mapping_min_sightings, 1);
+    else if (key == "mapping_consistency") status = readPositive(source, field, value, association.mapping_consistency);
+    else if (key == "pose_detection_sigma_t") status = readPositive(source, field, value, params.pose_detection_sigma_t);
+    else if (key == "pose_detection_sigma_r") status = readPositive(source, field, value, params.pose_detection_sigma_r);
+    else return fieldError(source, entry.first.Mark(), field, "unknown key");
+    DG_RETURN_IF_ERROR(status);
+  }
+  if (pnp.min_range < 0.0 || pnp.min_range >= pnp.max_range) {
+    return fieldError(source, section.Mark(), "frontend.min_range", "must be >= 0 and below max_range");
+  }
+  if (pnp.min_corner_angle_deg < 0.0 || pnp.min_corner_angle_deg >= 90.0) {
+    return fieldError(source, section.Mark(), "frontend.min_corner_angle_deg", "must be in [0, 90)");
+  }
+  const Status association_valid = validateAssociationParams(association);
+  if (!association_valid.ok()) {
+    return Status(StatusCode::kParseError, location(source, section.Mark()) + ": " + association_valid.message());
+  }
+  return Status();
+}
+
+}  // namespace
+
+Result<SequenceRunParams> parseRunConfig(const std::string& yaml_text, const std::string& source_name) {
+  SequenceRunParams params;
+  auto localizer = parseLocalizerParams(yaml_text, source_name, {"frontend"});
+  if (!localizer.ok()) return localizer.status();
+  params.localizer = *localizer;
+  try {
+    auto root = loadDocument(yaml_text, source_name);
+    if (!root.ok()) return root.status();
+    if (root->IsMap() && (*root)["frontend"]) DG_RETURN_IF_ERROR(readFrontend(source_name, (*root)["frontend"], params));
+  } catch (const YAML::Exception& e) {
+    return yamlError(source_name, e);
+  }
+  return params;
+}
+
+Result<SequenceRunParams> loadRunConfig(const std::string& path) {
+  auto text = readText(path);
+  if (!text.ok()) return text.status();
+  return parseRunConfig(*text, path);
+}
+
+}  // namespace dualgraph

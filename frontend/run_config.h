@@ -1,0 +1,29 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <string>
+
+#include "core/status.h"
+#include "frontend/sequence_run.h"
+
+namespace dualgraph {
+
+/// Reads `dualgraph run`'s configuration (data/config/default.yaml lists every key with its default
+/// and unit): a `localizer:` section (LocalizerParams, dual_graph/localizer_params_yaml.h) and a
+/// `frontend:` section, flat:
+///
+///     frontend:
+///       trust_ids: false             # detector gate ids decide (still gated) instead of the assignment
+///       pixel_sigma: 1.0             # GatePnpParams [px]; likewise max_reprojection_rms [px],
+///       ...                          #   min_range, max_range [m], min_corner_angle_deg,
+///                                    #   max_condition_number, max_refinement_iterations
+///       max_association_distance: 2.0  # AssociationParams::max_distance [m]; likewise max_normal_angle
+///                                      #   [rad], allow_reversed, mapping_min_sightings, mapping_consistency [m]
+///       pose_detection_sigma_t: 0.1  # SequenceRunParams [m], [rad] (_r)
+///
+/// Either section may be missing (defaults). Errors are kParseError "source:LINE: field 'NAME': why"
+/// (unknown or duplicate key, wrong type, NaN, out of range), kIoError for an unreadable file.
+Result<SequenceRunParams> parseRunConfig(const std::string& yaml_text, const std::string& source_name);
+Result<SequenceRunParams> loadRunConfig(const std::string& path);
+
+}  // namespace dualgraph
