@@ -13,62 +13,18 @@
 #include <sstream>
 #include <string>
 
+#include "test/testing/command_line.h"
 #include "test/testing/shared_data.h"
 
 namespace dualgraph {
 namespace {
 
-struct CommandRun {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-/// A fresh folder per test process, removed when the process exits.
-std::string tempDir() {
-  static char pattern[] = "/tmp/dualgraph_eval_cli_XXXXXX";
-  static const bool made = [] {
-    if (mkdtemp(pattern) == nullptr) return false;
-    std::atexit([] { std::filesystem::remove_all(pattern); });
-    return true;
-  }();
-  return made ? std::string(pattern) : std::string("/tmp");
-}
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::string writeFile(const std::string& name, const std::string& content) {
-  const std::string path = tempDir() + "/" + name;
-  std::ofstream(path) << content;
-  return path;
-}
-
-/// The number after `"key": ` in a one-line JSON object; NaN when absent.
-double jsonNumber(const std::string& json, const std::string& key) {
-  const std::string needle = "\"" + key + "\": ";
-  const auto at = json.find(needle);
-  return at == std::string::npos ? std::nan("") : std::strtod(json.c_str() + at + needle.size(), nullptr);
-}
-
-CommandRun runDualgraph(const std::string& args) {
-  const std::string err_path = tempDir() + "/stderr.txt";
-  const std::string command = "timeout 60 " + testing::binaryPath("dualgraph") + " " + args + " 2>" + err_path;
-  CommandRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  char buffer[4096];
-  size_t n = 0;
-  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) run.out.append(buffer, n);
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  run.err = readFile(err_path);
-  return run;
-}
+using testing::CommandRun;
+using testing::jsonNumber;
+using testing::readFile;
+using testing::runDualgraph;
+using testing::tempDir;
+using testing::writeFile;
 
 /// A TUM trajectory on a 3-D loop, yawing along it, at 20 Hz from t0, shifted by `offset` [m];
 /// with `covariance` the 21 upper-triangular entries of 1e-4·I after every pose.
