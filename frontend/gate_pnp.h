@@ -66,8 +66,11 @@ struct GatePnpParams {
 /// Ambiguity: near-frontal views of a small square have two poses (mirrored tilts) explaining the
 /// pixels almost equally; `ambiguous` is set when the best other refined candidate that differs by
 /// more than 1° in rotation is also within max_reprojection_rms; it is kept in `alternative_*`.
-/// The returned pose is still the lower-RMS one, and Σ (large along the tilt) says how little
-/// the tilt is known.
+/// The returned pose is still the lower-RMS one. Whenever such a candidate exists, Σ is the second
+/// moment of the two-mode posterior about the returned pose, w₁Σ₁ + w₂(Σ₂ + δδᵀ) (weights
+/// ∝ exp(−SSR/2σ²), δ the candidate's offset), so it says how little the tilt is known.
+/// Consistency on simulated views (σ = 1 px, RATM fisheye): mean NEES ≈ 6 up to ~6 m, growing to
+/// ≈ 9–13 at 6–12 m, where a 1.5 m gate spans < 60 px and first-order propagation is optimistic.
 struct GatePnpSolution {
   GatePnpRejection rejection = GatePnpRejection::kNone;
   std::string message;  ///< why it was rejected (empty when accepted)
