@@ -5,6 +5,7 @@
 #include <exception>
 #include <iostream>
 
+#include "tools/ablation_command.h"
 #include "tools/eval_command.h"
 #include "tools/optimize_command.h"
 #include "tools/run_command.h"
@@ -21,6 +22,8 @@ int main(int argc, char** argv) {
   CLI::App* simulate = dualgraph::tools::addSimulateCommand(app, simulate_options);
   dualgraph::tools::RunOptions run_options;
   CLI::App* run = dualgraph::tools::addRunCommand(app, run_options);
+  dualgraph::tools::AblationOptions ablation_options;
+  CLI::App* ablation = dualgraph::tools::addAblationCommand(app, ablation_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -31,6 +34,7 @@ int main(int argc, char** argv) {
     if (eval->parsed()) return dualgraph::tools::runEvalCommand(eval_options);
     if (simulate->parsed()) return dualgraph::tools::runSimulateCommand(simulate_options);
     if (run->parsed()) return dualgraph::tools::runRunCommand(run_options);
+    if (ablation->parsed()) return dualgraph::tools::runAblationCommand(ablation_options);
   } catch (const std::exception& e) {
     std::cerr << "dualgraph: internal error: " << e.what() << "\n";
     return 1;

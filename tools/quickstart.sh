@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # The README's quick start. On a fresh Debian bookworm machine (as root it installs what is missing):
-#   bash tools/quickstart.sh demo   -> builds (Release) and runs the main job on bundled data
+#   bash tools/quickstart.sh demo   -> builds (Release), simulates a race on the bundled RATM ellipse track
+#                                      and localises it with the dual pose graph (the main job)
 #   bash tools/quickstart.sh test   -> builds (Release) and runs the whole test suite
 # Build folder: ./build (override with BUILD_DIR=...). Extra CMake flags: CMAKE_ARGS="...".
 set -euo pipefail
@@ -32,10 +33,10 @@ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release ${CMAKE_ARGS:-} >/dev/nu
 cmake --build "$build" -j "$jobs"
 
 if [ "$mode" = demo ]; then
+  # The main job: a simulated race on the bundled RATM ellipse track, localised with the dual graph.
   out="$build/demo"
-  mkdir -p "$out"
-  "$build/bin/dualgraph" optimize "$root/data/posegraph/parking-garage.g2o" -o "$out/parking-garage.optimized.g2o"
-  echo "optimised graph written to $out/parking-garage.optimized.g2o"
+  "$build/bin/dualgraph" simulate --track "$root/data/tracks/ratm_ellipse.yaml" --seed 1 --out "$out/sequence"
+  "$build/bin/dualgraph" run --sequence "$out/sequence" --out "$out/run"
 else
   ctest --test-dir "$build" --output-on-failure -j "$jobs"
 fi

@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+namespace dualgraph::tools {
+
+/// Options of `dualgraph ablation`.
+struct AblationOptions {
+  std::vector<std::string> tracks;  ///< empty: the bundled RATM ellipse and lemniscate
+  std::vector<int> seeds{1, 2, 3};
+  std::string out;
+  std::string config;  ///< empty: the bundled data/config/default.yaml
+  int laps = 0;        ///< 0: the tracks' own (shorter flights for quick checks)
+  bool quiet = false;
+};
+
+/// Registers the subcommand and its flags on `app`.
+CLI::App* addAblationCommand(CLI::App& app, AblationOptions& options);
+/// Simulates every track × seed, runs the paper's configurations and writes Tables I–III as
+/// Markdown (tables.md) and CSV (table1.csv, table2.csv, table3.csv, runs.csv) into `out`.
+int runAblationCommand(const AblationOptions& options);
+
+}  // namespace dualgraph::tools
