@@ -34,7 +34,7 @@ Status writePlot(const std::string& path, const SimulatedRace& race) {
   for (const auto& [t, pose] : race.ground_truth) truth.points.emplace_back(pose.translation().head<2>());
   PlotSeries vio{"VIO", {}, {230, 120, 20}, false};
   for (const OdometrySample& sample : race.vio.samples) vio.points.emplace_back(sample.odom_T_body.translation().head<2>());
-  plot.series = {truth, vio};
+  plot.series = {vio, truth};  // the truth on top
   for (const TrackGate& gate : race.map.gates) plot.gates.push_back({gate.position.head<2>(), gate.yaw, gate.size});
   return writeXyPlotPng(path, plot);
 }
