@@ -44,7 +44,9 @@ Status writeXyPlotPng(const std::string& path, const XyPlot& plot) {
     hi = hi.cwiseMax(p);
   };
   for (const PlotSeries& s : plot.series) std::for_each(s.points.begin(), s.points.end(), extend);
-  for (const PlotGate& g : plot.gates) extend(g.centre);
+  for (const PlotGate& g : plot.gates) {  // both ends of the bar, so that the whole gate stays inside the axes
+    for (double side : {-0.5, 0.5}) extend(g.centre + side * g.size * Eigen::Vector2d(-std::sin(g.yaw), std::cos(g.yaw)));
+  }
   if (!lo.allFinite()) return Status(StatusCode::kInvalidArgument, path + ": nothing finite to plot");
   Eigen::Vector2d span = (hi - lo).cwiseMax(1e-6);
   lo -= 0.05 * span;
@@ -100,12 +102,16 @@ Status writeXyPlotPng(const std::string& path, const XyPlot& plot) {
       cv::line(image, fixed(pixel(s.points[k - 1])), fixed(pixel(s.points[k])), bgr(s.rgb), 2, cv::LINE_AA, shift);
     }
   }
-  int legend_y = kTop + 20;
-  for (const PlotSeries& s : plot.series) {
-    const int x = plot.width - kRight - 190;
+  int legend_y = plot.legend_above ? kTop - 10 : kTop + 20;
+  int legend_x = plot.width - kRight;  // legend_above: entries laid out leftwards from the right edge
+  for (size_t i = 0; i < plot.series.size(); ++i) {
+    const PlotSeries& s = plot.series[plot.legend_above ? plot.series.size() - 1 - i : i];
+    if (plot.legend_above) legend_x -= 38 + cv::getTextSize(s.label, font, 0.5, 1, nullptr).width;
+    const int x = plot.legend_above ? legend_x : plot.width - kRight - 190;
     cv::line(image, cv::Point(x, legend_y - 5), cv::Point(x + 30, legend_y - 5), bgr(s.rgb), 2, cv::LINE_AA);
     cv::putText(image, s.label, cv::Point(x + 38, legend_y), font, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-    legend_y += 22;
+    legend_x -= 20;
+    legend_y += plot.legend_above ? 0 : 22;
   }
   const std::string temporary = path + ".tmp.png";
   bool written = false;

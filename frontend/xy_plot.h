@@ -33,6 +33,7 @@ struct XyPlot {
   std::string x_label = "x [m]";
   std::string y_label = "y [m]";
   bool equal_aspect = true;
+  bool legend_above = false;  ///< legend as one row in the top margin, right-aligned, never over the data
   std::vector<PlotSeries> series;
   std::vector<PlotGate> gates;
   int width = 1200;   ///< [px]
