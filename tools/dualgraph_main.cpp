@@ -8,6 +8,7 @@
 #include "tools/ablation_command.h"
 #include "tools/eval_command.h"
 #include "tools/optimize_command.h"
+#include "tools/report_command.h"
 #include "tools/run_command.h"
 #include "tools/simulate_command.h"
 
@@ -24,6 +25,8 @@ int main(int argc, char** argv) {
   CLI::App* run = dualgraph::tools::addRunCommand(app, run_options);
   dualgraph::tools::AblationOptions ablation_options;
   CLI::App* ablation = dualgraph::tools::addAblationCommand(app, ablation_options);
+  dualgraph::tools::ReportOptions report_options;
+  CLI::App* report = dualgraph::tools::addReportCommand(app, report_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -35,6 +38,7 @@ int main(int argc, char** argv) {
     if (simulate->parsed()) return dualgraph::tools::runSimulateCommand(simulate_options);
     if (run->parsed()) return dualgraph::tools::runRunCommand(run_options);
     if (ablation->parsed()) return dualgraph::tools::runAblationCommand(ablation_options);
+    if (report->parsed()) return dualgraph::tools::runReportCommand(report_options);
   } catch (const std::exception& e) {
     std::cerr << "dualgraph: internal error: " << e.what() << "\n";
     return 1;

@@ -46,6 +46,17 @@ Status writeStats(const std::string& path, const std::vector<KeyframeStats>& sta
   });
 }
 
+// run.yaml: the sequence (absolute) and the graph settings of the run, for `dualgraph report`.
+Status writeRunYaml(const std::string& path, const std::string& sequence, const LocalizerParams& p) {
+  return writeFileAtomically(path, [&](std::ostream& out) {
+    out << "sequence: \"" << jsonEscape(std::filesystem::absolute(sequence).lexically_normal().string())
+        << "\"\nmode: " << localizerModeName(p.mode) << "\n";
+    if (p.mode == LocalizerMode::kDual) out << "d_main: " << p.d_main << "\nd_temp: " << p.d_temp << "\n";
+    if (p.mode == LocalizerMode::kSingle) out << "d_single: " << p.d_single << "\n";
+    return Status();
+  });
+}
+
 JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run) {
   JsonObject json;
   json.add("ate_m", m.estimate.ate_se3_m)
@@ -139,7 +150,8 @@ int runRunCommand(const RunOptions& o) {
   const std::filesystem::path out(o.out);
   for (const Status& written : {writeTum((out / "estimate.tum").string(), stamped(run->estimate)),
                                 writeTum((out / "keyframes.tum").string(), stamped(run->keyframes)),
-                                writeStats((out / "stats.csv").string(), run->stats)}) {
+                                writeStats((out / "stats.csv").string(), run->stats),
+                                writeRunYaml((out / "run.yaml").string(), o.sequence, params->localizer)}) {
     if (!written.ok()) return fail(written.message());
   }
   if (metrics->has_ground_truth) {

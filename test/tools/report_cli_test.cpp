@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: MIT
+// `dualgraph report` as a user runs it: simulate one lap of the RATM ellipse, run it (dual and
+// single), report both — one self-contained HTML page and three PNGs per run; a missing run folder
+// or file exits 1 with one line naming it, usage errors exit 2 and nothing is written.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "test/testing/command_line.h"
+#include "test/testing/shared_data.h"
+
+namespace dualgraph {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::CommandRun;
+using testing::readFile;
+using testing::runDualgraph;
+using testing::tempDir;
+
+size_t count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++n;
+  return n;
+}
+
+size_t lines(const std::string& text) { return count(text, "\n"); }
+
+// One simulated lap, run in `mode` once per test process; returns the run folder.
+std::string runFolder(const std::string& mode) {
+  static const std::string sequence = [] {
+    const std::string out = tempDir() + "/ellipse_lap";
+    const CommandRun run = runDualgraph("simulate --track " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") +
+                                        " --seed 1 --laps 1 --no-plot --out " + out);
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    return out;
+  }();
+  const std::string out = tempDir() + "/run_" + mode;
+  if (!fs::exists(out + "/run.yaml")) {
+    const CommandRun run = runDualgraph("run --quiet --sequence " + sequence + " --mode " + mode + " --out " + out);
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+  }
+  return out;
+}
+
+TEST(ReportCli, TwoRunsGiveOnePageAndThreePngsEach) {
+  const std::string dual = runFolder("dual"), single = runFolder("single");
+  const std::string html = tempDir() + "/report/lap.html";
+  const CommandRun run = runDualgraph("report --run " + dual + " --run " + single + " --out " + html);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("2 runs"), std::string::npos) << run.out;
+  for (const char* name : {"run_dual", "run_single"}) {
+    for (const char* plot : {"_xy.png", "_error.png", "_opt_ms.png"}) {
+      const fs::path png = fs::path(html).parent_path() / (std::string(name) + plot);
+      ASSERT_TRUE(fs::exists(png)) << png;
+      EXPECT_EQ(readFile(png.string()).substr(1, 3), "PNG") << png;
+    }
+  }
+  const std::string page = readFile(html);
+  EXPECT_EQ(page.rfind("<!DOCTYPE html>", 0), 0u);
+  EXPECT_EQ(count(page, "<svg"), 6u);
+  EXPECT_EQ(count(page, "</svg>"), 6u);
+  EXPECT_EQ(count(page, "class=\"gate\""), 8u);  // four gates in each XY plot
+  EXPECT_EQ(count(page, "class=\"comparison\""), 1u);
+  EXPECT_NE(page.find("<h2>run_dual (dual)</h2>"), std::string::npos);
+  EXPECT_NE(page.find("<h2>run_single (single)</h2>"), std::string::npos);
+  EXPECT_NE(page.find("<td>ate_m</td>"), std::string::npos);
+  EXPECT_EQ(page.find("<script"), std::string::npos);
+  EXPECT_LT(page.size(), 2u << 20);
+  EXPECT_FALSE(fs::exists(html + ".tmp"));
+}
+
+TEST(ReportCli, MissingRunFolderOrFileExitsOneNamingIt) {
+  const std::string missing = tempDir() + "/no_such_run";
+  const std::string html = tempDir() + "/bad/report.html";
+  CommandRun run = runDualgraph("report --run " + missing + " --out " + html);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("no_such_run"), std::string::npos) << run.err;
+  EXPECT_EQ(lines(run.err), 1u) << run.err;
+  EXPECT_FALSE(fs::exists(html));
+
+  // A run folder without its stats.csv.
+  const std::string broken = tempDir() + "/run_broken";
+  fs::create_directories(broken);
+  for (const char* file : {"estimate.tum", "metrics.json", "run.yaml"}) {
+    fs::copy_file(runFolder("dual") + "/" + file, broken + "/" + file, fs::copy_options::overwrite_existing);
+  }
+  run = runDualgraph("report --run " + broken + " --out " + html);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("run_broken/stats.csv: not found"), std::string::npos) << run.err;
+  EXPECT_EQ(lines(run.err), 1u) << run.err;
+  EXPECT_FALSE(fs::exists(html));
+}
+
+TEST(ReportCli, UsageErrorsExitTwo) {
+  EXPECT_EQ(runDualgraph("report --out " + tempDir() + "/x.html").exit_code, 2);  // no --run
+  EXPECT_EQ(runDualgraph("report --run " + tempDir()).exit_code, 2);             // no --out
+}
+
+}  // namespace
+}  // namespace dualgraph

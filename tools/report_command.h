@@ -1,0 +1,22 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+namespace dualgraph::tools {
+
+/// Options of `dualgraph report`.
+struct ReportOptions {
+  std::vector<std::string> runs;  ///< run folders of `dualgraph run`, in the order shown
+  std::string out;                ///< the HTML file; the PNGs go next to it
+  std::string sequence;           ///< replaces every run's run.yaml sequence folder when set
+};
+
+/// Registers the subcommand and its flags on `app`.
+CLI::App* addReportCommand(CLI::App& app, ReportOptions& options);
+/// Runs it; returns the process exit code (0 ok, 1 a missing or malformed file, named on stderr).
+int runReportCommand(const ReportOptions& options);
+
+}  // namespace dualgraph::tools
