@@ -27,9 +27,9 @@ namespace dualgraph {
 /// Reported covariance (the 21 TUM columns, DESIGN.md §6): the absolute covariance of odom_T_body,
 /// metric [t; θ], a right perturbation in the body frame, propagated as a random walk
 /// Σ_k = Ad(inc⁻¹) Σ_{k−1} Ad(inc⁻¹)ᵀ + Q Δt with Q = diag(q_t, q_t, q_t, q_r, q_r, q_r):
-///   q_t = (velocity_bias · (1 + bias_spread))² + vertical_velocity_bias² + (scale_error_sigma · speed)²
-///         + σ_bv² · t_k     [m²/s], with `speed` the current true speed (σ_bv² t_k: the variance the
-///         velocity bias's random walk has reached);
+///   q_t = (velocity_bias · (1 + bias_spread))² + (vertical_velocity_bias · (1 + bias_spread))²
+///         + (scale_error_sigma · speed)² + σ_bv² · t_k     [m²/s], with `speed` the current true
+///         speed (σ_bv² t_k: the variance the velocity bias's random walk has reached);
 ///   q_r = (yaw_rate_bias · (1 + bias_spread))² + σ_ψ²   [rad²/s],
 /// so that `toRelativeCovariances` gives back Q Δt: an honest bound on the drift between keyframes
 /// (biases treated as a random walk with a 1 s correlation time), not a tuned number.
