@@ -37,6 +37,7 @@ if [ "$mode" = demo ]; then
   out="$build/demo"
   "$build/bin/dualgraph" simulate --track "$root/data/tracks/ratm_ellipse.yaml" --seed 1 --out "$out/sequence"
   "$build/bin/dualgraph" run --sequence "$out/sequence" --out "$out/run"
+  "$build/bin/dualgraph" report --run "$out/run" --out "$out/report.html"
 else
   ctest --test-dir "$build" --output-on-failure -j "$jobs"
 fi
