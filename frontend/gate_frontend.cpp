@@ -48,7 +48,9 @@ Result<GateFrontend> GateFrontend::create(const GateFrontendParams& params, cons
     }
   }
   if (camera) DG_RETURN_IF_ERROR(camera->validate());
-  return GateFrontend(params, map.gateMap(), size, std::move(camera));
+  auto gate_map = map.gateMap();
+  if (!gate_map.ok()) return gate_map.status();
+  return GateFrontend(params, std::move(gate_map).value(), size, std::move(camera));
 }
 
 Result<std::vector<GateObservation>> GateFrontend::processCorners(const std::vector<CornerDetection>& image,

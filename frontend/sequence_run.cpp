@@ -30,7 +30,9 @@ Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRu
   const auto start = std::chrono::steady_clock::now();
   const std::vector<OdometrySample>& samples = sequence.odometry.samples;
   if (samples.empty()) return Status(StatusCode::kInvalidArgument, sequence.dir + ": no odometry samples");
-  GateMap localizer_map = params.localizer.mapping ? GateMap{} : sequence.map.gateMap();
+  auto known_map = sequence.map.gateMap();
+  if (!known_map.ok()) return Status(known_map.status().code(), sequence.dir + ": " + known_map.status().message());
+  GateMap localizer_map = params.localizer.mapping ? GateMap{} : *known_map;
   auto localizer = Localizer::create(params.localizer, localizer_map);
   if (!localizer.ok()) return localizer.status();
   GateFrontendParams frontend_params = params.frontend;

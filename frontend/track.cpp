@@ -17,14 +17,14 @@ Eigen::Isometry3d TrackGate::worldTGate() const {
   return world_T_gate;
 }
 
-GateMap Track::gateMap() const {
+Result<GateMap> Track::gateMap() const {
   GateMap map;
-  for (const TrackGate& gate : gates) {
-    // A reader-built track never gets here with a bad id (parseTrackYaml rejects both); a hand-built
-    // one that does is a programming error, and silently keeping one of two gates would hide it.
-    if (gate.id < 0) throw ContractViolation("Track::gateMap: negative gate id " + std::to_string(gate.id));
+  for (size_t i = 0; i < gates.size(); ++i) {
+    const TrackGate& gate = gates[i];
+    const std::string where = "track " + (name.empty() ? std::string() : "'" + name + "' ") + "gate " + std::to_string(i);
+    if (gate.id < 0) return Status(StatusCode::kInvalidArgument, where + ": negative gate id " + std::to_string(gate.id));
     if (!map.world_T_gate.emplace(gate.id, gate.worldTGate()).second) {
-      throw ContractViolation("Track::gateMap: duplicate gate id " + std::to_string(gate.id));
+      return Status(StatusCode::kInvalidArgument, where + ": duplicate gate id " + std::to_string(gate.id));
     }
   }
   return map;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/status.h"
 #include "dual_graph/gate_map.h"
 
 namespace dualgraph {
@@ -54,8 +55,9 @@ struct Track {
   int laps = 1;                  ///< ≥ 1
   double speed = 8.0;            ///< top speed of a simulated flight [m/s], > 0
 
-  /// The gate map the Localizer uses (world_T_gate per id).
-  GateMap gateMap() const;
+  /// The gate map the Localizer uses (world_T_gate per id). kInvalidArgument naming the gate for a
+  /// negative or duplicate id (a reader-built track has neither; a hand-built one may).
+  Result<GateMap> gateMap() const;
 };
 
 /// "ellipse", "lemniscate", "waypoints" or "none".

@@ -126,7 +126,7 @@ TEST(DetectionSimulator, NoiseFreeDetectionsAreProjectionsAndPnpRecoversTheGate)
   int from_behind = 0;
   for (const SimulatedDetection& d : *detections) {
     ASSERT_TRUE(d.kind == SimulatedDetectionKind::kTrue && d.corners.gate_id == d.true_gate_id);
-    const Eigen::Isometry3d world_T_gate = track.gateMap().world_T_gate.at(d.true_gate_id);
+    const Eigen::Isometry3d world_T_gate = track.gateMap()->world_T_gate.at(d.true_gate_id);
     ASSERT_TRUE(d.body_T_gate.isApprox(flight.at(d.corners.t).world_T_body.inverse() * world_T_gate, 1e-12));
     const Eigen::Isometry3d camera_T_gate = camera.body_T_camera.inverse() * d.body_T_gate;
     const Eigen::Matrix<double, 3, 4> corners = gateCornersInGateFrame(1.5);  // every RATM gate
@@ -237,7 +237,7 @@ TEST(DetectionSimulator, OutlierAndMissCountsFollowTheirProbabilities) {
   expectBinomial(stats.false_gates, stats.images, params.false_gate_probability, "false gates");
   EXPECT_EQ(static_cast<int>(detections->size()), detected + stats.false_gates);
   int kinds[4] = {};
-  const GateMap map = track.gateMap();
+  const GateMap map = track.gateMap().value();
   for (const SimulatedDetection& d : *detections) {
     ++kinds[static_cast<int>(d.kind)];
     EXPECT_TRUE(map.contains(d.corners.gate_id));

@@ -189,7 +189,7 @@ TEST(SimulatedSequence, PoseDetectionsParseAndLieWithinAFewSigmaOfTruth) {
   ASSERT_EQ(poses->size(), w.race.pose_detections.size());
   EXPECT_EQ(static_cast<int>(poses->size()) + w.race.pnp_rejected, static_cast<int>(w.race.detections.size()));
   ASSERT_GT(poses->size(), 100u);
-  const GateMap map = w.track.gateMap();
+  const GateMap map = w.track.gateMap().value();
   std::vector<double> nees;
   for (size_t i = 0; i < poses->size(); ++i) {
     const GateObservation& read = (*poses)[i];
