@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "frontend/run_config.h"
 
-#include <set>
+#include <cmath>
+#include <map>
 
 #include "dual_graph/localizer_params_yaml.h"
 #include "frontend/yaml_fields.h"
@@ -29,12 +30,12 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
   if (!section.IsMap()) return fieldError(source, section.Mark(), "frontend", "expected a mapping, got " + describe(section));
   GatePnpParams& pnp = params.frontend.pnp;
   AssociationParams& association = params.frontend.association;
-  std::set<std::string> seen;
+  std::map<std::string, YAML::Mark> marks;  // where each key was: the checks across keys name its line
   for (const auto& entry : section) {
     const std::string key = keyName(entry.first);
     const std::string field = "frontend." + key;
     const YAML::Node& value = entry.second;
-    if (!seen.insert(key).second) return fieldError(source, entry.first.Mark(), field, "duplicate key");
+    if (!marks.emplace(key, entry.first.Mark()).second) return fieldError(source, entry.first.Mark(), field, "duplicate key");
     Status status;
     if (key == "trust_ids") status = readBool(source, field, value, params.frontend.trust_ids);
     else if (key == "pixel_sigma") status = readPositive(source, field, value, pnp.pixel_sigma);
@@ -54,11 +55,19 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
     else return fieldError(source, entry.first.Mark(), field, "unknown key");
     DG_RETURN_IF_ERROR(status);
   }
+  auto markOf = [&](const std::string& key) {
+    const auto found = marks.find(key);
+    return found != marks.end() ? found->second : section.Mark();
+  };
   if (pnp.min_range < 0.0 || pnp.min_range >= pnp.max_range) {
-    return fieldError(source, section.Mark(), "frontend.min_range", "must be >= 0 and below max_range");
+    const std::string key = marks.count("min_range") != 0 || marks.count("max_range") == 0 ? "min_range" : "max_range";
+    return fieldError(source, markOf(key), "frontend." + key, "min_range must be >= 0 and below max_range");
   }
   if (pnp.min_corner_angle_deg < 0.0 || pnp.min_corner_angle_deg >= 90.0) {
-    return fieldError(source, section.Mark(), "frontend.min_corner_angle_deg", "must be in [0, 90)");
+    return fieldError(source, markOf("min_corner_angle_deg"), "frontend.min_corner_angle_deg", "must be in [0, 90)");
+  }
+  if (!(association.max_normal_angle >= 0.0 && association.max_normal_angle <= M_PI)) {
+    return fieldError(source, markOf("max_normal_angle"), "frontend.max_normal_angle", "must be in [0, pi] [rad]");
   }
   const Status association_valid = validateAssociationParams(association);
   if (!association_valid.ok()) {

@@ -1,0 +1,205 @@
+// SPDX-License-Identifier: MIT
+// `dualgraph run`'s configuration: the bundled data/config/default.yaml is exactly the code's defaults,
+// every `frontend:` key is read, and every error names the line and the field.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "frontend/run_config.h"
+#include "test/testing/shared_data.h"
+
+namespace dualgraph {
+namespace {
+
+constexpr const char* kSource = "run.yaml";
+
+void expectSameLocalizer(const LocalizerParams& a, const LocalizerParams& b) {
+  EXPECT_EQ(a.mode, b.mode);
+  EXPECT_EQ(a.landmark, b.landmark);
+  EXPECT_EQ(a.mapping, b.mapping);
+  EXPECT_EQ(a.d_main, b.d_main);
+  EXPECT_EQ(a.theta_main, b.theta_main);
+  EXPECT_EQ(a.d_temp, b.d_temp);
+  EXPECT_EQ(a.theta_temp, b.theta_temp);
+  EXPECT_EQ(a.d_single, b.d_single);
+  EXPECT_EQ(a.theta_single, b.theta_single);
+  EXPECT_EQ(a.use_input_covariance, b.use_input_covariance);
+  EXPECT_EQ(a.odom_sigma_t, b.odom_sigma_t);
+  EXPECT_EQ(a.odom_sigma_r, b.odom_sigma_r);
+  EXPECT_EQ(a.odom_min_distance, b.odom_min_distance);
+  EXPECT_EQ(a.map_sigma_t, b.map_sigma_t);
+  EXPECT_EQ(a.map_sigma_r, b.map_sigma_r);
+  EXPECT_EQ(a.fix_map_gates, b.fix_map_gates);
+  EXPECT_TRUE(a.initial_world_T_odom.matrix() == b.initial_world_T_odom.matrix());
+  EXPECT_EQ(a.initial_sigma_t, b.initial_sigma_t);
+  EXPECT_EQ(a.initial_sigma_r, b.initial_sigma_r);
+  EXPECT_EQ(a.main_max_iterations, b.main_max_iterations);
+  EXPECT_EQ(a.main_time_budget_ms, b.main_time_budget_ms);
+  EXPECT_EQ(a.main_relative_decrease_stop, b.main_relative_decrease_stop);
+  EXPECT_EQ(a.temp_max_iterations, b.temp_max_iterations);
+  EXPECT_EQ(a.linear_solver, b.linear_solver);
+  EXPECT_EQ(a.robust_kernel, b.robust_kernel);
+  EXPECT_EQ(a.chi2_gate_pose, b.chi2_gate_pose);
+  EXPECT_EQ(a.chi2_gate_point, b.chi2_gate_point);
+}
+
+void expectSamePnp(const GatePnpParams& a, const GatePnpParams& b) {
+  EXPECT_EQ(a.gate_size, b.gate_size);
+  EXPECT_EQ(a.pixel_sigma, b.pixel_sigma);
+  EXPECT_EQ(a.max_reprojection_rms, b.max_reprojection_rms);
+  EXPECT_EQ(a.min_range, b.min_range);
+  EXPECT_EQ(a.max_range, b.max_range);
+  EXPECT_EQ(a.min_corner_angle_deg, b.min_corner_angle_deg);
+  EXPECT_EQ(a.max_condition_number, b.max_condition_number);
+  EXPECT_EQ(a.max_refinement_iterations, b.max_refinement_iterations);
+}
+
+void expectSameAssociation(const AssociationParams& a, const AssociationParams& b) {
+  EXPECT_EQ(a.max_distance, b.max_distance);
+  EXPECT_EQ(a.max_normal_angle, b.max_normal_angle);
+  EXPECT_EQ(a.allow_reversed, b.allow_reversed);
+  EXPECT_EQ(a.mapping_min_sightings, b.mapping_min_sightings);
+  EXPECT_EQ(a.mapping_consistency, b.mapping_consistency);
+}
+
+TEST(RunConfig, BundledDefaultYamlIsExactlyTheDefaults) {
+  auto loaded = loadRunConfig(testing::sourcePath("data/config/default.yaml"));
+  ASSERT_TRUE(loaded.ok()) << loaded.status().message();
+  const SequenceRunParams defaults;
+  expectSameLocalizer(loaded->localizer, LocalizerParams{});
+  expectSamePnp(loaded->frontend.pnp, GatePnpParams{});
+  expectSameAssociation(loaded->frontend.association, AssociationParams{});
+  EXPECT_EQ(loaded->frontend.trust_ids, defaults.frontend.trust_ids);
+  EXPECT_EQ(loaded->frontend.mapping, defaults.frontend.mapping);
+  EXPECT_EQ(loaded->pose_detection_sigma_t, defaults.pose_detection_sigma_t);
+  EXPECT_EQ(loaded->pose_detection_sigma_r, defaults.pose_detection_sigma_r);
+}
+
+TEST(RunConfig, EmptyTextAndMissingSectionsKeepTheDefaults) {
+  for (const char* text : {"", "localizer:\n  d_main: 1.5\n", "frontend:\n  trust_ids: true\n"}) {
+    auto parsed = parseRunConfig(text, kSource);
+    ASSERT_TRUE(parsed.ok()) << text << ": " << parsed.status().message();
+    expectSamePnp(parsed->frontend.pnp, GatePnpParams{});
+  }
+  auto only_localizer = parseRunConfig("localizer:\n  d_main: 1.5\n", kSource);
+  EXPECT_EQ(only_localizer->localizer.d_main, 1.5);
+  EXPECT_FALSE(only_localizer->frontend.trust_ids);
+  auto only_frontend = parseRunConfig("frontend:\n  trust_ids: true\n", kSource);
+  expectSameLocalizer(only_frontend->localizer, LocalizerParams{});
+  EXPECT_TRUE(only_frontend->frontend.trust_ids);
+}
+
+TEST(RunConfig, EveryFrontendKeyIsReadBack) {
+  const std::string text =
+      "localizer:\n"
+      "  mode: single\n"
+      "  d_single: 0.5\n"
+      "frontend:\n"
+      "  trust_ids: true\n"
+      "  pixel_sigma: 1.75\n"
+      "  max_reprojection_rms: 3.25\n"
+      "  min_range: 0.75\n"
+      "  max_range: 21.5\n"
+      "  min_corner_angle_deg: 7.5\n"
+      "  max_condition_number: 1.0e8\n"
+      "  max_refinement_iterations: 7\n"
+      "  max_association_distance: 1.25\n"
+      "  max_normal_angle: 0.9\n"
+      "  allow_reversed: false\n"
+      "  mapping_min_sightings: 5\n"
+      "  mapping_consistency: 0.375\n"
+      "  pose_detection_sigma_t: 0.2\n"
+      "  pose_detection_sigma_r: 0.03\n";
+  auto parsed = parseRunConfig(text, kSource);
+  ASSERT_TRUE(parsed.ok()) << parsed.status().message();
+  EXPECT_EQ(parsed->localizer.mode, LocalizerMode::kSingle);
+  EXPECT_EQ(parsed->localizer.d_single, 0.5);
+  const GateFrontendParams& f = parsed->frontend;
+  EXPECT_TRUE(f.trust_ids);
+  EXPECT_EQ(f.pnp.pixel_sigma, 1.75);
+  EXPECT_EQ(f.pnp.max_reprojection_rms, 3.25);
+  EXPECT_EQ(f.pnp.min_range, 0.75);
+  EXPECT_EQ(f.pnp.max_range, 21.5);
+  EXPECT_EQ(f.pnp.min_corner_angle_deg, 7.5);
+  EXPECT_EQ(f.pnp.max_condition_number, 1.0e8);
+  EXPECT_EQ(f.pnp.max_refinement_iterations, 7);
+  EXPECT_EQ(f.pnp.gate_size, GatePnpParams{}.gate_size);  // from the map, not the config
+  EXPECT_EQ(f.association.max_distance, 1.25);
+  EXPECT_EQ(f.association.max_normal_angle, 0.9);
+  EXPECT_FALSE(f.association.allow_reversed);
+  EXPECT_EQ(f.association.mapping_min_sightings, 5);
+  EXPECT_EQ(f.association.mapping_consistency, 0.375);
+  EXPECT_EQ(parsed->pose_detection_sigma_t, 0.2);
+  EXPECT_EQ(parsed->pose_detection_sigma_r, 0.03);
+  const Matrix6d covariance = parsed->defaultPoseDetectionCovariance();
+  EXPECT_DOUBLE_EQ(covariance(0, 0), 0.04);
+  EXPECT_DOUBLE_EQ(covariance(5, 5), 0.0009);
+  EXPECT_EQ(covariance(0, 1), 0.0);
+}
+
+struct BadConfig {
+  const char* name;
+  const char* yaml;
+  int line;           ///< the line the message must name
+  const char* field;  ///< "field 'NAME'" the message must hold
+};
+
+TEST(RunConfig, ErrorsNameTheLineAndTheField) {
+  const BadConfig cases[] = {
+      {"unknown frontend key", "frontend:\n  pixel_sigma: 1.0\n  pixel_sigmaa: 2.0\n", 3, "frontend.pixel_sigmaa"},
+      {"bool as text", "frontend:\n  trust_ids: maybe\n", 2, "frontend.trust_ids"},
+      {"number as text", "frontend:\n  max_range: far\n", 2, "frontend.max_range"},
+      {"integer as real", "frontend:\n  max_refinement_iterations: 2.5\n", 2, "frontend.max_refinement_iterations"},
+      {"list for a number", "frontend:\n  pixel_sigma: [1, 2]\n", 2, "frontend.pixel_sigma"},
+      {"zero pixel_sigma", "frontend:\n  trust_ids: false\n  pixel_sigma: 0\n", 3, "frontend.pixel_sigma"},
+      {"negative pixel_sigma", "frontend:\n  pixel_sigma: -1\n", 2, "frontend.pixel_sigma"},
+      {"NaN pixel_sigma", "frontend:\n  pixel_sigma: .nan\n", 2, "frontend.pixel_sigma"},
+      {"duplicate key", "frontend:\n  pixel_sigma: 1\n  pixel_sigma: 2\n", 3, "frontend.pixel_sigma"},
+      // Checks across keys name the line of the key at fault, not of the section.
+      {"min_range = max_range", "frontend:\n  trust_ids: false\n  min_range: 5.0\n  max_range: 5.0\n", 3,
+       "frontend.min_range"},
+      {"min_range > max_range", "frontend:\n  max_range: 5.0\n  pixel_sigma: 1\n  min_range: 8.0\n", 4,
+       "frontend.min_range"},
+      {"max_range below the default min_range", "frontend:\n  pixel_sigma: 1\n  max_range: 0.2\n", 3,
+       "frontend.max_range"},
+      {"negative min_range", "frontend:\n  trust_ids: false\n  min_range: -0.5\n", 3, "frontend.min_range"},
+      {"min_corner_angle_deg 90", "frontend:\n  trust_ids: true\n  min_corner_angle_deg: 90\n", 3,
+       "frontend.min_corner_angle_deg"},
+      {"max_normal_angle above pi", "frontend:\n  trust_ids: true\n  max_normal_angle: 4.0\n", 3,
+       "frontend.max_normal_angle"},
+      {"negative max_normal_angle", "frontend:\n  trust_ids: true\n  max_normal_angle: -0.1\n", 3,
+       "frontend.max_normal_angle"},
+      {"zero mapping_min_sightings", "frontend:\n  mapping_min_sightings: 0\n", 2, "frontend.mapping_min_sightings"},
+      {"frontend a number", "localizer:\n  d_main: 2.0\nfrontend: 3\n", 3, "frontend"},
+      {"frontend a list", "frontend:\n  - trust_ids\n", 2, "frontend"},
+      {"unknown localizer key", "localizer:\n  d_mian: 2.0\nfrontend:\n  trust_ids: true\n", 2, "d_mian"},
+  };
+  for (const BadConfig& c : cases) {
+    auto parsed = parseRunConfig(c.yaml, kSource);
+    ASSERT_FALSE(parsed.ok()) << c.name;
+    EXPECT_EQ(parsed.status().code(), StatusCode::kParseError) << c.name;
+    const std::string& message = parsed.status().message();
+    EXPECT_EQ(message.rfind(std::string(kSource) + ":" + std::to_string(c.line) + ": ", 0), 0u) << c.name << ": " << message;
+    EXPECT_NE(message.find("field '" + std::string(c.field) + "'"), std::string::npos) << c.name << ": " << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << c.name << ": " << message;
+  }
+}
+
+TEST(RunConfig, LocalizerRangeErrorsKeepTheirLineBehindAFrontendSection) {
+  // validateLocalizerParams' kInvalidArgument, prefixed with the key's line (localizer_params_yaml.h).
+  auto parsed = parseRunConfig("frontend:\n  trust_ids: true\nlocalizer:\n  d_main: -1\n", kSource);
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_EQ(parsed.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(parsed.status().message().rfind(std::string(kSource) + ":4: ", 0), 0u) << parsed.status().message();
+  EXPECT_NE(parsed.status().message().find("d_main"), std::string::npos) << parsed.status().message();
+}
+
+TEST(RunConfig, UnreadableFileIsAnIoErrorNamingIt) {
+  auto missing = loadRunConfig("/nonexistent/run.yaml");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.status().code(), StatusCode::kIoError);
+  EXPECT_NE(missing.status().message().find("/nonexistent/run.yaml"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace dualgraph
