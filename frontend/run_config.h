@@ -21,8 +21,10 @@ namespace dualgraph {
 ///                                      #   [rad], allow_reversed, mapping_min_sightings, mapping_consistency [m]
 ///       pose_detection_sigma_t: 0.1  # SequenceRunParams [m], [rad] (_r)
 ///
-/// Either section may be missing (defaults). Errors are kParseError "source:LINE: field 'NAME': why"
-/// (unknown or duplicate key, wrong type, NaN, out of range), kIoError for an unreadable file.
+/// Either section may be missing (defaults). Errors are "source:LINE: field 'NAME': why": kParseError
+/// for an unknown or duplicate key, a wrong type, NaN or a `frontend:` value out of range;
+/// kInvalidArgument for a `localizer:` value out of range (validateLocalizerParams, as
+/// localizer_params_yaml.h documents); kIoError for an unreadable file.
 Result<SequenceRunParams> parseRunConfig(const std::string& yaml_text, const std::string& source_name);
 Result<SequenceRunParams> loadRunConfig(const std::string& path);
 
