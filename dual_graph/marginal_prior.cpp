@@ -1,0 +1,227 @@
+// SPDX-License-Identifier: MIT
+#include "dual_graph/marginal_prior.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+
+#include "types/se3_math.h"
+#include "types/vertex_point_xyz.h"
+#include "types/vertex_se3.h"
+
+namespace dualgraph {
+namespace {
+
+/// Eigen-directions of Λ below this fraction of its largest eigenvalue carry no information.
+constexpr double kRelativeEigenFloor = 1e-12;
+
+bool isPose(const VertexBase* vertex) { return dynamic_cast<const VertexSE3*>(vertex) != nullptr; }
+bool isPoint(const VertexBase* vertex) { return dynamic_cast<const VertexPointXYZ*>(vertex) != nullptr; }
+
+Status unsupported(const VertexBase* vertex) {
+  return Status(StatusCode::kInvalidArgument, "marginalisation supports SE(3) and point vertices only; vertex " +
+                                                  std::to_string(vertex->id()) + " is neither");
+}
+
+}  // namespace
+
+Result<std::unique_ptr<EdgeMarginalPrior>> EdgeMarginalPrior::create(const std::vector<VertexBase*>& vertices,
+                                                                      const Eigen::MatrixXd& jacobian,
+                                                                      const Eigen::VectorXd& error0) {
+  std::unique_ptr<EdgeMarginalPrior> edge(new EdgeMarginalPrior(vertices.size()));
+  int columns = 0;
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    DG_RETURN_IF_ERROR(edge->setVertex(i, vertices[i]));
+    edge->offsets_.push_back(columns);
+    columns += vertices[i]->tangentDim();
+  }
+  if (jacobian.cols() != columns || jacobian.rows() != error0.size() || error0.size() == 0) {
+    return Status(StatusCode::kInvalidArgument, "marginal prior: Jacobian is " + std::to_string(jacobian.rows()) + "x" +
+                                                    std::to_string(jacobian.cols()) + ", expected " +
+                                                    std::to_string(error0.size()) + "x" + std::to_string(columns));
+  }
+  if (!jacobian.allFinite() || !error0.allFinite()) {
+    return Status(StatusCode::kNumericalError, "marginal prior: non-finite Jacobian or error");
+  }
+  const int rows = static_cast<int>(error0.size());
+  edge->jacobian_ = jacobian;
+  edge->error0_ = error0;
+  edge->error_ = error0;
+  edge->delta_ = Eigen::VectorXd::Zero(columns);
+  edge->information_ = Eigen::MatrixXd::Identity(rows, rows);
+  for (VertexBase* vertex : vertices) {
+    const int dim = vertex->tangentDim();
+    edge->is_pose_.push_back(isPose(vertex));
+    Eigen::Isometry3d point_or_pose = Eigen::Isometry3d::Identity();
+    if (edge->is_pose_.back()) {
+      point_or_pose = static_cast<VertexSE3*>(vertex)->estimate();
+    } else {
+      point_or_pose.translation() = static_cast<VertexPointXYZ*>(vertex)->estimate();
+    }
+    edge->linearization_.push_back(point_or_pose);
+    edge->vertex_jacobians_.push_back(Eigen::MatrixXd::Zero(rows, dim));
+    edge->chart_derivatives_.push_back(Eigen::MatrixXd::Identity(dim, dim));
+  }
+  return edge;
+}
+
+Status EdgeMarginalPrior::setVertex(size_t i, VertexBase* vertex) {
+  if (i >= vertices_.size()) return Status(StatusCode::kInvalidArgument, "marginal prior has no slot " + std::to_string(i));
+  if (vertex != nullptr && !isPose(vertex) && !isPoint(vertex)) return unsupported(vertex);
+  if (vertex != nullptr && !linearization_.empty() && isPose(vertex) != is_pose_[i]) {
+    return Status(StatusCode::kInvalidArgument, "vertex " + std::to_string(vertex->id()) +
+                                                    " has the wrong type for marginal prior slot " + std::to_string(i));
+  }
+  vertices_[i] = vertex;
+  return Status();
+}
+
+void EdgeMarginalPrior::localCoordinates(size_t i, Eigen::Ref<Eigen::VectorXd> delta,
+                                         Eigen::MatrixXd* derivative) const {
+  if (is_pose_[i]) {
+    const Eigen::Isometry3d relative =
+        linearization_[i].inverse() * static_cast<const VertexSE3*>(vertices_[i])->estimate();
+    delta = g2oChart(relative);
+    if (derivative != nullptr) *derivative = g2oChartJacobianOfProduct(relative, Eigen::Isometry3d::Identity());
+  } else {
+    delta = static_cast<const VertexPointXYZ*>(vertices_[i])->estimate() - linearization_[i].translation();
+    // The derivative of p − p̄ is the identity, set once in create().
+  }
+}
+
+void EdgeMarginalPrior::computeError() {
+  for (size_t i = 0; i < vertices_.size(); ++i) {
+    localCoordinates(i, delta_.segment(offsets_[i], vertices_[i]->tangentDim()), nullptr);
+  }
+  error_.noalias() = jacobian_ * delta_;
+  error_ += error0_;
+}
+
+void EdgeMarginalPrior::computeJacobians() {
+  for (size_t i = 0; i < vertices_.size(); ++i) {
+    const int dim = vertices_[i]->tangentDim();
+    if (is_pose_[i]) localCoordinates(i, delta_.segment(offsets_[i], dim), &chart_derivatives_[i]);
+    vertex_jacobians_[i].noalias() = jacobian_.middleCols(offsets_[i], dim) * chart_derivatives_[i];
+  }
+}
+
+void EdgeMarginalPrior::linearize() {
+  computeError();
+  computeJacobians();
+}
+
+Status EdgeMarginalPrior::read(TokenReader&, const ParameterContainer&) {
+  return Status(StatusCode::kInvalidArgument, "a marginal prior cannot be read from a g2o file");
+}
+
+void EdgeMarginalPrior::write(std::ostream&) const {}
+
+Result<MarginalizationOutcome> marginalizeVertex(Graph& graph, int id) {
+  VertexBase* marginalized = graph.vertex(id);
+  if (marginalized == nullptr) return Status(StatusCode::kNotFound, "marginalise: unknown vertex id " + std::to_string(id));
+  if (marginalized->fixed()) return Status(StatusCode::kInvalidArgument, "marginalise: vertex " + std::to_string(id) + " is fixed");
+  if (!isPose(marginalized) && !isPoint(marginalized)) return unsupported(marginalized);
+  // The edges touching the vertex, and the other free vertices they reach (ordered by id).
+  std::vector<EdgeBase*> touching;
+  std::vector<VertexBase*> blanket;
+  for (const auto& edge : graph.edges()) {
+    const auto& slots = edge->vertices();
+    if (std::find(slots.begin(), slots.end(), marginalized) == slots.end()) continue;
+    touching.push_back(edge.get());
+    for (VertexBase* vertex : slots) {
+      if (vertex == marginalized || vertex->fixed()) continue;
+      if (!isPose(vertex) && !isPoint(vertex)) return unsupported(vertex);
+      if (std::find(blanket.begin(), blanket.end(), vertex) == blanket.end()) blanket.push_back(vertex);
+    }
+  }
+  std::sort(blanket.begin(), blanket.end(), [](const VertexBase* a, const VertexBase* b) { return a->id() < b->id(); });
+  // Dense Gauss–Newton system of those edges over [marginalised; blanket].
+  std::vector<const VertexBase*> order = {marginalized};
+  order.insert(order.end(), blanket.begin(), blanket.end());
+  std::vector<int> offset(order.size(), 0);
+  int total = 0;
+  for (size_t k = 0; k < order.size(); ++k) {
+    offset[k] = total;
+    total += order[k]->tangentDim();
+  }
+  const int dm = marginalized->tangentDim();
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(total, total);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(total);
+  for (EdgeBase* edge : touching) {
+    edge->linearize();
+    const int rows = edge->errorDim();
+    const RobustKernel* kernel = edge->robustKernel();
+    const double weight = kernel != nullptr ? kernel->robustify(edge->chi2())[1] : 1.0;
+    const Eigen::Map<const Eigen::MatrixXd> information(edge->informationData(), rows, rows);
+    const Eigen::Map<const Eigen::VectorXd> error(edge->errorData(), rows);
+    for (size_t a = 0; a < edge->numVertices(); ++a) {
+      const VertexBase* va = edge->vertex(a);
+      if (va->fixed()) continue;
+      const int oa = offset[std::find(order.begin(), order.end(), va) - order.begin()];
+      const Eigen::Map<const Eigen::MatrixXd> Ja(edge->jacobianData(a), rows, va->tangentDim());
+      const Eigen::MatrixXd JaT_omega = weight * Ja.transpose() * information;
+      g.segment(oa, va->tangentDim()) += JaT_omega * error;
+      for (size_t b = 0; b < edge->numVertices(); ++b) {
+        const VertexBase* vb = edge->vertex(b);
+        if (vb->fixed()) continue;
+        const int ob = offset[std::find(order.begin(), order.end(), vb) - order.begin()];
+        const Eigen::Map<const Eigen::MatrixXd> Jb(edge->jacobianData(b), rows, vb->tangentDim());
+        H.block(oa, ob, va->tangentDim(), vb->tangentDim()) += JaT_omega * Jb;
+      }
+    }
+  }
+  if (!H.allFinite() || !g.allFinite()) {
+    return Status(StatusCode::kNumericalError, "marginalise vertex " + std::to_string(id) + ": non-finite linearisation");
+  }
+  const Eigen::LLT<Eigen::MatrixXd> llt(H.topLeftCorner(dm, dm));
+  if (llt.info() != Eigen::Success) {
+    return Status(StatusCode::kNotPositiveDefinite,
+                  "marginalise vertex " + std::to_string(id) + ": it is not determined by its edges");
+  }
+  const int nb = total - dm;
+  Eigen::MatrixXd jacobian;
+  Eigen::VectorXd error0;
+  if (nb > 0) {
+    const Eigen::MatrixXd Hbm = H.bottomLeftCorner(nb, dm);
+    Eigen::MatrixXd lambda = H.bottomRightCorner(nb, nb) - Hbm * llt.solve(Hbm.transpose());
+    lambda = 0.5 * (lambda + lambda.transpose()).eval();
+    const Eigen::VectorXd beta = g.tail(nb) - Hbm * llt.solve(g.head(dm));
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(lambda);
+    if (eigen.info() != Eigen::Success) {
+      return Status(StatusCode::kNumericalError, "marginalise vertex " + std::to_string(id) + ": eigen-decomposition failed");
+    }
+    const double floor = kRelativeEigenFloor * std::max(eigen.eigenvalues().maxCoeff(), 0.0);
+    std::vector<int> kept;
+    for (int k = 0; k < nb; ++k) {
+      if (eigen.eigenvalues()(k) > floor && eigen.eigenvalues()(k) > 0.0) kept.push_back(k);
+    }
+    jacobian.resize(static_cast<int>(kept.size()), nb);
+    error0.resize(static_cast<int>(kept.size()));
+    for (size_t r = 0; r < kept.size(); ++r) {
+      const double value = eigen.eigenvalues()(kept[r]);
+      const Eigen::VectorXd direction = eigen.eigenvectors().col(kept[r]);
+      jacobian.row(static_cast<int>(r)) = std::sqrt(value) * direction.transpose();
+      error0(static_cast<int>(r)) = direction.dot(beta) / std::sqrt(value);
+    }
+  }
+  std::unique_ptr<EdgeMarginalPrior> prior;
+  if (error0.size() > 0) {
+    Result<std::unique_ptr<EdgeMarginalPrior>> created = EdgeMarginalPrior::create(blanket, jacobian, error0);
+    if (!created.ok()) return created.status();
+    prior = std::move(*created);
+  }
+  // Nothing above changed the graph; now fold.
+  MarginalizationOutcome outcome;
+  outcome.edges_folded = static_cast<int>(touching.size());
+  outcome.prior_rows = static_cast<int>(error0.size());
+  for (const EdgeBase* edge : touching) DG_RETURN_IF_ERROR(graph.removeEdge(edge));
+  DG_RETURN_IF_ERROR(graph.setFixed(id, true));
+  if (prior) {
+    Result<EdgeBase*> stored = graph.addEdge(std::move(prior));
+    if (!stored.ok()) return stored.status();
+    outcome.prior = static_cast<EdgeMarginalPrior*>(*stored);
+  }
+  return outcome;
+}
+
+}  // namespace dualgraph

@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <memory>
+#include <vector>
+
+#include "core/edge.h"
+#include "core/graph.h"
+
+namespace dualgraph {
+
+/// A dense Gaussian prior on several vertices left behind when other vertices were marginalised out
+/// (the fixed-lag main graph, DESIGN.md §3): error e(x) = e₀ + J·[δ₁; …; δₙ] with information I, where
+/// δᵢ are the vertices' local coordinates relative to their linearisation points x̄ᵢ:
+/// VertexSE3 (world_T_x): δ = g2oChart(x̄⁻¹·x) = [t; q.vec] (m, unit quaternion vector part, w ≥ 0);
+/// VertexPointXYZ (p, m): δ = p − p̄. So χ² = ‖e₀ + Jδ‖² = const + 2βᵀδ + δᵀΛδ reproduces the
+/// marginalised edges' quadratic model (Λ = JᵀJ, β = Jᵀe₀) in g2o's χ² convention. Rows: the
+/// numerically non-zero eigen-directions of Λ. Jacobians are analytic (chart derivative times J).
+/// Built by `marginalizeVertex`; not a g2o type (no tag, `read` fails, `write` writes nothing).
+class EdgeMarginalPrior final : public EdgeBase {
+ public:
+  /// `linearization_points[i]` is the estimate of `vertices[i]` at marginalisation (a copy is kept);
+  /// `jacobian` is rank × Σ tangent dims, `error0` has `rank` rows.
+  static Result<std::unique_ptr<EdgeMarginalPrior>> create(const std::vector<VertexBase*>& vertices,
+                                                           const Eigen::MatrixXd& jacobian,
+                                                           const Eigen::VectorXd& error0);
+
+  int errorDim() const override { return static_cast<int>(error0_.size()); }
+  Status setVertex(size_t i, VertexBase* vertex) override;
+  void computeError() override;
+  void linearize() override;
+  void computeJacobians() override;
+  const double* errorData() const override { return error_.data(); }
+  const double* jacobianData(size_t i) const override { return vertex_jacobians_.at(i).data(); }
+  const double* informationData() const override { return information_.data(); }
+  double* mutableInformationData() override { return information_.data(); }
+  Status read(TokenReader& in, const ParameterContainer& parameters) override;
+  void write(std::ostream& out) const override;
+
+  /// Λ = JᵀJ over all the prior's coordinates (tests and diagnostics).
+  Eigen::MatrixXd informationOfCoordinates() const { return jacobian_.transpose() * jacobian_; }
+
+ private:
+  explicit EdgeMarginalPrior(size_t num_vertices) : EdgeBase(num_vertices) {}
+  /// Local coordinates of vertex i relative to its linearisation point, and their derivative with respect
+  /// to the vertex's own increment (both at the current estimate).
+  void localCoordinates(size_t i, Eigen::Ref<Eigen::VectorXd> delta, Eigen::MatrixXd* derivative) const;
+
+  std::vector<int> offsets_;  ///< first column of vertex i in `jacobian_`
+  /// x̄ of each vertex (a point's p̄ is the translation), and whether it is an SE(3) vertex.
+  std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>> linearization_;
+  std::vector<bool> is_pose_;
+  Eigen::MatrixXd jacobian_;
+  Eigen::VectorXd error0_;
+  Eigen::VectorXd error_;
+  Eigen::VectorXd delta_;
+  Eigen::MatrixXd information_;
+  std::vector<Eigen::MatrixXd> vertex_jacobians_;
+  std::vector<Eigen::MatrixXd> chart_derivatives_;
+};
+
+/// What `marginalizeVertex` did.
+struct MarginalizationOutcome {
+  int edges_folded = 0;   ///< edges that touched the vertex and now live in the prior
+  int prior_rows = 0;     ///< rank of the new prior (0: nothing left to constrain)
+  EdgeMarginalPrior* prior = nullptr;  ///< the new edge in the graph (null when rank 0)
+};
+
+/// Marginalises vertex `id` out of `graph` at the current estimates (Schur complement of the
+/// Gauss–Newton system of the edges touching it, robust kernels as IRLS weights): those edges are
+/// removed, one EdgeMarginalPrior on the other free vertices they touched is added, and the vertex is
+/// fixed (kept, with its estimate, but out of the optimisation). Supports VertexSE3 and VertexPointXYZ
+/// neighbours. kNotFound for an unknown id, kNotPositiveDefinite when the vertex is not determined by its
+/// edges, kInvalidArgument for a fixed vertex or other vertex types; the graph is unchanged on error.
+Result<MarginalizationOutcome> marginalizeVertex(Graph& graph, int id);
+
+}  // namespace dualgraph
