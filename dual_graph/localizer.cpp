@@ -156,6 +156,7 @@ Status Localizer::closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body
   }
   // The previous node's detections, gated against the graph that now holds the new node.
   const size_t owner = main_->keyframes().size() - (final_row ? 1 : 2);
+  const double start = nowMs();
   const GateEdgeOutcome outcome = main_->addGateEdges(owner, single_edges_);
   row.gate_edges_added = outcome.added;
   row.gate_edges_rejected = outcome.rejected;
@@ -164,7 +165,7 @@ Status Localizer::closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body
   if (!outcome.message.empty()) counters_.last_error = outcome.message;
   single_edges_.clear();
   single_observations_ = 0;
-  optimizeAndRecord(row);
+  optimizeAndRecord(row, start);
   history_.discardBefore(main_->keyframes().back().t);
   return Status();
 }
@@ -184,25 +185,28 @@ Status Localizer::closeInterval() {
   row.temp_iterations = distilled.iterations;
   row.temp_ms = distilled.optimize_ms;
   for (const GateEdgeMeasurement& gate : distilled.gates) row.observations += gate.observations;
+  const double start = nowMs();
   const GateEdgeOutcome outcome = main_->addGateEdges(main_->keyframes().size() - 1, distilled.gates);
   row.gate_edges_added = outcome.added;
   row.gate_edges_rejected = outcome.rejected;
   row.gates_skipped = distilled.skipped_gates + outcome.failed;
   if (!distilled.skip_reason.empty()) counters_.last_error = distilled.skip_reason;
   if (!outcome.message.empty()) counters_.last_error = outcome.message;
-  optimizeAndRecord(row);
+  optimizeAndRecord(row, start);
   history_.discardBefore(newest.t);
   return Status();
 }
 
-void Localizer::optimizeAndRecord(KeyframeStats& row) {
-  const double start = nowMs();
+void Localizer::optimizeAndRecord(KeyframeStats& row, double start_ms) {
   const SolverSummary summary = main_->optimize();
-  row.optimize_ms = nowMs() - start;
+  const Status slid = main_->slideWindow();
+  row.optimize_ms = nowMs() - start_ms;
+  if (!slid.ok()) counters_.last_error = slid.message();
   row.keyframe = static_cast<int>(main_->keyframes().size()) - 1;
   row.t = main_->keyframes().back().t;
   row.main_vertices = static_cast<int>(main_->graph().numVertices());
-  row.main_edges = static_cast<int>(main_->graph().numEdges());
+  row.main_edges = static_cast<int>(main_->totalEdges());
+  row.active_edges = static_cast<int>(main_->graph().numEdges());
   row.iterations = summary.iterations;
   row.termination = terminationReasonName(summary.termination);
   if (!summary.usable() && summary.termination != TerminationReason::kNothingToOptimize) {

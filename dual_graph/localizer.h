@@ -27,9 +27,12 @@ struct KeyframeStats {
   int keyframe = 0;            ///< index of the newest keyframe
   double t = 0.0;              ///< its time [s]
   int main_vertices = 0;
-  int main_edges = 0;
+  int main_edges = 0;          ///< edges the main graph stands for (folded into marginal priors included)
+  int active_edges = 0;        ///< edges in the optimisation (fewer than main_edges in fixed-lag mode)
   int iterations = 0;          ///< LM iterations of the main graph
-  double optimize_ms = 0.0;    ///< main-graph optimisation wall time (gating marginals included)
+  /// Main-graph update wall time: the new edges' χ² gate (its marginals), LM, and (fixed-lag) the
+  /// marginalisation of the keyframe leaving the window. Not the temporary graph (temp_ms).
+  double optimize_ms = 0.0;
   std::string termination;
   int gate_edges_added = 0;    ///< distilled (dual) or detection (single) edges that entered the main graph
   int gate_edges_rejected = 0; ///< by the χ² gate
@@ -92,7 +95,8 @@ class Localizer {
   Status closeInterval();
   /// Single mode: commits the newest node's edges, adds a node at (t, odom_T_body) unless final, optimises.
   Status closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body, bool final_row);
-  void optimizeAndRecord(KeyframeStats& row);
+  /// Optimises (and slides the window), fills `row` and appends it; `start_ms` is when the update began.
+  void optimizeAndRecord(KeyframeStats& row, double start_ms);
   /// Time before which no observation can be used any more (the interval's or the node's start).
   double openIntervalStart() const;
 

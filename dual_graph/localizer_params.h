@@ -63,6 +63,11 @@ struct LocalizerParams {
   /// Stop the main graph's LM when an iteration lowers χ² by less than this fraction (warm starts
   /// converge in 2–3 iterations; 1e-6 changes the estimate by micrometres on the test races).
   double main_relative_decrease_stop = 1e-6;
+  /// Fixed-lag main graph: the newest `main_window` keyframes (nodes in single mode) stay free; older ones
+  /// are marginalised into one dense prior on the oldest free keyframe and the gates (`marginalizeVertex`)
+  /// after they have been optimised in that many windows, so each update costs the same whatever the
+  /// mission length. 0 = full batch (every keyframe free, the paper's main graph). ≥ 2 otherwise.
+  int main_window = 0;
   int temp_max_iterations = 20;      ///< LM iterations of each temporary graph
   LinearSolverKind linear_solver = LinearSolverKind::kCholmod;
   /// Robust kernel on detection and distilled edges: "none", or "huber:δ", "cauchy:δ", "tukey:δ", "dcs:δ"

@@ -172,6 +172,7 @@ constexpr FieldSlot<double> kNumberFields[] = {
 };
 constexpr FieldSlot<int> kIntegerFields[] = {
     {"main_max_iterations", &LocalizerParams::main_max_iterations},
+    {"main_window", &LocalizerParams::main_window},
     {"temp_max_iterations", &LocalizerParams::temp_max_iterations},
 };
 constexpr FieldSlot<bool> kBoolFields[] = {

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "dual_graph/graph_edges.h"
+#include "dual_graph/marginal_prior.h"
 #include "dual_graph/se3_uncertainty.h"
 #include "solvers/marginal_covariance.h"
 #include "types/vertex_se3.h"
@@ -221,6 +222,27 @@ GateEdgeOutcome MainGraph::addGateEdges(size_t keyframe_index, const GateEdgeMea
     ++outcome.added;
   }
   return outcome;
+}
+
+Status MainGraph::slideWindow() {
+  if (params_.main_window <= 0) return Status();
+  const size_t window = static_cast<size_t>(params_.main_window);
+  while (keyframes_.size() - first_free_keyframe_ > window) {
+    const int id = keyframes_[first_free_keyframe_].vertex_id;
+    if (!graph_.vertex(id)->fixed()) {
+      Result<MarginalizationOutcome> outcome = marginalizeVertex(graph_, id);
+      if (!outcome.ok()) {
+        return Status(outcome.status().code(), "main graph: keyframe " + std::to_string(first_free_keyframe_) +
+                                                   " stays in the window: " + outcome.status().message());
+      }
+      folded_edges_ += static_cast<size_t>(outcome->edges_folded - outcome->priors_folded);
+      prior_edges_ += (outcome->prior != nullptr ? 1u : 0u);
+      prior_edges_ -= static_cast<size_t>(outcome->priors_folded);
+      ++marginalized_keyframes_;
+    }
+    ++first_free_keyframe_;
+  }
+  return Status();
 }
 
 SolverSummary MainGraph::optimize() {

@@ -49,6 +49,15 @@ class MainGraph {
   GateEdgeOutcome addGateEdges(size_t keyframe_index, const GateEdgeMeasurements& measurements);
   /// Warm-started LM with the configured iteration cap and time budget.
   SolverSummary optimize();
+  /// Fixed-lag mode (`main_window` > 0): marginalises the oldest free keyframes until `main_window` remain
+  /// (call after `optimize`, so they leave at an optimised estimate). A keyframe that cannot be
+  /// marginalised stays free and the status says why; the graph stays consistent.
+  Status slideWindow();
+  /// Edges the main graph stands for: those in the optimisation plus those folded into marginal priors
+  /// (the priors themselves not counted). Equals graph().numEdges() in full-batch mode.
+  size_t totalEdges() const { return graph_.numEdges() - prior_edges_ + folded_edges_; }
+  /// Keyframes marginalised so far (fixed, out of the optimisation, estimates frozen).
+  size_t marginalizedKeyframes() const { return marginalized_keyframes_; }
 
   const std::vector<Keyframe, Eigen::aligned_allocator<Keyframe>>& keyframes() const { return keyframes_; }
   /// Current estimate of keyframe `index`.
@@ -76,6 +85,10 @@ class MainGraph {
   std::vector<Keyframe, Eigen::aligned_allocator<Keyframe>> keyframes_;
   std::map<int, int> landmark_vertex_;  ///< gate id → vertex id
   int next_vertex_id_ = 0;
+  size_t first_free_keyframe_ = 0;   ///< keyframes before it are marginalised (or were fixed)
+  size_t marginalized_keyframes_ = 0;
+  size_t prior_edges_ = 0;           ///< EdgeMarginalPriors in graph_
+  size_t folded_edges_ = 0;          ///< original edges folded into priors
 };
 
 }  // namespace dualgraph

@@ -17,7 +17,10 @@ namespace dualgraph {
 /// VertexSE3 (world_T_x): δ = g2oChart(x̄⁻¹·x) = [t; q.vec] (m, unit quaternion vector part, w ≥ 0);
 /// VertexPointXYZ (p, m): δ = p − p̄. So χ² = ‖e₀ + Jδ‖² = const + 2βᵀδ + δᵀΛδ reproduces the
 /// marginalised edges' quadratic model (Λ = JᵀJ, β = Jᵀe₀) in g2o's χ² convention. Rows: the
-/// numerically non-zero eigen-directions of Λ. Jacobians are analytic (chart derivative times J).
+/// numerically non-zero eigen-directions of Λ. Jacobians are first-estimate Jacobians: J itself, the exact
+/// derivative at x̄ and within O(|δ|) of it elsewhere (the chart derivative is I + O(|δ|)); re-evaluating
+/// the chart derivative would rotate the prior's information a little at every later fold (a measured
+/// drift, see marginal_prior.cpp), the reason fixed-lag VIO uses first-estimate Jacobians too.
 /// Built by `marginalizeVertex`; not a g2o type (no tag, `read` fails, `write` writes nothing).
 class EdgeMarginalPrior final : public EdgeBase {
  public:
@@ -44,9 +47,8 @@ class EdgeMarginalPrior final : public EdgeBase {
 
  private:
   explicit EdgeMarginalPrior(size_t num_vertices) : EdgeBase(num_vertices) {}
-  /// Local coordinates of vertex i relative to its linearisation point, and their derivative with respect
-  /// to the vertex's own increment (both at the current estimate).
-  void localCoordinates(size_t i, Eigen::Ref<Eigen::VectorXd> delta, Eigen::MatrixXd* derivative) const;
+  /// Local coordinates of vertex i relative to its linearisation point, at the current estimate.
+  void localCoordinates(size_t i, Eigen::Ref<Eigen::VectorXd> delta) const;
 
   std::vector<int> offsets_;  ///< first column of vertex i in `jacobian_`
   /// x̄ of each vertex (a point's p̄ is the translation), and whether it is an SE(3) vertex.
@@ -57,13 +59,13 @@ class EdgeMarginalPrior final : public EdgeBase {
   Eigen::VectorXd error_;
   Eigen::VectorXd delta_;
   Eigen::MatrixXd information_;
-  std::vector<Eigen::MatrixXd> vertex_jacobians_;
-  std::vector<Eigen::MatrixXd> chart_derivatives_;
+  std::vector<Eigen::MatrixXd> vertex_jacobians_;  ///< J's column blocks (first-estimate Jacobians)
 };
 
 /// What `marginalizeVertex` did.
 struct MarginalizationOutcome {
   int edges_folded = 0;   ///< edges that touched the vertex and now live in the prior
+  int priors_folded = 0;  ///< of those, earlier EdgeMarginalPriors
   int prior_rows = 0;     ///< rank of the new prior (0: nothing left to constrain)
   EdgeMarginalPrior* prior = nullptr;  ///< the new edge in the graph (null when rank 0)
 };

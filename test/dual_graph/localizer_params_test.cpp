@@ -23,7 +23,7 @@ const std::vector<std::string> kFieldNames = {
     "mode", "landmark", "mapping", "d_main", "theta_main", "d_temp", "theta_temp", "d_single", "theta_single",
     "use_input_covariance", "odom_sigma_t", "odom_sigma_r", "odom_min_distance", "map_sigma_t", "map_sigma_r",
     "fix_map_gates", "initial_world_T_odom", "initial_sigma_t", "initial_sigma_r", "main_max_iterations",
-    "main_time_budget_ms", "main_relative_decrease_stop", "temp_max_iterations", "linear_solver", "robust_kernel", "chi2_gate_pose",
+    "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "linear_solver", "robust_kernel", "chi2_gate_pose",
     "chi2_gate_point"};
 
 /// Field by field; the transform to `pose_tolerance` (max abs difference of the 4x4 matrices).
@@ -51,6 +51,7 @@ void expectSameParams(const LocalizerParams& a, const LocalizerParams& b, double
   EXPECT_EQ(a.main_max_iterations, b.main_max_iterations);
   EXPECT_EQ(a.main_time_budget_ms, b.main_time_budget_ms);
   EXPECT_EQ(a.main_relative_decrease_stop, b.main_relative_decrease_stop);
+  EXPECT_EQ(a.main_window, b.main_window);
   EXPECT_EQ(a.temp_max_iterations, b.temp_max_iterations);
   EXPECT_EQ(a.linear_solver, b.linear_solver);
   EXPECT_EQ(a.robust_kernel, b.robust_kernel);
@@ -81,6 +82,7 @@ initial_sigma_r: 0.1
 main_max_iterations: 7
 main_time_budget_ms: 12.5
 main_relative_decrease_stop: 1e-4
+main_window: 12
 temp_max_iterations: 30
 linear_solver: eigen
 robust_kernel: cauchy:1.5
@@ -98,6 +100,7 @@ LocalizerParams allOverriddenExpected() {
   p.initial_world_T_odom.translation() = Eigen::Vector3d(1, -2, 3.5);
   p.initial_sigma_t = 0.5, p.initial_sigma_r = 0.1;
   p.main_max_iterations = 7, p.main_time_budget_ms = 12.5, p.main_relative_decrease_stop = 1e-4, p.temp_max_iterations = 30;
+  p.main_window = 12;
   p.linear_solver = LinearSolverKind::kEigen, p.robust_kernel = "cauchy:1.5";
   p.chi2_gate_pose = 0.0, p.chi2_gate_point = 11.345;
   return p;
@@ -266,6 +269,8 @@ TEST(LocalizerParamsValidation, EachOutOfDomainFieldIsNamed) {
       {"initial_sigma_t", [](LocalizerParams& p) { p.initial_sigma_t = std::nan(""); }},
       {"main_max_iterations", [](LocalizerParams& p) { p.main_max_iterations = 0; }},
       {"temp_max_iterations", [](LocalizerParams& p) { p.temp_max_iterations = -3; }},
+      {"main_window", [](LocalizerParams& p) { p.main_window = 1; }},
+      {"main_window", [](LocalizerParams& p) { p.main_window = -5; }},
       {"main_time_budget_ms", [](LocalizerParams& p) { p.main_time_budget_ms = -1.0; }},
       {"main_relative_decrease_stop", [](LocalizerParams& p) { p.main_relative_decrease_stop = -1e-3; }},
       {"chi2_gate_pose", [](LocalizerParams& p) { p.chi2_gate_pose = -1.0; }},
