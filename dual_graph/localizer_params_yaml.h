@@ -14,7 +14,7 @@ namespace dualgraph {
 //   localizer:                 # optional; the keys may also sit at the top level
 //     mode: dual               # dual | single
 //     landmark: pose           # pose | point
-//     linear_solver: cholmod   # cholmod | eigen
+//     linear_solver: auto      # auto | cholmod | eigen
 //     d_main: 2.0              # every other key is named exactly as its field
 //     initial_world_T_odom: {position: [0, 0, 0], quaternion_xyzw: [0, 0, 0, 1]}
 //

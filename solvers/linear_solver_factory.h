@@ -13,9 +13,10 @@ namespace dualgraph {
 enum class LinearSolverKind {
   kCholmod,  ///< "cholmod": SuiteSparse CHOLMOD, supernodal LLᵀ (the default)
   kEigen,    ///< "eigen": Eigen SimplicialLDLT
+  kAuto,     ///< "auto": by size at each analysis, Eigen up to 3000 unknowns, CHOLMOD above (AutoSolver)
 };
 
-/// "cholmod" or "eigen" (exact, lower case); kInvalidArgument naming the bad name otherwise.
+/// "cholmod", "eigen" or "auto" (exact, lower case); kInvalidArgument naming the bad name otherwise.
 Result<LinearSolverKind> parseLinearSolverKind(const std::string& name);
 /// The name `parseLinearSolverKind` accepts for `kind`.
 const char* linearSolverKindName(LinearSolverKind kind);

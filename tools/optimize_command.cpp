@@ -46,7 +46,7 @@ CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& o) {
   cmd->add_option("-i,--iterations", o.iterations, "Maximum iterations")->check(CLI::NonNegativeNumber);
   cmd->add_option("--solver", o.algorithm, "lm (Levenberg-Marquardt) or gn (Gauss-Newton)")
       ->check(CLI::IsMember({"lm", "gn"}));
-  cmd->add_option("--linear", o.linear, "Linear solver: cholmod or eigen")
+  cmd->add_option("--linear", o.linear, "Linear solver: cholmod, eigen or auto (Eigen up to 3000 unknowns, CHOLMOD above)")
       ->check(CLI::IsMember({"cholmod", "eigen"}));
   cmd->add_option("--robust", o.robust, "Robust kernel on every edge, e.g. huber:1.0 (huber|cauchy|tukey|dcs)");
   cmd->add_option("--relative-decrease", o.relative_decrease,

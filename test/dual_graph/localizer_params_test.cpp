@@ -209,7 +209,7 @@ TEST(LocalizerParamsYaml, UnknownKeyIsNamedAndNothingElseListed) {
 TEST(LocalizerParamsYaml, UnknownEnumValueListsTheAllowedOnes) {
   expectParseError("mode: duel\n", 1, "mode", "(expected dual or single)");
   expectParseError("\nlandmark: corner\n", 2, "landmark", "(expected pose or point)");
-  expectParseError("linear_solver: lapack\n", 1, "linear_solver", "cholmod or eigen");
+  expectParseError("linear_solver: lapack\n", 1, "linear_solver", "cholmod, eigen or auto");
 }
 
 TEST(LocalizerParamsYaml, DocumentThatIsNotAMappingIsRejected) {
