@@ -31,11 +31,18 @@ std::vector<std::pair<double, Eigen::Isometry3d>> stamped(const std::vector<Corr
   return out;
 }
 
-Status writeStats(const std::string& path, const std::vector<KeyframeStats>& stats) {
+// One row per keyframe: keyframe 0 (created at the first odometry sample, not optimised: its vertex and,
+// in localisation mode with initial_sigma_t > 0, its prior), then one per main-graph optimisation.
+Status writeStats(const std::string& path, const std::vector<KeyframeStats>& stats,
+                  const std::vector<CorrectedPose>& keyframes, const LocalizerParams& params) {
   return writeFileAtomically(path, [&](std::ostream& out) {
     out.precision(std::numeric_limits<double>::max_digits10);
     out << "t,keyframe,nodes,edges,iterations,optimization_ms,distilled_edges,rejected_edges,skipped_gates,"
            "observations,temp_nodes,temp_edges,temp_iterations,temp_ms,termination\n";
+    if (!keyframes.empty()) {
+      const int prior = params.mapping || params.initial_sigma_t <= 0.0 ? 0 : 1;
+      out << keyframes.front().t << ",0,1," << prior << ",0,0,0,0,0,0,0,0,0,0,initial\n";
+    }
     for (const KeyframeStats& r : stats) {
       out << r.t << ',' << r.keyframe << ',' << r.main_vertices << ',' << r.main_edges << ',' << r.iterations << ','
           << r.optimize_ms << ',' << r.gate_edges_added << ',' << r.gate_edges_rejected << ',' << r.gates_skipped << ','
@@ -150,7 +157,7 @@ int runRunCommand(const RunOptions& o) {
   const std::filesystem::path out(o.out);
   for (const Status& written : {writeTum((out / "estimate.tum").string(), stamped(run->estimate)),
                                 writeTum((out / "keyframes.tum").string(), stamped(run->keyframes)),
-                                writeStats((out / "stats.csv").string(), run->stats),
+                                writeStats((out / "stats.csv").string(), run->stats, run->keyframes, params->localizer),
                                 writeRunYaml((out / "run.yaml").string(), o.sequence, params->localizer)}) {
     if (!written.ok()) return fail(written.message());
   }

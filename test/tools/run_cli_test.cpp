@@ -60,9 +60,10 @@ std::string runInto(const std::string& name, const std::string& options = "") {
   return out;
 }
 
-// stats.csv: the documented header, then one row per main-graph optimisation: one for every keyframe
-// after the first (which only has its prior), at that keyframe's time, and in single mode a last row
-// from `finish` for the newest node again. Nodes and edges of the last row are the metrics'.
+// stats.csv: the documented header, then one row per keyframe: keyframe 0 (not optimised: termination
+// "initial", no iterations), one per main-graph optimisation for every later keyframe at its time, and in
+// single mode a last row from `finish` for the newest node again. Nodes and edges of the last row are the
+// metrics'.
 void expectStatsMatchKeyframes(const std::string& out, const std::string& json) {
   std::vector<double> keyframe_t;
   for (const std::string& line : dataLines(out + "/keyframes.tum")) keyframe_t.push_back(std::stod(line));
@@ -80,10 +81,12 @@ void expectStatsMatchKeyframes(const std::string& out, const std::string& json) 
     rows.push_back(fields);
   }
   ASSERT_GE(keyframe_t.size(), 2u);
-  ASSERT_GE(rows.size(), keyframe_t.size() - 1);
-  ASSERT_LE(rows.size(), keyframe_t.size());
+  ASSERT_GE(rows.size(), keyframe_t.size());
+  ASSERT_LE(rows.size(), keyframe_t.size() + 1);
+  EXPECT_EQ(rows[0][14], "initial");
+  EXPECT_EQ(rows[0][4], "0");
   for (size_t r = 0; r < rows.size(); ++r) {
-    const size_t keyframe = std::min(r + 1, keyframe_t.size() - 1);  // a repeated last one from `finish`
+    const size_t keyframe = std::min(r, keyframe_t.size() - 1);  // a repeated last one from `finish`
     EXPECT_EQ(std::stoul(rows[r][1]), keyframe) << "row " << r;
     EXPECT_EQ(std::stod(rows[r][0]), keyframe_t[keyframe]) << "row " << r;
   }
