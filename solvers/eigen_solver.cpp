@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "solvers/eigen_solver.h"
 
+#include <Eigen/OrderingMethods>
 #include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <tuple>
 
 #include "solvers/sparse_pattern.h"
 
@@ -11,18 +14,51 @@ namespace dualgraph {
 Status EigenSolver::analyze(const SparseMatrixView& view) {
   analyzed_ = factorized_ = false;
   DG_RETURN_IF_ERROR(validateUpperCsc(view, "Eigen analyze"));
-  matrix_.resize(view.n, view.n);
-  matrix_.resizeNonZeros(view.nnz());
-  if (view.n > 0) {
-    std::copy(view.col_ptr, view.col_ptr + view.n + 1, matrix_.outerIndexPtr());
-    std::copy(view.row_index, view.row_index + view.nnz(), matrix_.innerIndexPtr());
+  const int n = view.n;
+  col_ptr_.assign(view.col_ptr, view.col_ptr + n + 1);
+  row_index_.assign(view.row_index, view.row_index + view.nnz());
+  work_.resize(n);
+  if (n == 0) {
+    analyzed_ = true;
+    return Status();
   }
-  std::fill(matrix_.valuePtr(), matrix_.valuePtr() + view.nnz(), 0.0);
-  if (view.n > 0) {
-    ldlt_.analyzePattern(matrix_);
-    if (ldlt_.info() != Eigen::Success) {
-      return Status(StatusCode::kFailedPrecondition, "Eigen analyze: symbolic analysis failed");
+  // AMD on the full symmetric pattern (Eigen's orderings return the inverse permutation).
+  Matrix upper(n, n);
+  upper.resizeNonZeros(view.nnz());
+  std::copy(col_ptr_.begin(), col_ptr_.end(), upper.outerIndexPtr());
+  std::copy(row_index_.begin(), row_index_.end(), upper.innerIndexPtr());
+  std::fill(upper.valuePtr(), upper.valuePtr() + view.nnz(), 1.0);
+  Matrix full;
+  full = upper.selfadjointView<Eigen::Upper>();
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse;
+  Eigen::AMDOrdering<int>()(full, inverse);
+  new_position_.assign(n, 0);
+  for (int k = 0; k < n; ++k) new_position_[inverse.indices()[k]] = k;
+  // The permuted upper triangle, and which input entry fills each of its entries.
+  std::vector<std::tuple<int, int, int>> entries;  // (column, row, input entry) in the new order
+  entries.reserve(row_index_.size());
+  for (int j = 0; j < n; ++j) {
+    for (int e = col_ptr_[j]; e < col_ptr_[j + 1]; ++e) {
+      const int a = new_position_[row_index_[e]], b = new_position_[j];
+      entries.emplace_back(std::max(a, b), std::min(a, b), e);
     }
+  }
+  std::sort(entries.begin(), entries.end());
+  permuted_.resize(n, n);
+  permuted_.resizeNonZeros(static_cast<Eigen::Index>(entries.size()));
+  source_entry_.assign(entries.size(), 0);
+  std::fill(permuted_.outerIndexPtr(), permuted_.outerIndexPtr() + n + 1, 0);
+  for (size_t k = 0; k < entries.size(); ++k) {
+    const auto [column, row, source] = entries[k];
+    ++permuted_.outerIndexPtr()[column + 1];
+    permuted_.innerIndexPtr()[k] = row;
+    permuted_.valuePtr()[k] = 0.0;
+    source_entry_[k] = source;
+  }
+  std::partial_sum(permuted_.outerIndexPtr(), permuted_.outerIndexPtr() + n + 1, permuted_.outerIndexPtr());
+  ldlt_.analyzePreordered(permuted_);
+  if (ldlt_.info() != Eigen::Success) {
+    return Status(StatusCode::kFailedPrecondition, "Eigen analyze: symbolic analysis failed");
   }
   analyzed_ = true;
   return Status();
@@ -31,8 +67,8 @@ Status EigenSolver::analyze(const SparseMatrixView& view) {
 Status EigenSolver::factorize(const SparseMatrixView& view) {
   factorized_ = false;
   if (!analyzed_) return Status(StatusCode::kFailedPrecondition, "Eigen factorize before a successful analyze");
-  const int n = static_cast<int>(matrix_.rows());
-  if (!samePattern(view, n, matrix_.outerIndexPtr(), matrix_.innerIndexPtr())) {
+  const int n = static_cast<int>(col_ptr_.size()) - 1;
+  if (!samePattern(view, n, col_ptr_.data(), row_index_.data())) {
     return Status(StatusCode::kFailedPrecondition,
                   "Eigen factorize: the pattern differs from the analysed one (call analyze first)");
   }
@@ -41,43 +77,55 @@ Status EigenSolver::factorize(const SparseMatrixView& view) {
     factorized_ = true;
     return Status();
   }
-  std::copy(view.values, view.values + view.nnz(), matrix_.valuePtr());
-  ldlt_.factorize(matrix_);
+  double* values = permuted_.valuePtr();
+  for (size_t k = 0; k < source_entry_.size(); ++k) values[k] = view.values[source_entry_[k]];
+  ldlt_.factorizePreordered(permuted_);
   if (ldlt_.info() != Eigen::Success) {
     return Status(StatusCode::kNotPositiveDefinite, "Eigen: matrix is not positive definite (zero pivot)");
   }
   // D is in the permuted order; report the original row/column like CHOLMOD does.
-  const auto d = ldlt_.vectorD();
+  const Eigen::VectorXd& d = ldlt_.diagonal();
   for (int k = 0; k < d.size(); ++k) {
     if (!(d[k] > 0.0) || !std::isfinite(d[k])) {
-      return Status(StatusCode::kNotPositiveDefinite,
-                    "Eigen: matrix is not positive definite (pivot " + std::to_string(d[k]) + " at row/column " +
-                        std::to_string(ldlt_.permutationPinv().indices()[k]) + " of " + std::to_string(n) + ")");
+      const int original = static_cast<int>(std::find(new_position_.begin(), new_position_.end(), k) - new_position_.begin());
+      return Status(StatusCode::kNotPositiveDefinite, "Eigen: matrix is not positive definite (pivot " +
+                                                          std::to_string(d[k]) + " at row/column " +
+                                                          std::to_string(original) + " of " + std::to_string(n) + ")");
     }
   }
   factorized_ = true;
   return Status();
 }
 
+void EigenSolver::solvePermutedInPlace(Eigen::Ref<Eigen::VectorXd> y) const {
+  ldlt_.matrixL().solveInPlace(y);
+  y.array() /= ldlt_.diagonal().array();
+  ldlt_.matrixU().solveInPlace(y);
+}
+
 Status EigenSolver::solve(const double* b, double* x) {
   if (!factorized_) return Status(StatusCode::kFailedPrecondition, "Eigen solve before a successful factorize");
-  const int n = static_cast<int>(matrix_.rows());
+  const int n = static_cast<int>(work_.size());
   if (n == 0) return Status();
   if (b == nullptr || x == nullptr) return Status(StatusCode::kInvalidArgument, "Eigen solve: b or x is null");
-  // Solve into a temporary: b and x may alias.
-  const Eigen::VectorXd solution = ldlt_.solve(Eigen::Map<const Eigen::VectorXd>(b, n));
-  Eigen::Map<Eigen::VectorXd>(x, n) = solution;
+  // Through the work vector: b and x may alias.
+  for (int i = 0; i < n; ++i) work_[new_position_[i]] = b[i];
+  solvePermutedInPlace(work_);
+  for (int i = 0; i < n; ++i) x[i] = work_[new_position_[i]];
   return Status();
 }
 
 Status EigenSolver::solveColumns(const double* B, double* X, int n, int columns) {
   if (!factorized_) return Status(StatusCode::kFailedPrecondition, "Eigen solve before a successful factorize");
-  if (n != matrix_.rows() || columns < 0) {
+  if (n != static_cast<int>(work_.size()) || columns < 0) {
     return Status(StatusCode::kInvalidArgument, "Eigen solveColumns: wrong row count or a negative column count");
   }
   if (n == 0 || columns == 0) return Status();
   if (B == nullptr || X == nullptr) return Status(StatusCode::kInvalidArgument, "Eigen solveColumns: B or X is null");
-  Eigen::Map<Eigen::MatrixXd>(X, n, columns) = ldlt_.solve(Eigen::Map<const Eigen::MatrixXd>(B, n, columns));
+  for (int c = 0; c < columns; ++c) {
+    const size_t offset = static_cast<size_t>(c) * static_cast<size_t>(n);
+    DG_RETURN_IF_ERROR(solve(B + offset, X + offset));
+  }
   return Status();
 }
 
