@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/token_reader.h"
+#include "dual_graph/yaml_document.h"
 #include "types/se3_math.h"
 
 namespace dualgraph {
@@ -282,13 +283,14 @@ Result<LocalizerParams> parseLocalizerParams(const std::string& yaml_text, const
   LocalizerParams params;
   KeyMarks marks;
   try {
-    const std::vector<YAML::Node> documents = YAML::LoadAll(yaml_text);
-    if (documents.size() > 1) {
-      return Status(StatusCode::kParseError, location(source_name, documents[1].Mark()) +
+    // Not YAML::LoadAll: yaml-cpp 0.7's spins for ever on "[1]," (dual_graph/yaml_document.h).
+    const FirstYamlDocument document = loadFirstYamlDocument(yaml_text);
+    if (document.has_second) {
+      return Status(StatusCode::kParseError, location(source_name, document.second_mark) +
                                                  ": a second YAML document; put every field in one");
     }
-    if (!documents.empty() && !documents[0].IsNull()) {
-      auto mapping = fieldsMapping(source_name, documents[0], other_sections);
+    if (!document.node.IsNull()) {
+      auto mapping = fieldsMapping(source_name, document.node, other_sections);
       if (!mapping.ok()) return mapping.status();
       if (!mapping->IsNull()) DG_RETURN_IF_ERROR(readFields(source_name, *mapping, params, marks));
     }
