@@ -1,0 +1,176 @@
+// SPDX-License-Identifier: MIT
+// dualgraph.RunConfig, Sequence, GateFrontend, RunResult, load_sequence, run_sequence: what `dualgraph run`
+// does, from Python.
+#include <pybind11/stl.h>
+
+#include "arrays.h"
+#include "bindings.h"
+#include "errors.h"
+#include "frontend/gate_frontend.h"
+#include "frontend/run_config.h"
+#include "frontend/sequence_reader.h"
+#include "frontend/sequence_run.h"
+#include "py_localizer.h"
+
+namespace py = pybind11;
+using namespace pybind11::literals;
+
+namespace dualgraph::python {
+namespace {
+
+py::dict frontendCounters(const GateFrontendCounters& c) {
+  py::dict out;
+  out["detections"] = c.detections;
+  out["used"] = c.used;
+  out["reversed"] = c.reversed;
+  out["pnp_rejected"] = c.pnp_rejected;
+  out["not_associated"] = c.not_associated;
+  out["mapping_pending"] = c.mapping_pending;
+  return out;
+}
+
+py::tuple odometryArrays(const OdometryLog& log) {
+  std::vector<double> times;
+  IsometryList poses;
+  for (const OdometrySample& s : log.samples) {
+    times.push_back(s.t);
+    poses.push_back(s.odom_T_body);
+  }
+  return py::make_tuple(vectorArray(times), poseArrays(poses));
+}
+
+void bindSequence(py::module_& m) {
+  py::class_<Sequence>(m, "Sequence", "A sequence folder as `dualgraph simulate` writes it (DESIGN.md §6).")
+      .def_readonly("dir", &Sequence::dir)
+      .def_readonly("has_corners", &Sequence::has_corners)
+      .def_property_readonly("odometry", [](const Sequence& s) { return odometryArrays(s.odometry); },
+                             "(times (n,), odom_T_body (n, 7)).")
+      .def_property_readonly("odometry_matrices", [](const Sequence& s) {
+        py::array_t<double> out({static_cast<py::ssize_t>(s.odometry.samples.size()), py::ssize_t{4}, py::ssize_t{4}});
+        for (size_t k = 0; k < s.odometry.samples.size(); ++k) {
+          Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(out.mutable_data() + 16 * k) = s.odometry.samples[k].odom_T_body.matrix();
+        }
+        return out;
+      }, "odom_T_body (n, 4, 4), exactly as read.")
+      .def_property_readonly("odometry_covariances", [](const Sequence& s) {
+        py::list out;  // None where a sample has no relative covariance (the first one always)
+        for (const OdometrySample& sample : s.odometry.samples) {
+          if (sample.relative_covariance) out.append(matrixArray(*sample.relative_covariance)); else out.append(py::none());
+        }
+        return out;
+      }, "Per sample: the relative covariance (6, 6) metric [t; theta], or None.")
+      .def("odometry_pose_at", [](const Sequence& s, double t) {
+        const auto& samples = s.odometry.samples;
+        if (samples.empty()) raise(Status(StatusCode::kFailedPrecondition, s.dir + ": no odometry samples"));
+        return poseMatrix(samples.front().odom_T_body * unwrap(odometryIncrementBetween(samples, samples.front().t, t)));
+      }, "t"_a, "odom_T_body at t (4, 4), interpolated as `dualgraph run` does.")
+      .def_property_readonly("corners", [](const Sequence& s) {
+        std::vector<double> times;
+        std::vector<long long> ids;
+        py::array_t<double> pixels({static_cast<py::ssize_t>(s.corners.size()), py::ssize_t{4}, py::ssize_t{2}});
+        for (size_t i = 0; i < s.corners.size(); ++i) {
+          times.push_back(s.corners[i].t);
+          ids.push_back(s.corners[i].gate_id);
+          for (int c = 0; c < 4; ++c) {
+            pixels.mutable_data()[8 * i + 2 * c] = s.corners[i].corners[c].x();
+            pixels.mutable_data()[8 * i + 2 * c + 1] = s.corners[i].corners[c].y();
+          }
+        }
+        return py::make_tuple(vectorArray(times), py::array_t<long long>(static_cast<py::ssize_t>(ids.size()), ids.data()), pixels);
+      }, "(times (m,), gate_ids (m,), pixels (m, 4, 2) tl tr br bl [u v]).")
+      .def_readonly("pose_detections", &Sequence::pose_detections)
+      .def_property_readonly("gates", [](const Sequence& s) {
+        py::dict gates;
+        for (const auto& [id, pose] : unwrap(s.map.gateMap()).world_T_gate) gates[py::int_(id)] = poseArray(pose);
+        return gates;
+      }, "{gate_id: world_T_gate (7,)}")
+      .def_property_readonly("ground_truth", [](const Sequence& s) -> py::object {
+        if (!s.ground_truth) return py::none();
+        return odometryArrays(*s.ground_truth);
+      }, "(times, world_T_body (n, 7)) or None.");
+}
+
+void bindRun(py::module_& m) {
+  py::class_<SequenceRunParams>(m, "RunConfig", "`dualgraph run`'s configuration (data/config/default.yaml).")
+      .def(py::init<>())
+      .def_readwrite("localizer", &SequenceRunParams::localizer)
+      .def_readwrite("pose_detection_sigma_t", &SequenceRunParams::pose_detection_sigma_t)
+      .def_readwrite("pose_detection_sigma_r", &SequenceRunParams::pose_detection_sigma_r)
+      .def_property("trust_ids", [](const SequenceRunParams& p) { return p.frontend.trust_ids; },
+                    [](SequenceRunParams& p, bool v) { p.frontend.trust_ids = v; });
+  m.def("load_run_config", [](const std::string& path) { return unwrap(loadRunConfig(path)); }, "path"_a);
+
+  m.def("load_sequence",
+        [](const std::string& dir, const SequenceRunParams& config) {
+          Result<Sequence> sequence = [&] {
+            py::gil_scoped_release release;
+            return loadSequence(dir, config.defaultPoseDetectionCovariance());
+          }();
+          return unwrap(std::move(sequence));
+        },
+        "dir"_a, "config"_a = SequenceRunParams{}, "Reads a sequence folder (errors name file:line: field).");
+
+  py::class_<SequenceRunResult>(m, "RunResult", "The outputs of run_sequence (as `dualgraph run` writes them).")
+      .def_property_readonly("estimate", [](const SequenceRunResult& r) { return stampedPoses(r.estimate); },
+                             "(times, world_T_body (n, 7)) at every accepted odometry sample, causal.")
+      .def_property_readonly("keyframes", [](const SequenceRunResult& r) { return stampedPoses(r.keyframes); })
+      .def_property_readonly("stats", [](const SequenceRunResult& r) { return PyLocalizer::statsToList(r.stats); })
+      .def_property_readonly("localizer_counters", [](const SequenceRunResult& r) { return PyLocalizer::countersToDict(r.localizer_counters); })
+      .def_property_readonly("frontend_counters", [](const SequenceRunResult& r) { return frontendCounters(r.frontend_counters); })
+      .def_readonly("detections_before_odometry", &SequenceRunResult::detections_before_odometry)
+      .def_readonly("detections_after_odometry", &SequenceRunResult::detections_after_odometry)
+      .def_readonly("observations_rejected", &SequenceRunResult::observations_rejected)
+      .def_readonly("wall_seconds", &SequenceRunResult::wall_seconds);
+  m.def("run_sequence",
+        [](const Sequence& sequence, const SequenceRunParams& config) {
+          Result<SequenceRunResult> run = [&] {
+            py::gil_scoped_release release;
+            return runSequence(sequence, config);
+          }();
+          return unwrap(std::move(run));
+        },
+        "sequence"_a, "config"_a = SequenceRunParams{}, "The frontend and the Localizer over a sequence, as `dualgraph run`.");
+}
+
+void bindGateFrontend(py::module_& m) {
+  py::class_<GateFrontend>(m, "GateFrontend", "Corners -> PnP -> association with the map at world_T_body -> observations.")
+      .def(py::init([](const Sequence& sequence, const SequenceRunParams& config) {
+             GateFrontendParams params = config.frontend;
+             params.mapping = config.localizer.mapping;
+             return unwrap(GateFrontend::create(params, sequence.map, sequence.camera));
+           }),
+           "sequence"_a, "config"_a = SequenceRunParams{}, "The sequence's map and camera, the config's frontend section.")
+      .def("process_corners",
+           [](GateFrontend& f, double t, py::handle gate_ids, py::handle pixels, py::handle world_T_body) {
+             const std::vector<int> ids = toIds(gate_ids, "gate_ids", -1, -1);  // -1: unknown, the association decides
+             DoubleArray corners = toDoubles(pixels, "pixels");
+             if (corners.ndim() != 3 || corners.shape(0) != static_cast<py::ssize_t>(ids.size()) || corners.shape(1) != 4 || corners.shape(2) != 2) {
+               raiseInvalid("pixels: expected shape (" + std::to_string(ids.size()) + ", 4, 2), got " + shapeString(corners));
+             }
+             requireFinite(corners, "pixels");
+             std::vector<CornerDetection> image(ids.size());
+             for (size_t i = 0; i < ids.size(); ++i) {
+               image[i].t = t;
+               image[i].gate_id = ids[i];
+               for (int c = 0; c < 4; ++c) image[i].corners[c] = Eigen::Vector2d(corners.data()[8 * i + 2 * c], corners.data()[8 * i + 2 * c + 1]);
+             }
+             return unwrap(f.processCorners(image, toPose(world_T_body, "world_T_body")));
+           },
+           "t"_a, "gate_ids"_a, "pixels"_a, "world_T_body"_a, "One image's corner detections -> observations with map ids.")
+      .def("process_poses",
+           [](GateFrontend& f, const std::vector<GateObservation>& detections, py::handle world_T_body) {
+             return unwrap(f.processPoses(detections, toPose(world_T_body, "world_T_body")));
+           },
+           "detections"_a, "world_T_body"_a)
+      .def("counters", [](const GateFrontend& f) { return frontendCounters(f.counters()); });
+}
+
+}  // namespace
+
+void bindFrontend(py::module_& m) {
+  bindSequence(m);
+  bindRun(m);
+  bindGateFrontend(m);
+}
+
+}  // namespace dualgraph::python

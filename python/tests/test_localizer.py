@@ -1,0 +1,149 @@
+# SPDX-License-Identifier: MIT
+"""The Localizer from Python gives the same estimate as `dualgraph run` on the same sequence."""
+import os
+import shutil
+import tempfile
+import unittest
+
+import numpy as np
+
+import dualgraph
+from common import SOURCE_DIR, pose_matrices, read_tum, run_cli
+
+CONFIG = os.path.join(SOURCE_DIR, "data", "config", "default.yaml")
+TRACK = os.path.join(SOURCE_DIR, "data", "tracks", "ratm_ellipse.yaml")
+
+
+def localize_in_python(sequence, config):
+    """runSequence (frontend/sequence_run.cpp) written out in Python: odometry in time order; after each sample,
+    every detection up to its time, one instant at a time, through the GateFrontend at the corrected pose of
+    that instant and on to the Localizer. Returns (times, world_T_body (n, 7)) at every sample."""
+    localizer = dualgraph.Localizer(config.localizer, sequence.gates)
+    frontend = dualgraph.GateFrontend(sequence, config)
+    times, _ = sequence.odometry
+    matrices = sequence.odometry_matrices
+    covariances = sequence.odometry_covariances
+    if sequence.has_corners:
+        det_times, det_ids, det_pixels = sequence.corners
+    else:
+        detections = sequence.pose_detections
+        det_times = np.array([d.t for d in detections])
+    next_detection = int(np.searchsorted(det_times, times[0], side="left"))  # earlier ones are not usable
+    estimate = []
+    for k, t in enumerate(times):
+        estimate.append(localizer.add_odometry(t, matrices[k], covariances[k]))
+        while next_detection < len(det_times) and det_times[next_detection] <= t:
+            instant = det_times[next_detection]
+            end = next_detection
+            while end < len(det_times) and det_times[end] == instant:
+                end += 1
+            world_T_body = localizer.map_T_odom_matrix @ sequence.odometry_pose_at(instant)
+            if sequence.has_corners:
+                observations = frontend.process_corners(instant, det_ids[next_detection:end],
+                                                        det_pixels[next_detection:end], world_T_body)
+            else:
+                observations = frontend.process_poses(detections[next_detection:end], world_T_body)
+            for observation in observations:
+                try:
+                    localizer.add_observation(observation)
+                except dualgraph.Error:
+                    pass  # counted by the Localizer, as in `dualgraph run`
+            next_detection = end
+    localizer.finish()
+    return np.array(times), np.array(estimate), localizer
+
+
+class SameAsTheCli(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="dualgraph_python_")
+        cls.sequence_dir = os.path.join(cls.tmp, "sequence")
+        cls.run_dir = os.path.join(cls.tmp, "run")
+        run_cli("simulate", "--track", TRACK, "--seed", "1", "--laps", "1", "--no-plot", "--out", cls.sequence_dir)
+        run_cli("run", "--sequence", cls.sequence_dir, "--out", cls.run_dir, "--quiet")
+        cls.config = dualgraph.load_run_config(CONFIG)
+        cls.sequence = dualgraph.load_sequence(cls.sequence_dir, cls.config)
+        cls.cli_times, cls.cli_poses = read_tum(os.path.join(cls.run_dir, "estimate.tum"))
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def assertSameTrajectory(self, times, poses, cli_times, cli_poses):
+        self.assertEqual(len(times), len(cli_times))
+        np.testing.assert_array_equal(times, cli_times)  # 17 significant digits in the file: exact
+        np.testing.assert_allclose(pose_matrices(poses), pose_matrices(cli_poses), rtol=0, atol=1e-12)
+
+    def test_run_sequence_equals_dualgraph_run(self):
+        result = dualgraph.run_sequence(self.sequence, self.config)
+        times, poses = result.estimate
+        self.assertSameTrajectory(times, poses, self.cli_times, self.cli_poses)
+        kf_times, kf_poses = result.keyframes
+        cli_kf_times, cli_kf_poses = read_tum(os.path.join(self.run_dir, "keyframes.tum"))
+        self.assertSameTrajectory(kf_times, kf_poses, cli_kf_times, cli_kf_poses)
+        stats_rows = np.loadtxt(os.path.join(self.run_dir, "stats.csv"), delimiter=",", skiprows=1, usecols=(0, 2, 3),
+                                ndmin=2)
+        # stats.csv starts with keyframe 0 (not an optimisation), then one row per optimisation.
+        self.assertEqual(len(result.stats), len(stats_rows) - 1)
+        self.assertEqual([(r["main_vertices"], r["main_edges"]) for r in result.stats],
+                         [(int(n), int(e)) for _, n, e in stats_rows[1:]])
+
+    def test_localizer_driven_from_python_equals_dualgraph_run(self):
+        times, poses, localizer = localize_in_python(self.sequence, self.config)
+        self.assertSameTrajectory(times, poses, self.cli_times, self.cli_poses)
+        counters = localizer.counters()
+        self.assertEqual(counters["odometry_accepted"], len(times))
+        self.assertGreater(counters["observations_accepted"], 100)
+        stats = localizer.stats()
+        self.assertGreater(len(stats), 10)
+        self.assertGreater(sum(row["gate_edges_added"] for row in stats), 10)
+        # The correction is real: against the ground truth, far below the VIO's error.
+        gt_times, gt_poses = self.sequence.ground_truth
+        _, vio = self.sequence.odometry
+        last = int(np.searchsorted(gt_times, times[-1]))
+        vio_error = np.linalg.norm(vio[-1, :3] - gt_poses[min(last, len(gt_times) - 1), :3])
+        self.assertLess(np.linalg.norm(poses[-1, :3] - gt_poses[min(last, len(gt_times) - 1), :3]), 0.5 * vio_error)
+
+
+class Synthetic(unittest.TestCase):
+    def test_circle_flight_with_yaw_drift(self):
+        radius, speed, drift = 10.0, 5.0, 0.02
+        omega = speed / radius
+
+        def on_circle(phi):
+            pose = np.eye(4)
+            pose[:3, 3] = [radius * np.cos(phi), radius * np.sin(phi), 1.5]
+            c, s = np.cos(phi + np.pi / 2), np.sin(phi + np.pi / 2)
+            pose[:2, :2] = [[c, -s], [s, c]]
+            return pose
+
+        def yaw(angle):
+            pose = np.eye(4)
+            pose[:2, :2] = [[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]]
+            return pose
+
+        gates = {g: on_circle(np.pi / 4 + g * np.pi / 2) for g in range(4)}
+        localizer = dualgraph.Localizer(dualgraph.LocalizerParams(), gates)
+        covariance = np.diag([0.05 ** 2] * 3 + [0.02 ** 2] * 3)
+        duration = 2 * 2 * np.pi / omega
+        for k in range(int(duration / 0.02)):
+            t = 0.02 * k
+            world_T_body = on_circle(omega * t)
+            corrected = localizer.add_odometry(t, yaw(drift * t) @ world_T_body, as_matrix=True)
+            if k % 5 == 0:
+                for gate_id, world_T_gate in gates.items():
+                    body_T_gate = np.linalg.inv(world_T_body) @ world_T_gate
+                    if 1.0 < body_T_gate[0, 3] < 8.0:
+                        localizer.add_pose_observation(t, gate_id, body_T_gate, covariance)
+        localizer.finish()
+        vio_error = np.linalg.norm((yaw(drift * t) @ world_T_body)[:3, 3] - world_T_body[:3, 3])
+        self.assertGreater(vio_error, 1.0)
+        self.assertLess(np.linalg.norm(corrected[:3, 3] - world_T_body[:3, 3]), 0.1 * vio_error)
+        times, keyframes = localizer.keyframes()
+        self.assertEqual(len(times), len(keyframes))
+        self.assertEqual(localizer.stats()[-1]["main_vertices"], len(times) + len(gates))
+        self.assertEqual(localizer.counters()["observations_rejected"], 0)
+
+
+if __name__ == "__main__":
+    unittest.main()
