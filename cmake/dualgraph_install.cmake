@@ -28,10 +28,11 @@ foreach(_name ${DUALGRAPH_EXPORTED_LIBRARIES})
     SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR}
     POSITION_INDEPENDENT_CODE ON)
   list(APPEND _dualgraph_install_targets dualgraph_${_name})
-  # Headers keep the repository's include layout; yaml_fields.h is private to the frontend (includes yaml-cpp).
+  # Headers keep the repository's include layout. The private ones include yaml-cpp or OpenCV, which the
+  # package does not promise its users (.ci/install-example fails if an installed header includes them).
   install(DIRECTORY "${PROJECT_SOURCE_DIR}/${_name}/"
           DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/dualgraph/${_name}"
-          FILES_MATCHING PATTERN "*.h" PATTERN "yaml_fields.h" EXCLUDE)
+          FILES_MATCHING PATTERN "*.h" PATTERN "yaml_fields.h" EXCLUDE PATTERN "yaml_document.h" EXCLUDE)
 endforeach()
 
 install(TARGETS ${_dualgraph_install_targets}
