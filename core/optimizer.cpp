@@ -105,6 +105,7 @@ const char* terminationReasonName(TerminationReason reason) {
     case TerminationReason::kInvalidInput: return "invalid_input";
     case TerminationReason::kNothingToOptimize: return "nothing_to_optimize";
     case TerminationReason::kLinearSolverFailure: return "linear_solver_failure";
+    case TerminationReason::kNumericalFailure: return "numerical_failure";
   }
   return "unknown";
 }
@@ -178,6 +179,37 @@ Status Optimizer::solveStep(SolverSummary& summary) {
   PhaseTimer timer(summary.solve_ms);
   DG_RETURN_IF_ERROR(solver_->solve(system_.rhs().data(), step_.data()));
   if (!step_.allFinite()) return Status(StatusCode::kNumericalError, "non-finite step");
+  return Status();
+}
+
+Status Optimizer::findNonFiniteSystem() const {
+  for (const EdgeBase* edge : system_.activeEdges()) {
+    const auto& vertices = edge->vertices();
+    for (size_t i = 0; i < vertices.size(); ++i) {
+      if (vertices[i]->fixed()) continue;
+      const double* jacobian = edge->jacobianData(i);
+      const int size = edge->errorDim() * vertices[i]->tangentDim();
+      if (std::all_of(jacobian, jacobian + size, [](double x) { return std::isfinite(x); })) continue;
+      std::string message = "the Jacobian of the edge between vertices";
+      for (const VertexBase* v : vertices) message += " " + std::to_string(v->id());
+      if (edge->sourceLine() > 0) message += " (line " + std::to_string(edge->sourceLine()) + ")";
+      message += " with respect to vertex " + std::to_string(vertices[i]->id()) + " is not finite";
+      return Status(StatusCode::kNumericalError, message);
+    }
+  }
+  const SparseMatrixView h = system_.matrix();
+  for (int column = 0; column < h.n; ++column) {
+    bool finite = std::isfinite(system_.rhs()[column]);
+    for (int k = h.col_ptr[column]; finite && k < h.col_ptr[column + 1]; ++k) finite = std::isfinite(h.values[k]);
+    if (finite) continue;
+    for (const VertexBase* v : system_.activeVertices()) {
+      const int offset = system_.offsetOf(v);
+      if (column >= offset && column < offset + v->tangentDim()) {
+        return Status(StatusCode::kNumericalError, "H or b is not finite in the rows of vertex " + std::to_string(v->id()));
+      }
+    }
+    return Status(StatusCode::kNumericalError, "H or b is not finite at row " + std::to_string(column));
+  }
   return Status();
 }
 

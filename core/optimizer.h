@@ -14,16 +14,35 @@ namespace dualgraph {
 
 enum class Algorithm { kLevenbergMarquardt, kGaussNewton };
 
-/// Why `Optimizer::optimize` stopped. The estimate is always left at the best accepted state.
+/// Why `Optimizer::optimize` stopped. The estimate is always left at the last accepted state
+/// (bit for bit: rejected trials are undone from a saved copy, never by a reverse step); when
+/// nothing was accepted, at the start.
+///
+/// Faults and what each gives (test/core/optimizer_faults_test.cpp, both solvers):
+/// - gauge freedom (nothing fixed, no prior) or an unanchored component: LM's damping λI makes
+///   every trial system positive definite and its steps have no component along the free gauge
+///   beyond round-off, so LM converges (kConverged) to the optimum of the anchored problem. GN
+///   either meets a non-positive pivot (kNotPositiveDefinite, start kept) or, when round-off
+///   pivots pass, walks off along the gauge and ends above the initial χ² (kNoDecrease, start kept).
+/// - all vertices fixed: kNothingToOptimize; a NaN/Inf error at the start: kInvalidInput naming
+///   the edge and its line; a NaN/Inf Jacobian: kNumericalFailure naming the edge and vertex
+///   (no damping retries: λ cannot repair a NaN).
+/// - a system that is not positive definite at every damping level (e.g. an indefinite
+///   information matrix set through the API): kNotPositiveDefinite after `max_trials` factorisations.
+/// - a divergent step (χ² non-finite or, for LM, not lower): LM rejects it and retries with more
+///   damping, then kNoDecrease; GN stops with kNoDecrease at the previous estimate.
 enum class TerminationReason {
   kConverged,            ///< an accepted step decreased χ² (relatively) or moved less than the thresholds
   kMaxIterations,        ///< the iteration cap was reached
-  kNoDecrease,           ///< LM found no decreasing step within `max_trials` damping increases
+  /// LM found no decreasing step within `max_trials` damping increases; GN took a step to a
+  /// non-finite χ², or ended above the initial χ² and restored the start (GN has no step control)
+  kNoDecrease,
   kTimeBudget,           ///< the wall-time budget was used up
   kNotPositiveDefinite,  ///< the system could not be factorised (GN, or LM at every damping level)
   kInvalidInput,         ///< non-finite χ² at the start (an edge's error or information is NaN/Inf)
   kNothingToOptimize,    ///< no free vertex is attached to an edge
   kLinearSolverFailure,  ///< the linear solver failed for another reason (message says why)
+  kNumericalFailure,     ///< H or b became non-finite (an edge's Jacobian is NaN/Inf; message names the vertex)
 };
 const char* terminationReasonName(TerminationReason reason);
 
@@ -110,6 +129,11 @@ class Optimizer {
   void runGaussNewton(const OptimizerParams& params, SolverSummary& summary);
   /// Factorises the current values and solves for Δ into step_.
   Status solveStep(SolverSummary& summary);
+  /// After a failed solve only (O(edges)): a kNumericalError naming the first edge whose Jacobian
+  /// (or, failing that, the row of H or b) is not finite; OK when H and b are finite.
+  Status findNonFiniteSystem() const;
+  /// Gauss–Newton's iterations proper; runGaussNewton wraps them with the start-state rule.
+  void runGaussNewtonSteps(const OptimizerParams& params, SolverSummary& summary);
 
   Graph& graph_;
   std::unique_ptr<LinearSolver> solver_;

@@ -2,6 +2,8 @@
 // The iteration loops of `Optimizer` (Levenberg–Marquardt and Gauss–Newton).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "core/optimizer.h"
 #include "core/wall_clock.h"
@@ -54,6 +56,13 @@ void Optimizer::runLevenbergMarquardt(const OptimizerParams& params, SolverSumma
             last_failure.code() != StatusCode::kNumericalError) {
           summary.termination = TerminationReason::kLinearSolverFailure;
           summary.message = last_failure.message();
+          return;
+        }
+        // Damping cannot repair a NaN in H or b (a non-finite Jacobian): stop instead of retrying.
+        const Status non_finite = findNonFiniteSystem();
+        if (!non_finite.ok()) {
+          summary.termination = TerminationReason::kNumericalFailure;
+          summary.message = non_finite.message();
           return;
         }
         lambda *= nu;
@@ -125,7 +134,31 @@ void Optimizer::runLevenbergMarquardt(const OptimizerParams& params, SolverSumma
   }
 }
 
+// Gauss–Newton has no step control: it accepts every finite step, even one that raises χ² (on
+// sphere2500 it climbs twice before converging, as in g2o). So that an undamped run can never leave
+// a worse estimate than it started from (a free gauge whose round-off pivots pass the factorisation
+// walks off to χ² ≈ 1e13 on parking-garage), the start is kept on the vertices' stacks and restored
+// when the run ends above the initial χ², as kNoDecrease with the reason in the message.
 void Optimizer::runGaussNewton(const OptimizerParams& params, SolverSummary& summary) {
+  const auto& active = system_.activeVertices();
+  pushAll(active);
+  runGaussNewtonSteps(params, summary);
+  if (!(summary.final_chi2 > summary.initial_chi2)) {
+    discardAll(active);
+    return;
+  }
+  popAll(active);
+  errors_stale_ = true;
+  char values[96];
+  std::snprintf(values, sizeof(values), "%.9g above the start's %.9g", summary.final_chi2, summary.initial_chi2);
+  summary.message = std::string("Gauss-Newton ended at χ² ") + values + " (" + terminationReasonName(summary.termination) +
+                    (summary.message.empty() ? "" : ": " + summary.message) +
+                    "); the start estimate is kept (is the gauge fixed? Levenberg-Marquardt controls its steps)";
+  summary.termination = TerminationReason::kNoDecrease;
+  summary.final_chi2 = summary.initial_chi2;
+}
+
+void Optimizer::runGaussNewtonSteps(const OptimizerParams& params, SolverSummary& summary) {
   const auto& active = system_.activeVertices();
   double chi2 = summary.initial_chi2;
   summary.termination = TerminationReason::kMaxIterations;
@@ -135,6 +168,12 @@ void Optimizer::runGaussNewton(const OptimizerParams& params, SolverSummary& sum
     if (iteration > 1) linearizeAndAssemble(summary);
     system_.setDamping(0.0);
     const Status solved = solveStep(summary);
+    const Status non_finite = solved.ok() ? Status() : findNonFiniteSystem();
+    if (!non_finite.ok()) {
+      summary.termination = TerminationReason::kNumericalFailure;
+      summary.message = non_finite.message();
+      return;
+    }
     if (!solved.ok()) {
       summary.termination = solved.code() == StatusCode::kNotPositiveDefinite ||
                                     solved.code() == StatusCode::kNumericalError

@@ -423,7 +423,8 @@ TEST(TerminationReason, NamesAreDistinctAndUsableMeansAnOptimumOrABudget) {
       TerminationReason::kConverged,          TerminationReason::kMaxIterations,
       TerminationReason::kNoDecrease,         TerminationReason::kTimeBudget,
       TerminationReason::kNotPositiveDefinite, TerminationReason::kInvalidInput,
-      TerminationReason::kNothingToOptimize,  TerminationReason::kLinearSolverFailure};
+      TerminationReason::kNothingToOptimize,  TerminationReason::kLinearSolverFailure,
+      TerminationReason::kNumericalFailure};
   std::set<std::string> names;
   for (TerminationReason reason : all) {
     names.insert(terminationReasonName(reason));
