@@ -26,7 +26,8 @@ foreach(_name ${DUALGRAPH_EXPORTED_LIBRARIES})
     EXPORT_NAME ${_name}
     VERSION ${PROJECT_VERSION}
     SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR}
-    POSITION_INDEPENDENT_CODE ON)
+    POSITION_INDEPENDENT_CODE ON
+    INSTALL_RPATH "$ORIGIN")  # shared builds: an installed library finds its siblings (frontend → solvers)
   list(APPEND _dualgraph_install_targets dualgraph_${_name})
   # Headers keep the repository's include layout. The private ones include yaml-cpp or OpenCV, which the
   # package does not promise its users (.ci/install-example fails if an installed header includes them).
