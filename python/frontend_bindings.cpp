@@ -101,7 +101,7 @@ void bindRun(py::module_& m) {
   m.def("load_run_config", [](const std::string& path) { return unwrap(loadRunConfig(path)); }, "path"_a);
 
   m.def("load_sequence",
-        [](const std::string& dir, const SequenceRunParams& config) {
+        [](const std::string& dir, SequenceRunParams config) {  // a copy: read without the GIL
           Result<Sequence> sequence = [&] {
             py::gil_scoped_release release;
             return loadSequence(dir, config.defaultPoseDetectionCovariance());
@@ -122,7 +122,7 @@ void bindRun(py::module_& m) {
       .def_readonly("observations_rejected", &SequenceRunResult::observations_rejected)
       .def_readonly("wall_seconds", &SequenceRunResult::wall_seconds);
   m.def("run_sequence",
-        [](const Sequence& sequence, const SequenceRunParams& config) {
+        [](const Sequence& sequence, SequenceRunParams config) {  // Sequence is read-only from Python
           Result<SequenceRunResult> run = [&] {
             py::gil_scoped_release release;
             return runSequence(sequence, config);

@@ -143,11 +143,8 @@ SolverSummary PyGraph::optimize(const OptimizeOptions& options) {
   params.relative_decrease_stop = options.relative_decrease_stop;
   params.time_budget_ms = options.time_budget_ms;
   Optimizer& optimizer_ref = optimizer(unwrap(parseLinearSolverKind(options.linear_solver)));
-  SolverSummary summary;
-  {
-    py::gil_scoped_release release;
-    summary = optimizer_ref.optimize(params);
-  }
+  // The GIL stays held: a Graph is not thread-safe, and another thread must not change it mid-solve.
+  const SolverSummary summary = optimizer_ref.optimize(params);
   if (options.check && !summary.usable()) {
     const std::string name = terminationReasonName(summary.termination);
     raiseOptimizationError(name, summary.message.empty() ? name : name + ": " + summary.message);
@@ -157,14 +154,9 @@ SolverSummary PyGraph::optimize(const OptimizeOptions& options) {
 
 py::array_t<double> PyGraph::marginals(py::handle ids_object, bool metric) {
   const std::vector<int> ids = toIds(ids_object, "ids");
-  std::optional<Result<Eigen::MatrixXd>> joint;
-  {
-    py::gil_scoped_release release;
-    MarginalCovariance marginal;
-    const Status computed = marginal.compute(optimizer(optimizer_kind_), graph_);
-    joint.emplace(computed.ok() ? marginal.jointBlock(ids) : Result<Eigen::MatrixXd>(computed));
-  }
-  Eigen::MatrixXd covariance = unwrap(std::move(*joint));
+  MarginalCovariance marginal;
+  check(marginal.compute(optimizer(optimizer_kind_), graph_));
+  Eigen::MatrixXd covariance = unwrap(marginal.jointBlock(ids));
   if (metric) {  // g2o's [δt; δq] chart of VertexSE3 → metric [δt; δθ]: Σ_metric = D Σ D, D = diag(1,1,1,2,2,2)
     Eigen::VectorXd scale = Eigen::VectorXd::Ones(covariance.rows());
     long offset = 0;

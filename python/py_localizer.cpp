@@ -37,24 +37,13 @@ py::array_t<double> PyLocalizer::addOdometry(double t, py::handle odom_T_body, p
   sample.t = t;
   sample.odom_T_body = toPose(odom_T_body, "odom_T_body");
   if (!covariance.is_none()) sample.relative_covariance = Matrix6d(toMatrix(covariance, "covariance", 6, 6));
-  Result<CorrectedPose> corrected = [&] {
-    py::gil_scoped_release release;
-    return localizer_->addOdometry(sample);
-  }();
-  const CorrectedPose pose = unwrap(std::move(corrected));
+  const CorrectedPose pose = unwrap(localizer_->addOdometry(sample));  // GIL held: a Localizer is not thread-safe
   return as_matrix ? poseMatrix(pose.world_T_body) : poseArray(pose.world_T_body);
 }
 
 void PyLocalizer::addObservation(const GateObservation& observation) { check(localizer_->addObservation(observation)); }
 
-void PyLocalizer::finish() {
-  Status finished;
-  {
-    py::gil_scoped_release release;
-    finished = localizer_->finish();
-  }
-  check(finished);
-}
+void PyLocalizer::finish() { check(localizer_->finish()); }
 
 py::tuple PyLocalizer::keyframes() const { return stampedPoses(localizer_->keyframeTrajectory()); }
 
