@@ -8,6 +8,7 @@
 #include <sstream>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/token_reader.h"
 #include "frontend/yaml_fields.h"
 
@@ -129,12 +130,11 @@ std::string cameraToYaml(const CameraModel& camera) {
 
 Status saveCameraYaml(const std::string& path, const CameraModel& camera) {
   DG_RETURN_IF_ERROR(camera.validate());
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) return Status(StatusCode::kIoError, path + ": cannot open for writing");
-  out << cameraToYaml(camera);
-  out.flush();
-  if (!out) return Status(StatusCode::kIoError, path + ": write failed");
-  return Status::okStatus();
+  const std::string text = cameraToYaml(camera);
+  return writeFileAtomically(path, [&text](std::ostream& out) {
+    out << text;
+    return Status();
+  });
 }
 
 Result<CameraModel> loadRatmCalibrationJson(const std::string& path, CameraModel::Distortion model, int width,

@@ -31,7 +31,8 @@ Result<CameraModel> parseCameraYaml(const std::string& yaml_text, const std::str
 /// The YAML text of `camera` in the schema above (fx fy cx cy form, 17 significant digits, so
 /// parseCameraYaml gives the same doubles back).
 std::string cameraToYaml(const CameraModel& camera);
-/// Writes cameraToYaml(camera) to `path` (kIoError on failure, kInvalidArgument if camera is invalid).
+/// Writes cameraToYaml(camera) to `path`, atomically (temporary file + rename; kIoError on failure,
+/// kInvalidArgument if camera is invalid).
 Status saveCameraYaml(const std::string& path, const CameraModel& camera);
 
 /// Reads an OpenCV calibration JSON as the RATM dataset ships it

@@ -13,6 +13,7 @@
 #include "frontend/track_io.h"
 #include "tools/ablation_tables.h"
 #include "tools/simulate_command.h"
+#include "tools/staged_folder.h"
 
 namespace dualgraph::tools {
 namespace {
@@ -70,10 +71,12 @@ int runAblationCommand(const AblationOptions& o) {
   auto camera = loadCameraYaml(data + "/cameras/ratm_piloted.yaml");
   if (!camera.ok()) return fail(camera.status().message());
   const std::filesystem::path out(o.out);
-
-  std::error_code error;
-  std::filesystem::create_directories(out, error);
-  if (error) return fail(o.out + ": cannot create the folder: " + error.message());
+  // Sequences and tables are staged and moved into --out only when the whole ablation succeeded.
+  auto staged = StagedFolder::create(o.out);
+  if (!staged.ok()) return fail(staged.status().message());
+  auto failStaged = [&](const std::string& message) {
+    return fail(staged->unstaged(Status(StatusCode::kIoError, message)).message());
+  };
   std::vector<AblationRow> rows;
   for (const std::string& track_path : tracks) {
     auto track = loadTrackYaml(track_path);
@@ -88,11 +91,11 @@ int runAblationCommand(const AblationOptions& o) {
       }
       auto race = simulateRace(*track, *camera, sim);
       if (!race.ok()) return fail(track_path + ": " + race.status().message());
-      const std::string folder = (out / "sequences" / (track_name + "_seed" + std::to_string(seed))).string();
+      const std::string folder = staged->file("sequences/" + track_name + "_seed" + std::to_string(seed));
       const Status written = writeSequence(folder, *race, *track, *camera, sim);
-      if (!written.ok()) return fail(written.message());
+      if (!written.ok()) return failStaged(written.message());
       auto sequence = loadSequence(folder, base->defaultPoseDetectionCovariance());
-      if (!sequence.ok()) return fail(sequence.status().message());
+      if (!sequence.ok()) return failStaged(sequence.status().message());
       for (const Variant& v : variants()) {
         SequenceRunParams params = *base;
         params.localizer.mode = v.mode;
@@ -103,9 +106,9 @@ int runAblationCommand(const AblationOptions& o) {
           params.localizer.d_single = v.d_main_or_single;
         }
         auto run = runSequence(*sequence, params);
-        if (!run.ok()) return fail(folder + " (" + v.name + "): " + run.status().message());
+        if (!run.ok()) return failStaged(folder + " (" + v.name + "): " + run.status().message());
         auto metrics = computeRunMetrics(*sequence, *run);
-        if (!metrics.ok()) return fail(folder + " (" + v.name + "): " + metrics.status().message());
+        if (!metrics.ok()) return failStaged(folder + " (" + v.name + "): " + metrics.status().message());
         rows.push_back({track_name, seed, v.name, *metrics});
         if (!o.quiet) {
           std::cerr << "ablation: " << track_name << " seed " << seed << " " << v.name << ": ATE "
@@ -115,8 +118,10 @@ int runAblationCommand(const AblationOptions& o) {
       }
     }
   }
-  const Status tables = writeAblationTables(out, rows);
-  if (!tables.ok()) return fail(tables.message());
+  const Status tables = writeAblationTables(staged->path(), rows);
+  if (!tables.ok()) return failStaged(tables.message());
+  const Status committed = staged->commit();
+  if (!committed.ok()) return fail(committed.message());
   if (!o.quiet) std::cerr << "ablation: wrote " << (out / "tables.md").string() << "\n";
   return 0;
 }

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "frontend/run_report.h"
+#include "tools/staged_folder.h"
 
 namespace dualgraph::tools {
 namespace {
@@ -32,13 +33,16 @@ int runReportCommand(const ReportOptions& o) {
     if (!run.ok()) return fail(run.status().message());
     runs.push_back(std::move(*run));
   }
-  const std::filesystem::path folder = std::filesystem::path(o.out).parent_path();
-  std::error_code error;
-  if (!folder.empty()) std::filesystem::create_directories(folder, error);
-  if (error) return fail(folder.string() + ": cannot create the folder: " + error.message());
+  // The HTML and its PNGs are staged in a folder next to --out and moved there together.
+  const std::filesystem::path out(o.out);
+  auto staged = StagedFolder::create(out.parent_path().string());
+  if (!staged.ok()) return fail(staged.status().message());
   std::vector<std::string> written;
-  const Status status = writeRunReport(std::move(runs), o.out, &written);
-  if (!status.ok()) return fail(status.message());
+  const Status status = writeRunReport(std::move(runs), staged->file(out.filename().string()), &written);
+  if (!status.ok()) return fail(staged->unstaged(status).message());
+  const Status committed = staged->commit();
+  if (!committed.ok()) return fail(committed.message());
+  std::error_code error;
   const auto bytes = std::filesystem::file_size(o.out, error);
   std::cout << "dualgraph report: " << o.runs.size() << (o.runs.size() == 1 ? " run" : " runs") << ", wrote " << o.out
             << " (" << (error ? 0 : bytes / 1024) << " KiB) and " << written.size() - 1 << " PNG files next to it\n";

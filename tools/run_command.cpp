@@ -16,6 +16,7 @@
 #include "frontend/trajectory_io.h"
 #include "tools/json_writer.h"
 #include "tools/simulate_command.h"
+#include "tools/staged_folder.h"
 
 namespace dualgraph::tools {
 namespace {
@@ -151,20 +152,22 @@ int runRunCommand(const RunOptions& o) {
   auto metrics = computeRunMetrics(*sequence, *run);
   if (!metrics.ok()) return fail(o.sequence + ": " + metrics.status().message());
 
-  std::error_code error;
-  std::filesystem::create_directories(o.out, error);
-  if (error) return fail(o.out + ": cannot create the folder: " + error.message());
-  const std::filesystem::path out(o.out);
-  for (const Status& written : {writeTum((out / "estimate.tum").string(), stamped(run->estimate)),
-                                writeTum((out / "keyframes.tum").string(), stamped(run->keyframes)),
-                                writeStats((out / "stats.csv").string(), run->stats, run->keyframes, params->localizer),
-                                writeRunYaml((out / "run.yaml").string(), o.sequence, params->localizer)}) {
-    if (!written.ok()) return fail(written.message());
+  // Every output is written into a staging folder first and moved into --out only when all were
+  // written: a failure leaves no partial run (a half-written folder would mix with an older run's files).
+  auto staged = StagedFolder::create(o.out);
+  if (!staged.ok()) return fail(staged.status().message());
+  for (const Status& written : {writeTum(staged->file("estimate.tum"), stamped(run->estimate)),
+                                writeTum(staged->file("keyframes.tum"), stamped(run->keyframes)),
+                                writeStats(staged->file("stats.csv"), run->stats, run->keyframes, params->localizer),
+                                writeRunYaml(staged->file("run.yaml"), o.sequence, params->localizer)}) {
+    if (!written.ok()) return fail(staged->unstaged(written).message());
   }
   if (metrics->has_ground_truth) {
-    const Status written = writeJsonFile((out / "metrics.json").string(), metricsJson(*metrics, *run));
-    if (!written.ok()) return fail(written.message());
+    const Status written = writeJsonFile(staged->file("metrics.json"), metricsJson(*metrics, *run));
+    if (!written.ok()) return fail(staged->unstaged(written).message());
   }
+  const Status committed = staged->commit();
+  if (!committed.ok()) return fail(committed.message());
   if (o.quiet) return 0;
   std::cout << std::setprecision(4) << "dualgraph run (" << localizerModeName(params->localizer.mode) << "): "
             << run->estimate.size() << " poses, " << metrics->keyframes << " keyframes, main graph " << metrics->nodes

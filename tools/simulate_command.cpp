@@ -9,6 +9,7 @@
 #include "frontend/camera_io.h"
 #include "frontend/track_io.h"
 #include "frontend/xy_plot.h"
+#include "tools/staged_folder.h"
 
 namespace dualgraph::tools {
 namespace {
@@ -96,12 +97,17 @@ int runSimulateCommand(SimulateOptions o) {
   }
   auto race = simulateRace(*track, *camera, p);
   if (!race.ok()) return fail(o.track + ": " + race.status().message());
-  const Status written = writeSequence(o.out, *race, *track, *camera, p);
-  if (!written.ok()) return fail(written.message());
+  // Staged: the sequence files and the plot appear in --out together or not at all.
+  auto staged = StagedFolder::create(o.out);
+  if (!staged.ok()) return fail(staged.status().message());
+  const Status written = writeSequence(staged->path(), *race, *track, *camera, p);
+  if (!written.ok()) return fail(staged->unstaged(written).message());
   if (!o.no_plot) {
-    const Status plotted = writePlot((std::filesystem::path(o.out) / "xy.png").string(), *race);
-    if (!plotted.ok()) return fail(plotted.message());
+    const Status plotted = writePlot(staged->file("xy.png"), *race);
+    if (!plotted.ok()) return fail(staged->unstaged(plotted).message());
   }
+  const Status committed = staged->commit();
+  if (!committed.ok()) return fail(committed.message());
   const DetectionSimStats& s = race->detection_stats;
   std::cout << "simulated " << (track->name.empty() ? o.track : track->name) << ", seed " << p.seed << ": "
             << race->flight.duration() << " s, " << race->flight.length() << " m, top speed "
