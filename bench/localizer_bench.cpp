@@ -80,4 +80,4 @@ BENCHMARK(BM_Localizer_SingleRace)->Unit(benchmark::kMillisecond)->Iterations(3)
 }  // namespace
 }  // namespace dualgraph
 
-BENCHMARK_MAIN();
+// main(): bench/bench_main.cpp
