@@ -164,7 +164,9 @@ TEST_P(LmAllocation, IterationsAllocateNothingOnceTheStructureIsBuilt) {
   for (size_t k = 0; k < engine.size(); ++k) {
     EXPECT_EQ(engine[k], 0) << "iteration " << k + 2 << " of " << summary.iterations;
     // Our EigenSolver factorises and solves the pre-ordered matrix in place: nothing either.
-    if (kind != LinearSolverKind::kCholmod) EXPECT_EQ(library[k], 0) << "iteration " << k + 2;
+    if (kind != LinearSolverKind::kCholmod) {
+      EXPECT_EQ(library[k], 0) << "iteration " << k + 2;
+    }
     library_total += library[k];
   }
   // CHOLMOD's cholmod_factorize allocates the permuted transpose of H at every call: reported, not hidden.
