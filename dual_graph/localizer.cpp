@@ -204,7 +204,7 @@ void Localizer::optimizeAndRecord(KeyframeStats& row, double start_ms) {
   if (!slid.ok()) counters_.last_error = slid.message();
   row.keyframe = static_cast<int>(main_->keyframes().size()) - 1;
   row.t = main_->keyframes().back().t;
-  row.main_vertices = static_cast<int>(main_->graph().numVertices());
+  row.main_vertices = static_cast<int>(main_->totalVertices());
   row.main_edges = static_cast<int>(main_->totalEdges());
   row.active_edges = static_cast<int>(main_->graph().numEdges());
   row.iterations = summary.iterations;

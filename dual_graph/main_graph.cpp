@@ -25,7 +25,9 @@ MainGraph::MainGraph(const LocalizerParams& params, const GateMap& map, std::sha
     : params_(params), map_(map), kernel_(std::move(kernel)), optimizer_(graph_, makeLinearSolver(params.linear_solver)) {}
 
 const Eigen::Isometry3d& MainGraph::keyframePose(size_t index) const {
-  return graph_.vertexAs<VertexSE3>(keyframes_.at(index).vertex_id)->estimate();
+  const Keyframe& keyframe = keyframes_.at(index);
+  if (keyframe.marginalized) return keyframe.frozen_pose;
+  return graph_.vertexAs<VertexSE3>(keyframe.vertex_id)->estimate();
 }
 
 int MainGraph::landmarkVertex(int gate_id) const {
@@ -238,6 +240,11 @@ Status MainGraph::slideWindow() {
       folded_edges_ += static_cast<size_t>(outcome->edges_folded - outcome->priors_folded);
       prior_edges_ += (outcome->prior != nullptr ? 1u : 0u);
       prior_edges_ -= static_cast<size_t>(outcome->priors_folded);
+      // Out of the graph altogether (it has no edges left), so nothing per update visits it again.
+      Keyframe& keyframe = keyframes_[first_free_keyframe_];
+      keyframe.frozen_pose = graph_.vertexAs<VertexSE3>(id)->estimate();
+      DG_RETURN_IF_ERROR(graph_.removeVertex(id));
+      keyframe.marginalized = true;
       ++marginalized_keyframes_;
     }
     ++first_free_keyframe_;

@@ -17,6 +17,10 @@ struct Keyframe {
   int vertex_id = -1;
   double t = 0.0;                                                ///< [s]
   Eigen::Isometry3d odom_T_body = Eigen::Isometry3d::Identity();  ///< the VIO pose at t
+  /// Fixed-lag mode: true once marginalised; the vertex is then gone from the graph and `frozen_pose`
+  /// (world_T_body) holds its estimate when it left the window.
+  bool marginalized = false;
+  Eigen::Isometry3d frozen_pose = Eigen::Isometry3d::Identity();
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
@@ -56,11 +60,13 @@ class MainGraph {
   /// Edges the main graph stands for: those in the optimisation plus those folded into marginal priors
   /// (the priors themselves not counted). Equals graph().numEdges() in full-batch mode.
   size_t totalEdges() const { return graph_.numEdges() - prior_edges_ + folded_edges_; }
-  /// Keyframes marginalised so far (fixed, out of the optimisation, estimates frozen).
+  /// Keyframes marginalised so far (removed from the graph, estimates frozen in `keyframes()`).
   size_t marginalizedKeyframes() const { return marginalized_keyframes_; }
+  /// Vertices the main graph stands for: those in the graph plus the marginalised keyframes.
+  size_t totalVertices() const { return graph_.numVertices() + marginalized_keyframes_; }
 
   const std::vector<Keyframe, Eigen::aligned_allocator<Keyframe>>& keyframes() const { return keyframes_; }
-  /// Current estimate of keyframe `index`.
+  /// Current estimate of keyframe `index` (the frozen one once marginalised).
   const Eigen::Isometry3d& keyframePose(size_t index) const;
   const Graph& graph() const { return graph_; }
   /// Vertex id of a gate landmark, -1 when it has none yet.

@@ -28,7 +28,9 @@ WindowRun run(LocalizerParams params, int window, const SyntheticRace& race, con
 int freeKeyframes(const Localizer& localizer) {
   int free = 0;
   for (const Keyframe& keyframe : localizer.mainGraph().keyframes()) {
-    free += !localizer.mainGraph().graph().vertex(keyframe.vertex_id)->fixed();
+    const VertexBase* vertex = localizer.mainGraph().graph().vertex(keyframe.vertex_id);
+    EXPECT_EQ(vertex == nullptr, keyframe.marginalized);  // marginalised keyframes leave the graph
+    free += vertex != nullptr && !vertex->fixed();
   }
   return free;
 }
@@ -53,8 +55,10 @@ void expectCloseToBatch(LocalizerParams params, const SyntheticRace& race, const
   EXPECT_EQ(freeKeyframes(*windowed.localizer), 6);
   EXPECT_EQ(marginalPriors(*windowed.localizer), 1);
   EXPECT_EQ(graph.marginalizedKeyframes() + 6 + (params.mapping ? 1 : 0), graph.keyframes().size());
+  EXPECT_EQ(graph.totalVertices(), batch.localizer->mainGraph().graph().numVertices());
   EXPECT_LT(graph.graph().numEdges(), graph.totalEdges() / 3);
   const KeyframeStats& last = windowed.localizer->keyframeStats().back();
+  EXPECT_EQ(last.main_vertices, static_cast<int>(graph.totalVertices()));
   EXPECT_EQ(last.main_edges, static_cast<int>(graph.totalEdges()));
   EXPECT_EQ(last.active_edges, static_cast<int>(graph.graph().numEdges()));
   EXPECT_TRUE(windowed.localizer->counters().last_error.empty()) << windowed.localizer->counters().last_error;
