@@ -29,7 +29,7 @@ cmake --build "$build" -j "${JOBS:-2}" --target dualgraph_bench dualgraph_locali
 
 {
   echo "date: $(date -u +%Y-%m-%dT%H:%M:%SZ)"
-  echo "commit: $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
+  echo "commit: $(git -C "$root" describe --always --dirty 2>/dev/null || echo unknown)"
   echo "before: $(uptime)"
 } >"$out/uptime.txt"
 for exe in dualgraph_bench dualgraph_localizer_bench; do
