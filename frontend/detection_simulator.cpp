@@ -128,7 +128,14 @@ Result<std::vector<SimulatedDetection>> simulateDetections(const Flight& flight,
       detection.seen_from_front = line_of_sight.dot(normal_axis) > 0.0;
       detection.true_pixels = reorder(pixels, imageCornerOrder(pixels));
       Pixels noisy = detection.true_pixels;
-      for (int i = 0; i < 4; ++i) noisy.col(i) += params.pixel_sigma * Eigen::Vector2d(normal(rng), normal(rng));
+      for (int i = 0; i < 4; ++i) {
+        // One draw per statement: the order in which a constructor's arguments are evaluated is
+        // unspecified (gcc drew v first, clang u first), and a seed must give the same files whatever
+        // the compiler. v first keeps the sequences gcc produced.
+        const double v_noise = normal(rng);
+        const double u_noise = normal(rng);
+        noisy.col(i) += params.pixel_sigma * Eigen::Vector2d(u_noise, v_noise);
+      }
       int written_id = gate.id;
       if (uniform(rng) < params.displaced_corner_probability) {
         const int corner = static_cast<int>(uniform(rng) * 4.0) % 4;

@@ -125,7 +125,8 @@ Result<std::vector<AssociationResult>> associateToMap(const AssociationParams& p
       result.observation = result.reversed ? reversedObservation(std::move(detection)) : std::move(detection);
       continue;
     }
-    const bool had_candidate = (cost.row(i).array() < kInf).any();
+    // No map gates: cost has no columns, and row(i) of it would offset a null pointer (UB).
+    const bool had_candidate = cost.cols() > 0 && (cost.row(i).array() < kInf).any();
     result.outcome = had_candidate ? AssociationOutcome::kUnassigned
                      : near_any[static_cast<size_t>(i)] ? AssociationOutcome::kRejectedOrientation
                                                          : AssociationOutcome::kRejectedDistance;
