@@ -14,7 +14,7 @@ namespace {
 
 using Pixels = Eigen::Matrix<double, 2, 4>;
 
-Status fieldError(const char* field, const std::string& why) {
+Status paramError(const char* field, const std::string& why) {
   return Status(StatusCode::kInvalidArgument, std::string("detection simulator: ") + field + " " + why);
 }
 
@@ -47,22 +47,22 @@ Pixels falseGatePixels(const CameraModel& camera, std::mt19937_64& rng) {
 }  // namespace
 
 Status validateDetectionSimParams(const DetectionSimParams& p) {
-  if (!(std::isfinite(p.camera_rate) && p.camera_rate > 0.0)) return fieldError("camera_rate", "must be > 0");
-  if (p.keep_every < 1) return fieldError("keep_every", "must be >= 1");
-  if (!(std::isfinite(p.pixel_sigma) && p.pixel_sigma >= 0.0)) return fieldError("pixel_sigma", "must be >= 0");
-  if (!(std::isfinite(p.min_range) && p.min_range >= 0.0)) return fieldError("min_range", "must be >= 0");
-  if (!(std::isfinite(p.max_range) && p.max_range > p.min_range)) return fieldError("max_range", "must exceed min_range");
+  if (!(std::isfinite(p.camera_rate) && p.camera_rate > 0.0)) return paramError("camera_rate", "must be > 0");
+  if (p.keep_every < 1) return paramError("keep_every", "must be >= 1");
+  if (!(std::isfinite(p.pixel_sigma) && p.pixel_sigma >= 0.0)) return paramError("pixel_sigma", "must be >= 0");
+  if (!(std::isfinite(p.min_range) && p.min_range >= 0.0)) return paramError("min_range", "must be >= 0");
+  if (!(std::isfinite(p.max_range) && p.max_range > p.min_range)) return paramError("max_range", "must exceed min_range");
   if (!(p.max_view_angle_deg > 0.0 && p.max_view_angle_deg <= 90.0)) {
-    return fieldError("max_view_angle_deg", "must be in (0, 90]");
+    return paramError("max_view_angle_deg", "must be in (0, 90]");
   }
-  if (!(std::isfinite(p.edge_margin) && p.edge_margin >= 0.0)) return fieldError("edge_margin", "must be >= 0");
-  if (!isProbability(p.miss_probability)) return fieldError("miss_probability", "must be in [0, 1]");
-  if (!isProbability(p.displaced_corner_probability)) return fieldError("displaced_corner_probability", "must be in [0, 1]");
+  if (!(std::isfinite(p.edge_margin) && p.edge_margin >= 0.0)) return paramError("edge_margin", "must be >= 0");
+  if (!isProbability(p.miss_probability)) return paramError("miss_probability", "must be in [0, 1]");
+  if (!isProbability(p.displaced_corner_probability)) return paramError("displaced_corner_probability", "must be in [0, 1]");
   if (!(std::isfinite(p.displaced_corner_pixels) && p.displaced_corner_pixels >= 0.0)) {
-    return fieldError("displaced_corner_pixels", "must be >= 0");
+    return paramError("displaced_corner_pixels", "must be >= 0");
   }
-  if (!isProbability(p.wrong_id_probability)) return fieldError("wrong_id_probability", "must be in [0, 1]");
-  if (!isProbability(p.false_gate_probability)) return fieldError("false_gate_probability", "must be in [0, 1]");
+  if (!isProbability(p.wrong_id_probability)) return paramError("wrong_id_probability", "must be in [0, 1]");
+  if (!isProbability(p.false_gate_probability)) return paramError("false_gate_probability", "must be in [0, 1]");
   return Status::okStatus();
 }
 

@@ -12,21 +12,21 @@ constexpr int kSamplesPerLap = 20000;
 constexpr double kDerivativeStep = 1e-4;  // in u, for the tables' slope and curvature
 constexpr double kTimeStep = 1e-3;        // [s], for velocity and acceleration
 
-bool positiveFinite(double v) { return std::isfinite(v) && v > 0.0; }
+bool isFinitePositive(double v) { return std::isfinite(v) && v > 0.0; }
 
 Status checkParams(const FlightParams& p) {
   if (p.laps < 1) return Status(StatusCode::kInvalidArgument, "flight: laps must be >= 1, got " + std::to_string(p.laps));
-  if (!positiveFinite(p.max_speed)) return Status(StatusCode::kInvalidArgument, "flight: max_speed must be > 0");
-  if (!positiveFinite(p.max_lateral_acceleration)) {
+  if (!isFinitePositive(p.max_speed)) return Status(StatusCode::kInvalidArgument, "flight: max_speed must be > 0");
+  if (!isFinitePositive(p.max_lateral_acceleration)) {
     return Status(StatusCode::kInvalidArgument, "flight: max_lateral_acceleration must be > 0");
   }
-  if (!positiveFinite(p.max_longitudinal_acceleration)) {
+  if (!isFinitePositive(p.max_longitudinal_acceleration)) {
     return Status(StatusCode::kInvalidArgument, "flight: max_longitudinal_acceleration must be > 0");
   }
   if (!std::isfinite(p.speed_smoothing) || p.speed_smoothing < 0.0) {
     return Status(StatusCode::kInvalidArgument, "flight: speed_smoothing must be >= 0");
   }
-  if (!positiveFinite(p.gravity)) return Status(StatusCode::kInvalidArgument, "flight: gravity must be > 0");
+  if (!isFinitePositive(p.gravity)) return Status(StatusCode::kInvalidArgument, "flight: gravity must be > 0");
   return Status::okStatus();
 }
 
