@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# Runs every libFuzzer target (test/fuzz/README.md) for SECONDS each, one after the other:
+# Runs every libFuzzer target (test/fuzz/README.md) for SECONDS each, one after the other by default:
 #   bash test/fuzz/run.sh SECONDS [TARGET...]      e.g. bash test/fuzz/run.sh 30, or ... 600 fuzz_g2o
 # Configures and builds ./build_fuzz with clang (FUZZ_BUILD_DIR=..., FUZZ_CXX=... override) or reuses
 # it. Seeds: test/fuzz/corpus/<target> (committed, read only) and, when ../shared exists, the heads of
@@ -8,6 +8,7 @@
 # $FUZZ_BUILD_DIR/artifacts/<target>/. Fixed -seed (FUZZ_SEED, default 1). Prints per target the
 # executions, exec/s, cov/ft and corpus size from libFuzzer's final stats; exits 1 if any target
 # crashed, leaked, timed out or ran out of memory (logs in $FUZZ_BUILD_DIR/logs/<target>.log).
+# FUZZ_JOBS=N runs N targets at a time (CI: 2).
 set -euo pipefail
 seconds=${1:-}
 if ! [[ "$seconds" =~ ^[0-9]+$ ]] || [ "$seconds" -lt 1 ]; then
@@ -52,11 +53,10 @@ dictionary() {
   esac
 }
 
-failed=()
-printf '%-28s %12s %9s %7s %8s %7s  %s\n' target execs exec/s cov ft corpus result
-for target in "${targets[@]}"; do
-  work="$build/corpus/$target" seeds="$build/shared_seeds/$target" artifacts="$build/artifacts/$target"
-  log="$build/logs/$target.log"
+# One target: fuzz it, then write its row of the table to logs/<target>.row; non-zero when it failed.
+fuzz_one() {
+  local target=$1 work="$build/corpus/$1" seeds="$build/shared_seeds/$1" artifacts="$build/artifacts/$1"
+  local log="$build/logs/$1.log" file status execs rate last cov ft corpus result
   mkdir -p "$work" "$seeds" "$artifacts" "$(dirname "$log")"
   while read -r file; do
     [ -n "$file" ] || continue
@@ -76,8 +76,29 @@ for target in "${targets[@]}"; do
   cov=$(sed -n 's/.* cov: \([0-9]*\).*/\1/p' <<<"$last")
   ft=$(sed -n 's/.* ft: \([0-9]*\).*/\1/p' <<<"$last")
   corpus=$(find "$work" -type f | wc -l)
-  if [ "$status" -eq 0 ]; then result=ok; else result="FAILED (exit $status, see $log)"; failed+=("$target"); fi
-  printf '%-28s %12s %9s %7s %8s %7s  %s\n' "$target" "${execs:-?}" "${rate:-?}" "${cov:-?}" "${ft:-?}" "$corpus" "$result"
+  if [ "$status" -eq 0 ]; then result=ok; else result="FAILED (exit $status, see $log)"; fi
+  printf '%-28s %12s %9s %7s %8s %7s  %s\n' "$target" "${execs:-?}" "${rate:-?}" "${cov:-?}" "${ft:-?}" \
+    "$corpus" "$result" >"$build/logs/$target.row"
+  return "$status"
+}
+
+# FUZZ_JOBS targets at a time (default 1: the figures of one target are not shared with another).
+jobs=${FUZZ_JOBS:-1}
+running=0
+for target in "${targets[@]}"; do
+  rm -f "$build/logs/$target.row"
+  fuzz_one "$target" &
+  running=$((running + 1))
+  if [ "$running" -ge "$jobs" ]; then wait -n || true; running=$((running - 1)); fi
+done
+wait || true
+
+failed=()
+printf '%-28s %12s %9s %7s %8s %7s  %s\n' target execs exec/s cov ft corpus result
+for target in "${targets[@]}"; do
+  row="$build/logs/$target.row"
+  if [ -f "$row" ]; then cat "$row"; else echo "$target: no result (see $build/logs/$target.log)"; fi
+  grep -q '  ok$' "$row" 2>/dev/null || failed+=("$target")
 done
 if [ ${#failed[@]} -gt 0 ]; then
   echo "run.sh: ${failed[*]} failed; the crashing inputs are in $build/artifacts/" >&2
