@@ -208,7 +208,8 @@ Result<std::vector<AssociationResult>> GateAssociator::associateMapping(const Ei
       continue;
     }
     // A second sighting of a candidate already sighted in this call is a duplicate, not a new gate.
-    bool duplicate = (cost.row(static_cast<Eigen::Index>(r)).array() < kInf).any();
+    // (No old candidates: cost has no columns and row(r) of it would offset a null pointer, UB.)
+    bool duplicate = old_candidates > 0 && (cost.row(static_cast<Eigen::Index>(r)).array() < kInf).any();
     for (size_t c2 = old_candidates; c2 < candidates_.size() && !duplicate; ++c2) {
       duplicate = consistency(placed[i], candidates_[c2]) < kInf;
     }
