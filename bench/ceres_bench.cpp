@@ -30,12 +30,13 @@ void setSolveCounters(benchmark::State& state, double total_ms, int iterations, 
 }
 
 /// Ours: a fresh Optimizer (pattern, CHOLMOD analysis) and a full LM solve, from the initial estimate.
-void BM_SideBySide_Dualgraph(benchmark::State& state, const std::string& name) {
+void BM_SideBySide_Dualgraph(benchmark::State& state, const std::string& name, LmDamping damping) {
   bench::LoadedGraph& loaded = bench::loadDataset(name);
   if (!loaded.ok) return state.SkipWithError(loaded.error.c_str());
   OptimizerParams params;
   params.max_iterations = kMaxIterations;
   params.relative_decrease_stop = kRelativeDecreaseStop;
+  params.damping = damping;
   SolverSummary summary;
   for (auto _ : state) {
     state.PauseTiming();
@@ -52,7 +53,7 @@ void BM_SideBySide_Dualgraph(benchmark::State& state, const std::string& name) {
   setSolveCounters(state, summary.total_ms, summary.iterations, summary.factorizations, summary.initial_chi2,
                    summary.final_chi2);
   state.counters["structure_ms"] = summary.structure_ms;
-  state.SetLabel(terminationReasonName(summary.termination));
+  state.SetLabel(std::string(lmDampingName(damping)) + " " + terminationReasonName(summary.termination));
 }
 
 /// Ceres: Solve from the same initial estimate (copied into the parameter blocks outside the timing).
@@ -86,8 +87,10 @@ void BM_SideBySide_Ceres(benchmark::State& state, const std::string& name) {
 }
 
 #define DG_SIDE_BY_SIDE(dataset)                                                                        \
-  BENCHMARK_CAPTURE(BM_SideBySide_Dualgraph, dataset, #dataset)->Unit(benchmark::kMillisecond)->UseRealTime() \
-      ->Iterations(1);                                                                                  \
+  BENCHMARK_CAPTURE(BM_SideBySide_Dualgraph, dataset, #dataset, LmDamping::kIdentity)                      \
+      ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);                                    \
+  BENCHMARK_CAPTURE(BM_SideBySide_Dualgraph, dataset##_diagonal, #dataset, LmDamping::kDiagonal)           \
+      ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);                                    \
   BENCHMARK_CAPTURE(BM_SideBySide_Ceres, dataset, #dataset)->Unit(benchmark::kMillisecond)->UseRealTime()     \
       ->Iterations(1)
 

@@ -71,13 +71,15 @@ void setCounters(benchmark::State& state, const RacingProblem& p, double total_m
 }
 
 /// Ours, cold: a fresh Optimizer (pattern, symbolic analysis) and LM from the perturbed start.
-void BM_RacingMainGraph_Dualgraph(benchmark::State& state, double d_main, StopRules rules, bool cholmod) {
+void BM_RacingMainGraph_Dualgraph(benchmark::State& state, double d_main, StopRules rules, bool cholmod,
+                                  LmDamping damping) {
   RacingProblem& p = racingProblem(d_main);
   if (!p.ok) return state.SkipWithError(p.error.c_str());
   const LinearSolverKind kind = cholmod ? LinearSolverKind::kCholmod : p.localizer_solver;
   OptimizerParams params;
   params.max_iterations = rules.max_iterations;
   params.relative_decrease_stop = rules.relative_decrease;
+  params.damping = damping;
   SolverSummary summary;
   for (auto _ : state) {
     state.PauseTiming();
@@ -93,7 +95,8 @@ void BM_RacingMainGraph_Dualgraph(benchmark::State& state, double d_main, StopRu
   if (!summary.usable()) return state.SkipWithError(summary.message.c_str());
   setCounters(state, p, summary.total_ms, summary.iterations, summary.factorizations, summary.initial_chi2,
               summary.final_chi2);
-  state.SetLabel(std::string(linearSolverKindName(kind)) + " " + terminationReasonName(summary.termination));
+  state.SetLabel(std::string(linearSolverKindName(kind)) + " " + lmDampingName(damping) + " " +
+                 terminationReasonName(summary.termination));
 }
 
 /// Ceres from the same perturbed start.
@@ -126,9 +129,11 @@ void BM_RacingMainGraph_Ceres(benchmark::State& state, double d_main, StopRules 
 }
 
 #define DG_RACING_SIDE_BY_SIDE(name, d_main, rules)                                                              \
-  BENCHMARK_CAPTURE(BM_RacingMainGraph_Dualgraph, name, d_main, rules, false)->Unit(benchmark::kMillisecond)   \
-      ->UseRealTime();                                                                                          \
-  BENCHMARK_CAPTURE(BM_RacingMainGraph_Dualgraph, name##_cholmod, d_main, rules, true)                          \
+  BENCHMARK_CAPTURE(BM_RacingMainGraph_Dualgraph, name, d_main, rules, false, LmDamping::kIdentity)            \
+      ->Unit(benchmark::kMillisecond)->UseRealTime();                                                           \
+  BENCHMARK_CAPTURE(BM_RacingMainGraph_Dualgraph, name##_diagonal, d_main, rules, false, LmDamping::kDiagonal)  \
+      ->Unit(benchmark::kMillisecond)->UseRealTime();                                                           \
+  BENCHMARK_CAPTURE(BM_RacingMainGraph_Dualgraph, name##_cholmod, d_main, rules, true, LmDamping::kIdentity)    \
       ->Unit(benchmark::kMillisecond)->UseRealTime();                                                           \
   BENCHMARK_CAPTURE(BM_RacingMainGraph_Ceres, name, d_main, rules)->Unit(benchmark::kMillisecond)->UseRealTime()
 

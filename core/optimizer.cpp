@@ -110,6 +110,14 @@ const char* terminationReasonName(TerminationReason reason) {
   return "unknown";
 }
 
+const char* lmDampingName(LmDamping damping) {
+  switch (damping) {
+    case LmDamping::kIdentity: return "identity";
+    case LmDamping::kDiagonal: return "diagonal";
+  }
+  return "unknown";
+}
+
 bool SolverSummary::usable() const {
   return termination == TerminationReason::kConverged ||
          termination == TerminationReason::kMaxIterations ||

@@ -14,6 +14,19 @@ namespace dualgraph {
 
 enum class Algorithm { kLevenbergMarquardt, kGaussNewton };
 
+/// Levenberg–Marquardt's damping matrix.
+enum class LmDamping {
+  /// H + λI, λ₀ = tau · max diag(H): g2o's choice, the engine's default. One λ for every unknown,
+  /// so on a graph whose diagonal spans orders of magnitude (priors and detections beside weakly
+  /// constrained poses) the first steps are damped hard where H is small.
+  kIdentity,
+  /// H + λ·diag(H) (diagonal clamped to [1e-6, 1e32]), λ₀ = 1e-4: Marquardt's scale-invariant
+  /// form, what Ceres' Levenberg–Marquardt does with its default Jacobi scaling (λ₀ = 1 / its
+  /// initial trust-region radius 1e4). Each unknown is damped relative to its own curvature.
+  kDiagonal,
+};
+const char* lmDampingName(LmDamping damping);
+
 /// Why `Optimizer::optimize` stopped. The estimate is always left at the last accepted state
 /// (bit for bit: rejected trials are undone from a saved copy, never by a reverse step); when
 /// nothing was accepted, at the start.
@@ -67,7 +80,9 @@ struct OptimizerParams {
   double step_norm_stop = 1e-12;
   /// Wall-time budget in milliseconds; 0 = none. Checked between trials.
   double time_budget_ms = 0.0;
-  /// LM: initial λ = tau · max diag(H) (g2o's default 1e-5); ignored when `initial_lambda` > 0.
+  LmDamping damping = LmDamping::kIdentity;
+  /// LM, kIdentity: initial λ = tau · max diag(H) (g2o's default 1e-5). Both kinds: `initial_lambda`
+  /// > 0 overrides the initial λ (kDiagonal's default is 1e-4).
   double tau = 1e-5;
   double initial_lambda = 0.0;
   /// LM: damping increases allowed per iteration before giving up (g2o: 10).

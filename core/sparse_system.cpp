@@ -208,6 +208,19 @@ void SparseSystem::setDamping(double lambda) {
   for (int k = 0; k < dim_; ++k) values_[diagonal_index_[k]] = undamped_diagonal_[k] + lambda;
 }
 
+void SparseSystem::setScaledDamping(double lambda, double min_diagonal, double max_diagonal) {
+  for (int k = 0; k < dim_; ++k) {
+    const double d = undamped_diagonal_[k];
+    values_[diagonal_index_[k]] = d + lambda * std::clamp(d, min_diagonal, max_diagonal);
+  }
+}
+
+double SparseSystem::dampingEnergy(const double* delta) const {
+  double sum = 0.0;
+  for (int k = 0; k < dim_; ++k) sum += (values_[diagonal_index_[k]] - undamped_diagonal_[k]) * delta[k] * delta[k];
+  return sum;
+}
+
 /// Fixed-size kernel for edges whose error and active vertices all have dimension N (SE(3) and
 /// SE(2) pose graphs): nothing is sized at run time. With G_b = w Ω J_b (Ω symmetric), every
 /// block is J_aᵀ G_b, a matrix of dot products of columns, added straight into H's columns: the

@@ -37,6 +37,13 @@ class SparseSystem {
   void finishAssembly();
   /// H ← H_undamped + λ I (the value array keeps the undamped diagonal aside).
   void setDamping(double lambda);
+  /// H ← H_undamped + λ D, D = diag(H_undamped) clamped to [min_diagonal, max_diagonal]
+  /// (Marquardt's scale-invariant damping; the clamp keeps a zero or huge pivot from making the
+  /// damped system singular or frozen).
+  void setScaledDamping(double lambda, double min_diagonal, double max_diagonal);
+  /// Σ_k (H_kk − H_undamped_kk) Δ_k²: the damping term ΔᵀΛΔ of the current damping, for LM's
+  /// predicted decrease Δᵀ(ΛΔ + b). `delta` has `dim()` entries.
+  double dampingEnergy(const double* delta) const;
 
   /// x ← x ⊞ Δ for every active vertex; `delta` has `dim()` entries.
   void applyUpdate(const double* delta) const;

@@ -67,6 +67,7 @@ Status validateChoices(const LocalizerParams& params) {
   if (std::string(linearSolverKindName(params.linear_solver)) == "unknown") {
     return invalid("linear_solver", "is not a LinearSolverKind");
   }
+  if (std::string(lmDampingName(params.lm_damping)) == "unknown") return invalid("lm_damping", "is not an LmDamping");
   return Status::okStatus();
 }
 
@@ -100,6 +101,7 @@ Status validateOptimisation(const LocalizerParams& params) {
   DG_RETURN_IF_ERROR(requireAtLeastOne("main_max_iterations", params.main_max_iterations));
   DG_RETURN_IF_ERROR(requireNonNegativeFinite("main_time_budget_ms", params.main_time_budget_ms));
   DG_RETURN_IF_ERROR(requireNonNegativeFinite("main_relative_decrease_stop", params.main_relative_decrease_stop));
+  DG_RETURN_IF_ERROR(requireNonNegativeFinite("temp_relative_decrease_stop", params.temp_relative_decrease_stop));
   if (params.main_window != 0 && params.main_window < 2) {
     return invalid("main_window", "must be 0 (full batch) or at least 2, got " + std::to_string(params.main_window));
   }

@@ -169,6 +169,7 @@ constexpr FieldSlot<double> kNumberFields[] = {
     {"initial_sigma_t", &LocalizerParams::initial_sigma_t}, {"initial_sigma_r", &LocalizerParams::initial_sigma_r},
     {"main_time_budget_ms", &LocalizerParams::main_time_budget_ms},
     {"main_relative_decrease_stop", &LocalizerParams::main_relative_decrease_stop},
+    {"temp_relative_decrease_stop", &LocalizerParams::temp_relative_decrease_stop},
     {"chi2_gate_pose", &LocalizerParams::chi2_gate_pose}, {"chi2_gate_point", &LocalizerParams::chi2_gate_point},
 };
 constexpr FieldSlot<int> kIntegerFields[] = {
@@ -183,6 +184,7 @@ constexpr FieldSlot<bool> kBoolFields[] = {
 };
 constexpr LocalizerMode kModes[] = {LocalizerMode::kDual, LocalizerMode::kSingle};
 constexpr LandmarkModel kLandmarks[] = {LandmarkModel::kPose, LandmarkModel::kPoint};
+constexpr LmDamping kDampings[] = {LmDamping::kIdentity, LmDamping::kDiagonal};
 
 /// Reads one `name: value` pair into `params`; an unknown name is an error at the key.
 Status readField(const std::string& source, const YAML::Node& key, const YAML::Node& value,
@@ -200,6 +202,7 @@ Status readField(const std::string& source, const YAML::Node& key, const YAML::N
   if (name == "mode") return readEnum(source, name, value, kModes, &localizerModeName, params.mode);
   if (name == "landmark") return readEnum(source, name, value, kLandmarks, &landmarkModelName, params.landmark);
   if (name == "linear_solver") return readLinearSolver(source, name, value, params.linear_solver);
+  if (name == "lm_damping") return readEnum(source, name, value, kDampings, &lmDampingName, params.lm_damping);
   if (name == "robust_kernel") return readScalar(source, name, value, params.robust_kernel);
   if (name == "initial_world_T_odom") return readTransform(source, name, value, params.initial_world_T_odom);
   return fieldError(source, key.Mark(), name, "unknown key");

@@ -257,6 +257,7 @@ SolverSummary MainGraph::optimize() {
   lm.max_iterations = params_.main_max_iterations;
   lm.time_budget_ms = params_.main_time_budget_ms;
   lm.relative_decrease_stop = params_.main_relative_decrease_stop;
+  lm.damping = params_.lm_damping;
   return optimizer_.optimize(lm);
 }
 

@@ -99,11 +99,12 @@ information_metric_to_g2o). Batches are all-or-nothing: every row is checked bef
       .def("chi2", [](const PyGraph& g, bool robust) { return g.graph().chi2(robust); }, "robust"_a = false)
       .def("optimize",
            [](PyGraph& g, int max_iterations, const std::string& algorithm, const std::string& linear_solver,
-              double relative_decrease_stop, double time_budget_ms, bool check) {
-             return g.optimize({max_iterations, algorithm, linear_solver, relative_decrease_stop, time_budget_ms, check});
+              double relative_decrease_stop, double time_budget_ms, bool check, const std::string& damping) {
+             return g.optimize({max_iterations, algorithm, linear_solver, relative_decrease_stop, time_budget_ms, check,
+                                damping});
            },
            "max_iterations"_a = 100, "algorithm"_a = "lm", "linear_solver"_a = "cholmod", "relative_decrease_stop"_a = 1e-9,
-           "time_budget_ms"_a = 0.0, "check"_a = true,
+           "time_budget_ms"_a = 0.0, "check"_a = true, "damping"_a = "identity",
            "Levenberg-Marquardt ('lm') or Gauss-Newton ('gn') with CHOLMOD or Eigen; raises OptimizationError when the "
            "result is not usable (unless check=False).")
       .def("marginal", [](PyGraph& g, int id, bool metric) { return g.marginals(py::int_(id), metric); }, "id"_a,

@@ -40,6 +40,10 @@ void bindParams(py::module_& m) {
                     })
       .def_property("linear_solver", [](const LocalizerParams& p) { return linearSolverKindName(p.linear_solver); },
                     [](LocalizerParams& p, const std::string& v) { p.linear_solver = unwrap(parseLinearSolverKind(v)); })
+      .def_property("lm_damping", [](const LocalizerParams& p) { return lmDampingName(p.lm_damping); },
+                    [](LocalizerParams& p, const std::string& v) {
+                      p.lm_damping = parseName<LmDamping>(v, "lm_damping", {{"identity", LmDamping::kIdentity}, {"diagonal", LmDamping::kDiagonal}});
+                    })
       .def_property("initial_world_T_odom", [](const LocalizerParams& p) { return poseArray(p.initial_world_T_odom); },
                     [](LocalizerParams& p, py::handle pose) { p.initial_world_T_odom = toPose(pose, "initial_world_T_odom"); })
       .def("validate", [](const LocalizerParams& p) { check(validateLocalizerParams(p)); },
@@ -50,6 +54,7 @@ void bindParams(py::module_& m) {
   DG_FIELD(odom_sigma_r); DG_FIELD(odom_min_distance); DG_FIELD(map_sigma_t); DG_FIELD(map_sigma_r);
   DG_FIELD(fix_map_gates); DG_FIELD(initial_sigma_t); DG_FIELD(initial_sigma_r); DG_FIELD(main_max_iterations);
   DG_FIELD(main_time_budget_ms); DG_FIELD(main_relative_decrease_stop); DG_FIELD(main_window); DG_FIELD(temp_max_iterations);
+  DG_FIELD(temp_relative_decrease_stop);
   DG_FIELD(robust_kernel); DG_FIELD(chi2_gate_pose); DG_FIELD(chi2_gate_point);
 #undef DG_FIELD
 

@@ -25,6 +25,7 @@ struct OptimizeOptions {
   double relative_decrease_stop = 1e-9;
   double time_budget_ms = 0.0;
   bool check = true;                      ///< raise OptimizationError when the result is not usable
+  std::string damping = "identity";       ///< LM: "identity" (H + λI, g2o) | "diagonal" (H + λ diag H, Ceres)
 };
 
 /// The Python `dualgraph.Graph`: a Graph with the library's types registered, batch construction from numpy

@@ -137,11 +137,15 @@ SolverSummary PyGraph::optimize(const OptimizeOptions& options) {
     raiseInvalid("algorithm must be 'lm' or 'gn', got '" + options.algorithm + "'");
   }
   if (options.max_iterations < 0) raiseInvalid("max_iterations must be >= 0");
+  if (options.damping != "identity" && options.damping != "diagonal") {
+    raiseInvalid("damping must be 'identity' or 'diagonal', got '" + options.damping + "'");
+  }
   OptimizerParams params;
   params.algorithm = options.algorithm == "gn" ? Algorithm::kGaussNewton : Algorithm::kLevenbergMarquardt;
   params.max_iterations = options.max_iterations;
   params.relative_decrease_stop = options.relative_decrease_stop;
   params.time_budget_ms = options.time_budget_ms;
+  params.damping = options.damping == "diagonal" ? LmDamping::kDiagonal : LmDamping::kIdentity;
   Optimizer& optimizer_ref = optimizer(unwrap(parseLinearSolverKind(options.linear_solver)));
   // The GIL stays held: a Graph is not thread-safe, and another thread must not change it mid-solve.
   const SolverSummary summary = optimizer_ref.optimize(params);

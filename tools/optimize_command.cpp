@@ -47,7 +47,10 @@ CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& o) {
   cmd->add_option("--solver", o.algorithm, "lm (Levenberg-Marquardt) or gn (Gauss-Newton)")
       ->check(CLI::IsMember({"lm", "gn"}));
   cmd->add_option("--linear", o.linear, "Linear solver: cholmod, eigen or auto (Eigen up to 3000 unknowns, CHOLMOD above)")
-      ->check(CLI::IsMember({"cholmod", "eigen"}));
+      ->check(CLI::IsMember({"cholmod", "eigen", "auto"}));
+  cmd->add_option("--damping", o.damping,
+                  "Levenberg-Marquardt damping: identity (H + lambda I, g2o's) or diagonal (H + lambda diag H, Ceres')")
+      ->check(CLI::IsMember({"identity", "diagonal"}));
   cmd->add_option("--robust", o.robust, "Robust kernel on every edge, e.g. huber:1.0 (huber|cauchy|tukey|dcs)");
   cmd->add_option("--relative-decrease", o.relative_decrease,
                   "Stop when an accepted step lowers chi2 by less than this fraction");
@@ -107,6 +110,7 @@ int runOptimizeCommand(const OptimizeOptions& o) {
   OptimizerParams params;
   params.algorithm = o.algorithm == "gn" ? Algorithm::kGaussNewton : Algorithm::kLevenbergMarquardt;
   params.max_iterations = o.iterations;
+  params.damping = o.damping == "diagonal" ? LmDamping::kDiagonal : LmDamping::kIdentity;
   params.relative_decrease_stop = o.relative_decrease;
   params.time_budget_ms = o.time_budget_ms;
   if (o.verbose) {

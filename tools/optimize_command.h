@@ -13,6 +13,7 @@ struct OptimizeOptions {
   int iterations = 100;
   std::string algorithm = "lm";
   std::string linear = "cholmod";
+  std::string damping = "identity";
   std::string robust;
   bool json = false;
   bool list_types = false;

@@ -183,6 +183,8 @@ class LocalizerInput(unittest.TestCase):
             dualgraph.Localizer(params, {0: [0, 0, 0, 0, 0, 0, 1]})
         with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "mode must be one of 'dual', 'single'"):
             dualgraph.LocalizerParams().mode = "triple"
+        with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "lm_damping must be one of 'identity', 'diagonal'"):
+            dualgraph.LocalizerParams().lm_damping = "marquardt"
         with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "gates: expected a dict"):
             dualgraph.Localizer(dualgraph.LocalizerParams(), [[0, 0, 0, 0, 0, 0, 1]])
         with self.assertRaisesRegex(dualgraph.InvalidArgumentError, r"gates\[0\]: expected shape"):

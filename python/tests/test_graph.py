@@ -44,6 +44,18 @@ class ParkingGarage(unittest.TestCase):
         self.assertLess(summary.final_chi2, 1.3)  # README: 1.238684 after LM
 
     @unittest.skipUnless(os.path.exists(PARKING_GARAGE), "needs ../shared/data/posegraph/parking-garage.g2o")
+    def test_diagonal_damping_equals_the_cli(self):
+        cli = json.loads(run_cli("optimize", PARKING_GARAGE, "--json", "--damping", "diagonal"))
+        graph = dualgraph.Graph.load(PARKING_GARAGE)
+        graph.fix_gauge("highest")
+        summary = graph.optimize(damping="diagonal")
+        self.assertEqual(summary.iterations, cli["iterations"])
+        self.assertAlmostEqual(summary.final_chi2, cli["final_chi2"], delta=1e-12 * cli["final_chi2"])
+        self.assertLess(summary.final_chi2, 1.3)  # the same optimum as with g2o's damping
+        with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "damping must be 'identity' or 'diagonal'"):
+            graph.optimize(damping="marquardt")
+
+    @unittest.skipUnless(os.path.exists(PARKING_GARAGE), "needs ../shared/data/posegraph/parking-garage.g2o")
     def test_marginals_of_the_optimum(self):
         graph = dualgraph.Graph.load(PARKING_GARAGE)
         gauge = graph.fix_gauge("lowest")

@@ -23,15 +23,21 @@ using namespace dualgraph::testing;
 class OptimizerAlgorithm : public ::testing::TestWithParam<Algorithm> {};
 
 TEST_P(OptimizerAlgorithm, LinearProblemReachesTheDenseLeastSquaresSolution) {
-  for (unsigned seed : {1u, 2u, 3u}) {
-    SCOPED_TRACE("seed " + std::to_string(seed));
+  // Diagonal damping's first step stops 1e-4 short; either damping must end at the optimum to round-off.
+  for (const auto& [seed, damping] : {std::pair{1u, LmDamping::kIdentity}, {2u, LmDamping::kIdentity},
+                                      {3u, LmDamping::kIdentity}, {1u, LmDamping::kDiagonal},
+                                      {2u, LmDamping::kDiagonal}, {3u, LmDamping::kDiagonal}}) {
+    SCOPED_TRACE("seed " + std::to_string(seed) + " damping " + lmDampingName(damping));
     Graph graph;
     buildLinearProblem(graph, seed);
     const auto expected = denseLeastSquares(graph);
     const double optimal_chi2 = chi2At(graph, expected);
     const Eigen::Vector2d fixed_before = pointOf(graph, 0);
     Optimizer optimizer(graph, std::make_unique<DenseTestSolver>());
-    const SolverSummary summary = optimizer.optimize(paramsFor(GetParam()));
+    OptimizerParams params = paramsFor(GetParam());
+    params.damping = damping;
+    params.relative_decrease_stop = 1e-14;  // run to χ²'s round-off floor: this test is about the solution
+    const SolverSummary summary = optimizer.optimize(params);
     EXPECT_EQ(summary.termination, TerminationReason::kConverged) << summary.message;
     EXPECT_TRUE(summary.usable());
     expectAtSolution(graph, expected, 1e-9);
@@ -110,7 +116,9 @@ TEST_P(OptimizerAlgorithm, NonlinearRangeProblemConvergesToTheTruth) {
   expectCleanStacks(graph);
 }
 
-TEST(Optimizer, LevenbergMarquardtChi2DecreasesMonotonically) {
+class LmDampingKind : public ::testing::TestWithParam<LmDamping> {};
+
+TEST_P(LmDampingKind, LevenbergMarquardtChi2DecreasesMonotonically) {
   for (unsigned seed : {6u, 7u, 8u, 9u}) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     Graph graph;
@@ -118,6 +126,7 @@ TEST(Optimizer, LevenbergMarquardtChi2DecreasesMonotonically) {
     Optimizer optimizer(graph, std::make_unique<DenseTestSolver>());
     std::vector<IterationSummary> history;
     OptimizerParams params;
+    params.damping = GetParam();
     params.callback = [&history](const IterationSummary& it) { history.push_back(it); };
     const SolverSummary summary = optimizer.optimize(params);
     EXPECT_TRUE(summary.usable()) << terminationReasonName(summary.termination);
@@ -134,6 +143,36 @@ TEST(Optimizer, LevenbergMarquardtChi2DecreasesMonotonically) {
     expectCleanStacks(graph);
   }
 }
+
+// Both dampings reach the same optimum; diagonal damping starts at λ₀ = 1e-4 (Ceres' 1 / 1e4).
+TEST_P(LmDampingKind, ReachesTheSameOptimumAsTheOtherDamping) {
+  Graph reference;
+  buildRangeProblem(reference, 0.8, 11);
+  OptimizerParams params;
+  params.damping = GetParam() == LmDamping::kIdentity ? LmDamping::kDiagonal : LmDamping::kIdentity;
+  ASSERT_EQ(Optimizer(reference, std::make_unique<DenseTestSolver>()).optimize(params).termination,
+            TerminationReason::kConverged);
+  Graph graph;
+  buildRangeProblem(graph, 0.8, 11);
+  params.damping = GetParam();
+  std::vector<IterationSummary> history;
+  params.callback = [&history](const IterationSummary& it) { history.push_back(it); };
+  const SolverSummary summary = Optimizer(graph, std::make_unique<DenseTestSolver>()).optimize(params);
+  EXPECT_EQ(summary.termination, TerminationReason::kConverged) << summary.message;
+  for (const auto& [id, v] : graph.vertices()) {
+    EXPECT_LT((pointOf(graph, id) - pointOf(reference, id)).norm(), 1e-7) << "vertex " << id;
+  }
+  ASSERT_FALSE(history.empty());
+  if (GetParam() == LmDamping::kDiagonal) {
+    EXPECT_EQ(history[0].lambda, 1e-4);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(IdentityAndDiagonal, LmDampingKind,
+                         ::testing::Values(LmDamping::kIdentity, LmDamping::kDiagonal),
+                         [](const ::testing::TestParamInfo<LmDamping>& info) {
+                           return std::string(lmDampingName(info.param));
+                         });
 
 INSTANTIATE_TEST_SUITE_P(LmAndGn, OptimizerAlgorithm,
                          ::testing::Values(Algorithm::kLevenbergMarquardt, Algorithm::kGaussNewton),

@@ -316,6 +316,36 @@ TEST(SparseSystem, DampingAddsLambdaOnlyToTheDiagonalAndIsReversible) {
   EXPECT_EQ(denseFromUpper(system.matrix()), undamped) << "damping does not accumulate";
 }
 
+TEST(SparseSystem, ScaledDampingAddsLambdaTimesTheClampedDiagonalAndReportsItsEnergy) {
+  Graph graph;
+  buildRandomPointGraph(graph, 6, *makeRobustKernel("huber:1"));
+  SparseSystem system;
+  expectMatchesDense(graph, system);
+  const Eigen::MatrixXd undamped = denseFromUpper(system.matrix());
+  const Eigen::VectorXd d = undamped.diagonal();
+  const double lo = d.minCoeff() * 2.0, hi = d.maxCoeff() / 2.0;  // both clamps bite
+  ASSERT_LT(lo, hi);
+  const Eigen::VectorXd delta = Eigen::VectorXd::LinSpaced(system.dim(), -1.0, 2.0);
+  for (double lambda : {0.5, 1e-4, 1e3}) {
+    system.setScaledDamping(lambda, lo, hi);
+    const Eigen::MatrixXd damped = denseFromUpper(system.matrix());
+    Eigen::MatrixXd off = damped - undamped;
+    off.diagonal().setZero();
+    EXPECT_EQ(off.cwiseAbs().maxCoeff(), 0.0) << "off-diagonal entries untouched";
+    const Eigen::VectorXd expected = lambda * d.cwiseMax(lo).cwiseMin(hi);
+    // (d + λc) − d loses the bits of d: compare to d's magnitude.
+    EXPECT_LT(((damped - undamped).diagonal() - expected).cwiseAbs().maxCoeff(),
+              1e-14 * (d.maxCoeff() + expected.maxCoeff()));
+    EXPECT_NEAR(system.dampingEnergy(delta.data()), delta.dot(expected.cwiseProduct(delta)),
+                1e-12 * expected.maxCoeff() * delta.squaredNorm());
+  }
+  system.setDamping(0.25);
+  EXPECT_NEAR(system.dampingEnergy(delta.data()), 0.25 * delta.squaredNorm(), 1e-12 * delta.squaredNorm());
+  system.setScaledDamping(0.0, lo, hi);
+  EXPECT_EQ(denseFromUpper(system.matrix()), undamped) << "damping does not accumulate";
+  EXPECT_EQ(system.dampingEnergy(delta.data()), 0.0);
+}
+
 TEST(SparseSystem, ReassemblingAfterAMoveRefillsInsteadOfAccumulating) {
   Graph graph;
   buildRandomPointGraph(graph, 8, *makeRobustKernel("cauchy:1"));

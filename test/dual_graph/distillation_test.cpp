@@ -55,7 +55,7 @@ TEST(Distillation, NNoisyPointObservationsGiveNTimesTheirInformationAndTheirMean
   const DistillationResult result = temporary.distil(1.0, odom_T_keyframe, history);
   ASSERT_EQ(result.gates.size(), 1u) << result.skip_reason;
   EXPECT_LT(relativeDifference(result.gates[0].point_information, kN * covariance.inverse()), 1e-9);
-  EXPECT_LT((result.gates[0].p_node - sum / kN).norm(), 1e-9);
+  EXPECT_LT((result.gates[0].p_node - sum / kN).norm(), 1e-9) << "iterations " << result.iterations;
 }
 
 }  // namespace

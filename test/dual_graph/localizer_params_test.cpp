@@ -23,7 +23,7 @@ const std::vector<std::string> kFieldNames = {
     "mode", "landmark", "mapping", "d_main", "theta_main", "d_temp", "theta_temp", "d_single", "theta_single",
     "use_input_covariance", "odom_sigma_t", "odom_sigma_r", "odom_min_distance", "map_sigma_t", "map_sigma_r",
     "fix_map_gates", "initial_world_T_odom", "initial_sigma_t", "initial_sigma_r", "main_max_iterations",
-    "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "linear_solver", "robust_kernel", "chi2_gate_pose",
+    "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "temp_relative_decrease_stop", "linear_solver", "lm_damping", "robust_kernel", "chi2_gate_pose",
     "chi2_gate_point"};
 
 /// Field by field; the transform to `pose_tolerance` (max abs difference of the 4x4 matrices).
@@ -53,7 +53,9 @@ void expectSameParams(const LocalizerParams& a, const LocalizerParams& b, double
   EXPECT_EQ(a.main_relative_decrease_stop, b.main_relative_decrease_stop);
   EXPECT_EQ(a.main_window, b.main_window);
   EXPECT_EQ(a.temp_max_iterations, b.temp_max_iterations);
+  EXPECT_EQ(a.temp_relative_decrease_stop, b.temp_relative_decrease_stop);
   EXPECT_EQ(a.linear_solver, b.linear_solver);
+  EXPECT_EQ(a.lm_damping, b.lm_damping);
   EXPECT_EQ(a.robust_kernel, b.robust_kernel);
   EXPECT_EQ(a.chi2_gate_pose, b.chi2_gate_pose);
   EXPECT_EQ(a.chi2_gate_point, b.chi2_gate_point);
@@ -84,7 +86,9 @@ main_time_budget_ms: 12.5
 main_relative_decrease_stop: 1e-4
 main_window: 12
 temp_max_iterations: 30
+temp_relative_decrease_stop: 1e-8
 linear_solver: eigen
+lm_damping: identity
 robust_kernel: cauchy:1.5
 chi2_gate_pose: 0
 chi2_gate_point: 11.345
@@ -100,8 +104,9 @@ LocalizerParams allOverriddenExpected() {
   p.initial_world_T_odom.translation() = Eigen::Vector3d(1, -2, 3.5);
   p.initial_sigma_t = 0.5, p.initial_sigma_r = 0.1;
   p.main_max_iterations = 7, p.main_time_budget_ms = 12.5, p.main_relative_decrease_stop = 1e-4, p.temp_max_iterations = 30;
+  p.temp_relative_decrease_stop = 1e-8;
   p.main_window = 12;
-  p.linear_solver = LinearSolverKind::kEigen, p.robust_kernel = "cauchy:1.5";
+  p.linear_solver = LinearSolverKind::kEigen, p.lm_damping = LmDamping::kIdentity, p.robust_kernel = "cauchy:1.5";
   p.chi2_gate_pose = 0.0, p.chi2_gate_point = 11.345;
   return p;
 }
@@ -210,6 +215,7 @@ TEST(LocalizerParamsYaml, UnknownEnumValueListsTheAllowedOnes) {
   expectParseError("mode: duel\n", 1, "mode", "(expected dual or single)");
   expectParseError("\nlandmark: corner\n", 2, "landmark", "(expected pose or point)");
   expectParseError("linear_solver: lapack\n", 1, "linear_solver", "cholmod, eigen or auto");
+  expectParseError("lm_damping: marquardt\n", 1, "lm_damping", "identity or diagonal");
 }
 
 TEST(LocalizerParamsYaml, DocumentThatIsNotAMappingIsRejected) {
@@ -269,6 +275,7 @@ TEST(LocalizerParamsValidation, EachOutOfDomainFieldIsNamed) {
       {"initial_sigma_t", [](LocalizerParams& p) { p.initial_sigma_t = std::nan(""); }},
       {"main_max_iterations", [](LocalizerParams& p) { p.main_max_iterations = 0; }},
       {"temp_max_iterations", [](LocalizerParams& p) { p.temp_max_iterations = -3; }},
+      {"temp_relative_decrease_stop", [](LocalizerParams& p) { p.temp_relative_decrease_stop = -1e-6; }},
       {"main_window", [](LocalizerParams& p) { p.main_window = 1; }},
       {"main_window", [](LocalizerParams& p) { p.main_window = -5; }},
       {"main_time_budget_ms", [](LocalizerParams& p) { p.main_time_budget_ms = -1.0; }},

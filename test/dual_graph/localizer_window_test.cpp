@@ -74,7 +74,9 @@ void expectCloseToBatch(LocalizerParams params, const SyntheticRace& race, const
   EXPECT_LT(worst, tolerance);
   EXPECT_LT(window_rmse, 1.1 * batch_rmse + 0.002);
   // Mapping cannot remove the drift (no map); localisation must.
-  if (!params.mapping) EXPECT_LT(window_rmse, 0.25 * positionRmse(windowed.out.odometry, race.world_T_body_truth));
+  if (!params.mapping) {
+    EXPECT_LT(window_rmse, 0.25 * positionRmse(windowed.out.odometry, race.world_T_body_truth));
+  }
 }
 
 TEST(LocalizerWindow, DualModeStaysCloseToFullBatch) {

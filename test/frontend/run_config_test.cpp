@@ -37,7 +37,9 @@ void expectSameLocalizer(const LocalizerParams& a, const LocalizerParams& b) {
   EXPECT_EQ(a.main_time_budget_ms, b.main_time_budget_ms);
   EXPECT_EQ(a.main_relative_decrease_stop, b.main_relative_decrease_stop);
   EXPECT_EQ(a.temp_max_iterations, b.temp_max_iterations);
+  EXPECT_EQ(a.temp_relative_decrease_stop, b.temp_relative_decrease_stop);
   EXPECT_EQ(a.linear_solver, b.linear_solver);
+  EXPECT_EQ(a.lm_damping, b.lm_damping);
   EXPECT_EQ(a.robust_kernel, b.robust_kernel);
   EXPECT_EQ(a.chi2_gate_pose, b.chi2_gate_pose);
   EXPECT_EQ(a.chi2_gate_point, b.chi2_gate_point);
