@@ -62,10 +62,17 @@ void BM_TemporaryGraph_GateMarginals(benchmark::State& state) {
   lm.max_iterations = scenario.params.temp_max_iterations;
   lm.relative_decrease_stop = 1e-6;
   if (!optimizer.optimize(lm).usable()) return state.SkipWithError("temporary graph optimisation failed");
+  const bool joint = state.range(4) != 0;
   double trace = 0.0;
   for (auto _ : state) {
     MarginalCovariance marginals;
     if (Status s = marginals.compute(optimizer, graph); !s.ok()) return state.SkipWithError(s.message().c_str());
+    if (joint) {  // every gate's columns in one solve
+      Result<Eigen::MatrixXd> block = marginals.jointBlock(gate_ids);
+      if (!block.ok()) return state.SkipWithError(block.status().message().c_str());
+      trace += block->trace();
+      continue;
+    }
     for (int id : gate_ids) {
       Result<Eigen::MatrixXd> block = marginals.block(id);
       if (!block.ok()) return state.SkipWithError(block.status().message().c_str());
@@ -78,11 +85,13 @@ void BM_TemporaryGraph_GateMarginals(benchmark::State& state) {
   state.counters["edges"] = static_cast<double>(graph.numEdges());
 }
 BENCHMARK(BM_TemporaryGraph_GateMarginals)
-    ->ArgNames({"gates", "poses", "per_pose", "cholmod"})
-    ->Args({4, 20, 4, 0})
-    ->Args({11, 50, 4, 0})
-    ->Args({11, 50, 4, 1})
-    ->Args({11, 50, 11, 0})
+    ->ArgNames({"gates", "poses", "per_pose", "cholmod", "joint"})
+    ->Args({4, 20, 4, 0, 0})
+    ->Args({11, 50, 4, 0, 0})
+    ->Args({11, 50, 4, 0, 1})
+    ->Args({11, 50, 4, 1, 0})
+    ->Args({11, 50, 4, 1, 1})
+    ->Args({11, 50, 11, 0, 0})
     ->Unit(benchmark::kMicrosecond);
 
 /// A whole causal run (`dualgraph run`'s path: runSequence with data/config/default.yaml) over the

@@ -36,6 +36,11 @@ class LinearSolver {
   /// size; B and X must not alias). The default solves column by column; CHOLMOD and Eigen solve
   /// the block in one pass (BLAS-3 in CHOLMOD's supernodal solve).
   virtual Status solveColumns(const double* B, double* X, int n, int columns);
+  /// The same where only the rows listed in `rows` (`row_count` indices in [0, n)) of X are needed; the
+  /// other rows of X are left unspecified. Marginal covariances use it: a solver whose ordering puts those
+  /// rows last (EigenSolver with EigenOrdering::kNatural on a graph whose marginal vertices have the
+  /// largest ids) stops its substitutions at them. The default solves in full.
+  virtual Status solveColumnsAtRows(const double* B, double* X, int n, int columns, const int* rows, int row_count);
   /// Short name for summaries, e.g. "cholmod-supernodal".
   virtual std::string name() const = 0;
 };
@@ -47,6 +52,11 @@ inline Status LinearSolver::solveColumns(const double* B, double* X, int n, int 
     DG_RETURN_IF_ERROR(solve(B + offset, X + offset));
   }
   return Status();
+}
+
+inline Status LinearSolver::solveColumnsAtRows(const double* B, double* X, int n, int columns, const int* /*rows*/,
+                                               int /*row_count*/) {
+  return solveColumns(B, X, n, columns);
 }
 
 }  // namespace dualgraph

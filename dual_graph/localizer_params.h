@@ -76,8 +76,10 @@ struct LocalizerParams {
   /// odometry chain and first sightings, a nearly linear problem: 1e-6 (instead of the engine's 1e-9)
   /// saves ≈ 2 of 6 iterations and moved no estimate of the simulated races (ATE identical to 5 digits).
   double temp_relative_decrease_stop = 1e-6;
-  /// Main and temporary graphs: kAuto (Eigen's simplicial LDLᵀ on these small systems, CHOLMOD when a
-  /// full-batch main graph grows past 3000 unknowns), measured fastest on both (solvers/auto_solver.h).
+  /// Main graph: kAuto (Eigen's simplicial LDLᵀ on these small systems, CHOLMOD when a full-batch main
+  /// graph grows past 3000 unknowns), measured fastest (solvers/auto_solver.h). Temporary graphs: CHOLMOD
+  /// when kCholmod, otherwise Eigen in the graph's own order (EigenOrdering::kNatural: a time-ordered
+  /// chain, gates last, so the gates' marginals read only the factor's tail).
   LinearSolverKind linear_solver = LinearSolverKind::kAuto;
   /// Main and temporary graphs: Levenberg–Marquardt's damping (core/optimizer.h). kDiagonal: the gate
   /// priors and detections make max diag(H) far larger than a keyframe's own curvature, so g2o's λI

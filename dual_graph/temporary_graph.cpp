@@ -8,6 +8,7 @@
 #include "core/wall_clock.h"
 #include "dual_graph/graph_edges.h"
 #include "dual_graph/se3_uncertainty.h"
+#include "solvers/eigen_solver.h"
 #include "solvers/marginal_covariance.h"
 #include "types/vertex_point_xyz.h"
 #include "types/vertex_se3.h"
@@ -147,7 +148,12 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
   if (nodes_.empty()) return result;
   const double start_ms = nowMs();
   Graph graph;
-  Optimizer optimizer(graph, makeLinearSolver(params_.linear_solver));
+  // Eigen in the graph's own order unless CHOLMOD is asked for: the nodes are a chain in time order
+  // and the gates come last, so the factor's fill is what AMD gives here and the gates' marginals only
+  // touch the factor's last rows (EigenOrdering::kNatural).
+  Optimizer optimizer(graph, params_.linear_solver == LinearSolverKind::kCholmod
+                                 ? makeLinearSolver(LinearSolverKind::kCholmod)
+                                 : std::make_unique<EigenSolver>(EigenOrdering::kNatural));
   std::vector<int> gate_ids;
   Status built = buildAndOptimize(graph, optimizer, t_keyframe, odom_T_keyframe, history, gate_ids, result);
   MarginalCovariance marginals;

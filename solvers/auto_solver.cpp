@@ -32,6 +32,11 @@ Status AutoSolver::solveColumns(const double* B, double* X, int n, int columns) 
   return active_->solveColumns(B, X, n, columns);
 }
 
+Status AutoSolver::solveColumnsAtRows(const double* B, double* X, int n, int columns, const int* rows, int row_count) {
+  if (active_ == nullptr) return Status(StatusCode::kFailedPrecondition, "auto solver: solve before analyze");
+  return active_->solveColumnsAtRows(B, X, n, columns, rows, row_count);
+}
+
 std::string AutoSolver::name() const { return active_ == nullptr ? "auto" : "auto(" + active_->name() + ")"; }
 
 }  // namespace dualgraph

@@ -23,6 +23,7 @@ class AutoSolver final : public LinearSolver {
   Status factorize(const SparseMatrixView& matrix) override;
   Status solve(const double* b, double* x) override;
   Status solveColumns(const double* B, double* X, int n, int columns) override;
+  Status solveColumnsAtRows(const double* B, double* X, int n, int columns, const int* rows, int row_count) override;
   /// "auto(<the active solver's name>)", "auto" before the first analyze.
   std::string name() const override;
 

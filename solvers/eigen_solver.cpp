@@ -22,19 +22,41 @@ Status EigenSolver::analyze(const SparseMatrixView& view) {
     analyzed_ = true;
     return Status();
   }
+  new_position_.resize(n);
+  if (ordering_ == EigenOrdering::kNatural) {
+    std::iota(new_position_.begin(), new_position_.end(), 0);
+  } else {
+    DG_RETURN_IF_ERROR(computeAmdOrdering());
+  }
+  buildPermutedPattern();
+  ldlt_.analyzePreordered(permuted_);
+  if (ldlt_.info() != Eigen::Success) {
+    return Status(StatusCode::kFailedPrecondition, "Eigen analyze: symbolic analysis failed");
+  }
+  analyzed_ = true;
+  return Status();
+}
+
+Status EigenSolver::computeAmdOrdering() {
+  const int n = static_cast<int>(col_ptr_.size()) - 1;
   // AMD on the full symmetric pattern (Eigen's orderings return the inverse permutation).
   Matrix upper(n, n);
-  upper.resizeNonZeros(view.nnz());
+  upper.resizeNonZeros(static_cast<Eigen::Index>(row_index_.size()));
   std::copy(col_ptr_.begin(), col_ptr_.end(), upper.outerIndexPtr());
   std::copy(row_index_.begin(), row_index_.end(), upper.innerIndexPtr());
-  std::fill(upper.valuePtr(), upper.valuePtr() + view.nnz(), 1.0);
+  std::fill(upper.valuePtr(), upper.valuePtr() + row_index_.size(), 1.0);
   Matrix full;
   full = upper.selfadjointView<Eigen::Upper>();
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse;
   Eigen::AMDOrdering<int>()(full, inverse);
-  new_position_.assign(n, 0);
   for (int k = 0; k < n; ++k) new_position_[inverse.indices()[k]] = k;
-  // The permuted upper triangle, and which input entry fills each of its entries.
+  return Status();
+}
+
+void EigenSolver::buildPermutedPattern() {
+  const int n = static_cast<int>(col_ptr_.size()) - 1;
+  // The permuted upper triangle, and which input entry fills each of its entries (the input's own
+  // order when the ordering is natural: its columns' rows are sorted).
   std::vector<std::tuple<int, int, int>> entries;  // (column, row, input entry) in the new order
   entries.reserve(row_index_.size());
   for (int j = 0; j < n; ++j) {
@@ -43,7 +65,7 @@ Status EigenSolver::analyze(const SparseMatrixView& view) {
       entries.emplace_back(std::max(a, b), std::min(a, b), e);
     }
   }
-  std::sort(entries.begin(), entries.end());
+  if (ordering_ != EigenOrdering::kNatural) std::sort(entries.begin(), entries.end());
   permuted_.resize(n, n);
   permuted_.resizeNonZeros(static_cast<Eigen::Index>(entries.size()));
   source_entry_.assign(entries.size(), 0);
@@ -56,12 +78,6 @@ Status EigenSolver::analyze(const SparseMatrixView& view) {
     source_entry_[k] = source;
   }
   std::partial_sum(permuted_.outerIndexPtr(), permuted_.outerIndexPtr() + n + 1, permuted_.outerIndexPtr());
-  ldlt_.analyzePreordered(permuted_);
-  if (ldlt_.info() != Eigen::Success) {
-    return Status(StatusCode::kFailedPrecondition, "Eigen analyze: symbolic analysis failed");
-  }
-  analyzed_ = true;
-  return Status();
 }
 
 Status EigenSolver::factorize(const SparseMatrixView& view) {
@@ -125,6 +141,50 @@ Status EigenSolver::solveColumns(const double* B, double* X, int n, int columns)
   for (int c = 0; c < columns; ++c) {
     const size_t offset = static_cast<size_t>(c) * static_cast<size_t>(n);
     DG_RETURN_IF_ERROR(solve(B + offset, X + offset));
+  }
+  return Status();
+}
+
+Status EigenSolver::solveColumnsAtRows(const double* B, double* X, int n, int columns, const int* rows, int row_count) {
+  if (!factorized_) return Status(StatusCode::kFailedPrecondition, "Eigen solve before a successful factorize");
+  if (n != static_cast<int>(work_.size()) || columns < 0 || row_count < 0) {
+    return Status(StatusCode::kInvalidArgument, "Eigen solveColumnsAtRows: wrong row count or a negative count");
+  }
+  if (n == 0 || columns == 0 || row_count == 0) return Status();
+  if (B == nullptr || X == nullptr || rows == nullptr) {
+    return Status(StatusCode::kInvalidArgument, "Eigen solveColumnsAtRows: B, X or rows is null");
+  }
+  int first_needed = n;  // in the ordering
+  for (int k = 0; k < row_count; ++k) {
+    if (rows[k] < 0 || rows[k] >= n) {
+      return Status(StatusCode::kInvalidArgument, "Eigen solveColumnsAtRows: row " + std::to_string(rows[k]) +
+                                                      " outside [0, " + std::to_string(n) + ")");
+    }
+    first_needed = std::min(first_needed, new_position_[rows[k]]);
+  }
+  const Matrix& l = ldlt_.lower();
+  const int* outer = l.outerIndexPtr();
+  const int* inner = l.innerIndexPtr();
+  const double* value = l.valuePtr();
+  const Eigen::VectorXd& d = ldlt_.diagonal();
+  for (int c = 0; c < columns; ++c) {
+    const size_t offset = static_cast<size_t>(c) * static_cast<size_t>(n);
+    for (int i = 0; i < n; ++i) work_[new_position_[i]] = B[offset + i];
+    int first = 0;  // y is zero above the right-hand side's first nonzero: L y = b starts there
+    while (first < n && work_[first] == 0.0) ++first;
+    const int start = std::min(first, first_needed);
+    for (int j = first; j < n; ++j) {  // L y = b (unit lower, column-major)
+      const double yj = work_[j];
+      if (yj == 0.0) continue;
+      for (int k = outer[j]; k < outer[j + 1]; ++k) work_[inner[k]] -= value[k] * yj;
+    }
+    for (int j = start; j < n; ++j) work_[j] /= d[j];
+    for (int j = n - 1; j >= first_needed; --j) {  // Lᵀ x = y, down to the first needed row only
+      double sum = work_[j];
+      for (int k = outer[j]; k < outer[j + 1]; ++k) sum -= value[k] * work_[inner[k]];
+      work_[j] = sum;
+    }
+    for (int k = 0; k < row_count; ++k) X[offset + rows[k]] = work_[new_position_[rows[k]]];
   }
   return Status();
 }

@@ -104,11 +104,17 @@ Result<Eigen::MatrixXd> MarginalCovariance::jointBlock(const std::vector<int>& i
   units_.setZero(n, free_columns);
   solved_.resize(n, free_columns);
   int column = 0;
+  rows_.clear();
   for (const Requested& r : requested) {
     if (r.system_offset < 0) continue;
-    for (int c = 0; c < r.dim; ++c) units_(r.system_offset + c, column++) = 1.0;
+    for (int c = 0; c < r.dim; ++c) {
+      units_(r.system_offset + c, column++) = 1.0;
+      rows_.push_back(r.system_offset + c);
+    }
   }
-  const Status solved = optimizer_->linearSolver().solveColumns(units_.data(), solved_.data(), n, free_columns);
+  // Only the requested vertices' rows of H⁻¹ E are read.
+  const Status solved = optimizer_->linearSolver().solveColumnsAtRows(units_.data(), solved_.data(), n, free_columns,
+                                                                      rows_.data(), static_cast<int>(rows_.size()));
   if (!solved.ok()) {
     return Status(solved.code(), "marginal covariance of " + vertexName(requested.front().id) + ", ...: " +
                                      solved.message());

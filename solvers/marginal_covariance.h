@@ -66,7 +66,8 @@ class MarginalCovariance {
   std::vector<std::pair<const VertexBase*, bool>> fixed_snapshot_;
   int dim_ = 0;              ///< rows of H at compute()
   Eigen::MatrixXd units_;    ///< the requested unit columns
-  Eigen::MatrixXd solved_;   ///< H⁻¹ times them
+  Eigen::MatrixXd solved_;   ///< H⁻¹ times them (only the requested rows are meaningful)
+  std::vector<int> rows_;    ///< the requested rows of the system
 };
 
 /// Convenience: builds an Optimizer with a solver of `kind` over `graph`, computes at the current

@@ -58,6 +58,62 @@ TEST_P(SolveColumns, AWrongRowCountIsAnError) {
   EXPECT_EQ(solver->solveColumns(B.data(), X.data(), problem.n() + 1, 2).code(), StatusCode::kInvalidArgument);
 }
 
+// Only the requested rows are compared (the others are unspecified): unit columns as the marginals use
+// them, dense columns, rows at the start, the middle and the end of the system, for every solver
+// (EigenSolver restricts its substitutions; the others solve in full through the base class).
+TEST_P(SolveColumns, AtRowsEqualsTheDenseSolveOnTheRequestedRows) {
+  const BlockProblem problem = randomBlockSpd(30, 6, 5);
+  const Csc csc = problem.csc();
+  const int n = problem.n();
+  std::unique_ptr<LinearSolver> solver = GetParam().make();
+  ASSERT_TRUE(solver->analyze(csc.view()).ok());
+  ASSERT_TRUE(solver->factorize(csc.view()).ok());
+  const Eigen::MatrixXd inverse = problem.dense.inverse();
+  const std::vector<std::vector<int>> row_sets = {
+      {n - 6, n - 5, n - 4, n - 3, n - 2, n - 1}, {0, 1, 2}, {97, 40, 150, n - 1}, {n / 2}};
+  for (const std::vector<int>& rows : row_sets) {
+    SCOPED_TRACE("first row " + std::to_string(rows.front()));
+    // Unit columns at the requested rows: the rows' block of H⁻¹.
+    Eigen::MatrixXd units = Eigen::MatrixXd::Zero(n, static_cast<int>(rows.size()));
+    for (size_t k = 0; k < rows.size(); ++k) units(rows[k], static_cast<int>(k)) = 1.0;
+    Eigen::MatrixXd X = Eigen::MatrixXd::Constant(n, units.cols(), 123.0);
+    ASSERT_TRUE(solver->solveColumnsAtRows(units.data(), X.data(), n, static_cast<int>(units.cols()), rows.data(),
+                                           static_cast<int>(rows.size())).ok());
+    for (size_t r = 0; r < rows.size(); ++r) {
+      for (size_t c = 0; c < rows.size(); ++c) {
+        EXPECT_NEAR(X(rows[r], static_cast<int>(c)), inverse(rows[r], rows[c]), 1e-10 * inverse.norm());
+      }
+    }
+    // Dense right-hand sides.
+    Eigen::MatrixXd B(n, 3);
+    for (int c = 0; c < 3; ++c) B.col(c) = randomVector(n, 200 + c);
+    const Eigen::MatrixXd expected = problem.dense.llt().solve(B);
+    Eigen::MatrixXd Y(n, 3);
+    ASSERT_TRUE(solver->solveColumnsAtRows(B.data(), Y.data(), n, 3, rows.data(), static_cast<int>(rows.size())).ok());
+    for (int row : rows) EXPECT_LT((Y.row(row) - expected.row(row)).norm(), 1e-10 * expected.norm()) << "row " << row;
+  }
+}
+
+TEST(SolveColumnsAtRows, EigenRejectsRowsOutsideTheSystemAndSolvesBeforeFactorize) {
+  const BlockProblem problem = randomBlockSpd(4, 3, 6);
+  const Csc csc = problem.csc();
+  for (const EigenOrdering ordering : {EigenOrdering::kAmd, EigenOrdering::kNatural}) {
+    EigenSolver solver(ordering);
+    Eigen::MatrixXd B = Eigen::MatrixXd::Ones(problem.n(), 1), X(problem.n(), 1);
+    const int good[] = {0}, bad[] = {problem.n()}, negative[] = {-1};
+    EXPECT_EQ(solver.solveColumnsAtRows(B.data(), X.data(), problem.n(), 1, good, 1).code(),
+              StatusCode::kFailedPrecondition);
+    ASSERT_TRUE(solver.analyze(csc.view()).ok());
+    ASSERT_TRUE(solver.factorize(csc.view()).ok());
+    EXPECT_EQ(solver.solveColumnsAtRows(B.data(), X.data(), problem.n(), 1, bad, 1).code(), StatusCode::kInvalidArgument);
+    EXPECT_EQ(solver.solveColumnsAtRows(B.data(), X.data(), problem.n(), 1, negative, 1).code(),
+              StatusCode::kInvalidArgument);
+    EXPECT_EQ(solver.solveColumnsAtRows(B.data(), X.data(), problem.n(), 1, nullptr, 1).code(),
+              StatusCode::kInvalidArgument);
+    EXPECT_TRUE(solver.solveColumnsAtRows(B.data(), X.data(), problem.n(), 1, good, 0).ok());
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(AllSolvers, SolveColumns, ::testing::ValuesIn(allSolverCases()),
                          [](const auto& info) { return info.param.label; });
 

@@ -130,6 +130,7 @@ inline std::vector<SolverCase> allSolverCases() {
          return std::make_unique<CholmodSolver>(options);
        }},
       {"Eigen", [] { return std::make_unique<EigenSolver>(); }},
+      {"EigenNatural", [] { return std::make_unique<EigenSolver>(EigenOrdering::kNatural); }},
   };
 }
 
