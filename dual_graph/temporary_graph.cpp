@@ -68,26 +68,49 @@ std::vector<int> TemporaryGraph::distinctGates() const {
   return gates;
 }
 
+TemporaryGraph::VertexIds TemporaryGraph::assignVertexIds(double t_keyframe) const {
+  std::map<int, size_t> last_node;  // gate → last node observing it
+  for (const NodeObservation& observation : observations_) last_node[observation.measurement.gate_id] = observation.node;
+  std::vector<std::vector<int>> closing(nodes_.size());  // per node: gates it is the last to observe
+  for (const auto& [gate, node] : last_node) closing[node].push_back(gate);
+  VertexIds ids;
+  ids.node.assign(nodes_.size(), -1);
+  int next = 0;
+  std::vector<int> at_keyframe;  // gates last seen from the fixed keyframe: after every node
+  for (size_t j = 0; j < nodes_.size(); ++j) {
+    const bool free = nodes_[j].t < t_keyframe;
+    if (free) ids.node[j] = next++;
+    for (int gate : closing[j]) {
+      if (free) {
+        ids.gate[gate] = next++;
+      } else {
+        at_keyframe.push_back(gate);
+      }
+    }
+  }
+  for (int gate : at_keyframe) ids.gate[gate] = next++;
+  // The fixed keyframe after the free vertices, on purpose: block lookup must not assume it comes first.
+  ids.keyframe = next;
+  for (int& vertex : ids.node) vertex = vertex < 0 ? ids.keyframe : vertex;
+  return ids;
+}
+
 Status TemporaryGraph::buildAndOptimize(Graph& graph, Optimizer& optimizer, double t_keyframe,
                                         const Eigen::Isometry3d& odom_T_keyframe, const OdometryHistory& history,
-                                        std::vector<int>& gate_ids, DistillationResult& result) const {
-  // Ids: nodes 0..n-1, the keyframe n (a fixed vertex after free ones, on purpose: block lookup must not
-  // assume the fixed vertex comes first), gates from n + 1.
-  const int keyframe_id = static_cast<int>(nodes_.size());
+                                        std::vector<int>& gate_ids, std::vector<int>& gate_vertices,
+                                        DistillationResult& result) const {
+  const VertexIds ids = assignVertexIds(t_keyframe);
+  const int keyframe_id = ids.keyframe;
   auto keyframe = std::make_unique<VertexSE3>(keyframe_id);
   keyframe->setEstimate(odom_T_keyframe);
   keyframe->setFixed(true);
   DG_RETURN_IF_ERROR(graph.addVertex(std::move(keyframe)));
-  // Node j is vertex j, or the keyframe itself when it was taken at the keyframe instant.
-  std::vector<int> node_vertex(nodes_.size());
+  // Node j is its own vertex, or the keyframe itself when it was taken at the keyframe instant.
+  const std::vector<int>& node_vertex = ids.node;
   std::vector<double> node_time(nodes_.size());
   for (size_t j = 0; j < nodes_.size(); ++j) {
     node_time[j] = nodes_[j].t;
-    if (nodes_[j].t >= t_keyframe) {
-      node_vertex[j] = keyframe_id;
-      continue;
-    }
-    node_vertex[j] = static_cast<int>(j);
+    if (node_vertex[j] == keyframe_id) continue;
     auto vertex = std::make_unique<VertexSE3>(node_vertex[j]);
     vertex->setEstimate(nodes_[j].odom_T_body);
     DG_RETURN_IF_ERROR(graph.addVertex(std::move(vertex)));
@@ -110,24 +133,22 @@ Status TemporaryGraph::buildAndOptimize(Graph& graph, Optimizer& optimizer, doub
     if (!edge.ok()) return edge.status();
   }
   // Gates: created at their first observation, one edge per observation.
-  std::map<int, int> vertex_of_gate;
-  int next_id = static_cast<int>(nodes_.size()) + 1;
   for (const NodeObservation& observation : observations_) {
     const int gate = observation.measurement.gate_id;
-    auto found = vertex_of_gate.find(gate);
-    if (found == vertex_of_gate.end()) {
+    const int gate_vertex = ids.gate.at(gate);
+    if (graph.vertex(gate_vertex) == nullptr) {
       const Eigen::Isometry3d& odom_T_node =
           node_vertex[observation.node] == keyframe_id ? odom_T_keyframe : nodes_[observation.node].odom_T_body;
-      DG_RETURN_IF_ERROR(addGateVertex(graph, next_id, params_.landmark,
+      DG_RETURN_IF_ERROR(addGateVertex(graph, gate_vertex, params_.landmark,
                                        gateFromNode(odom_T_node, observation.measurement)));
-      found = vertex_of_gate.emplace(gate, next_id++).first;
       gate_ids.push_back(gate);
+      gate_vertices.push_back(gate_vertex);
     }
     Result<EdgeBase*> edge =
-        addGateEdge(graph, node_vertex[observation.node], found->second, observation.measurement, kernel_);
+        addGateEdge(graph, node_vertex[observation.node], gate_vertex, observation.measurement, kernel_);
     if (!edge.ok()) return edge.status();
   }
-  result.nodes = static_cast<int>(graph.numVertices() - vertex_of_gate.size());
+  result.nodes = static_cast<int>(graph.numVertices() - ids.gate.size());
   result.edges = static_cast<int>(graph.numEdges());
   OptimizerParams lm;
   lm.max_iterations = params_.temp_max_iterations;
@@ -148,14 +169,15 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
   if (nodes_.empty()) return result;
   const double start_ms = nowMs();
   Graph graph;
-  // Eigen in the graph's own order unless CHOLMOD is asked for: the nodes are a chain in time order
-  // and the gates come last, so the factor's fill is what AMD gives here and the gates' marginals only
-  // touch the factor's last rows (EigenOrdering::kNatural).
+  // Eigen in the graph's own order unless CHOLMOD is asked for: the ids (assignVertexIds) already make
+  // a good elimination order, which saves AMD's analysis, and each gate's marginal solve only touches
+  // the factor from that gate's rows on (EigenOrdering::kNatural, solveColumnsAtRows).
   Optimizer optimizer(graph, params_.linear_solver == LinearSolverKind::kCholmod
                                  ? makeLinearSolver(LinearSolverKind::kCholmod)
                                  : std::make_unique<EigenSolver>(EigenOrdering::kNatural));
-  std::vector<int> gate_ids;
-  Status built = buildAndOptimize(graph, optimizer, t_keyframe, odom_T_keyframe, history, gate_ids, result);
+  std::vector<int> gate_ids, gate_vertices;
+  Status built =
+      buildAndOptimize(graph, optimizer, t_keyframe, odom_T_keyframe, history, gate_ids, gate_vertices, result);
   MarginalCovariance marginals;
   if (built.ok()) built = marginals.compute(optimizer, graph);
   if (!built.ok()) {
@@ -165,11 +187,9 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
     clear();
     return result;
   }
-  // Gate vertices follow the nodes, in order of first observation.
-  const int first_gate_vertex = static_cast<int>(nodes_.size()) + 1;
   const Eigen::Isometry3d keyframe_T_odom = odom_T_keyframe.inverse();
   for (size_t g = 0; g < gate_ids.size(); ++g) {
-    const int vertex_id = first_gate_vertex + static_cast<int>(g);
+    const int vertex_id = gate_vertices[g];
     GateEdgeMeasurement distilled;
     distilled.gate_id = gate_ids[g];
     distilled.model = params_.landmark;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -62,10 +63,21 @@ class TemporaryGraph {
     GateEdgeMeasurement measurement;
     EIGEN_MAKE_ALIGNED_OPERATOR_NEW
   };
-  /// Builds and optimises the graph; fills `result` except the gates.
+  /// Vertex ids, chosen so that increasing id (the linear system's order) is a good elimination order.
+  struct VertexIds {
+    std::vector<int> node;          ///< per node: its vertex, or `keyframe` for a node at the keyframe instant
+    std::map<int, int> gate;        ///< gate id → vertex
+    int keyframe = 0;               ///< the fixed keyframe, after every free vertex
+  };
+  /// Nodes in time order, each gate right after the last node that observes it (so at most the gates
+  /// still in view are coupled to a node while the chain is eliminated), then the keyframe.
+  VertexIds assignVertexIds(double t_keyframe) const;
+  /// Builds and optimises the graph; fills `result` except the gates; `gate_ids` in order of first
+  /// observation, `gate_vertices` their vertices.
   Status buildAndOptimize(Graph& graph, Optimizer& optimizer, double t_keyframe,
                           const Eigen::Isometry3d& odom_T_keyframe, const OdometryHistory& history,
-                          std::vector<int>& gate_ids, DistillationResult& result) const;
+                          std::vector<int>& gate_ids, std::vector<int>& gate_vertices,
+                          DistillationResult& result) const;
   /// Gate ids observed in the interval, in order of first observation.
   std::vector<int> distinctGates() const;
 
