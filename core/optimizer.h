@@ -117,7 +117,10 @@ struct SolverSummary {
 };
 
 /// Levenberg–Marquardt (Nielsen's damping update, as g2o) and Gauss–Newton over a `Graph`, with a
-/// pluggable linear solver. The sparsity pattern and the solver's symbolic analysis are cached and
+/// pluggable linear solver. LM accepts a step when χ² decreases, and also, ending the run as converged,
+/// a step whose predicted decrease is below both the relative threshold and χ²'s round-off (1e-12 χ²)
+/// and whose χ² change is within that round-off: χ² cannot judge it, so χ² is monotone up to 1e-12
+/// relative and a linear problem ends at its optimum to round-off. The sparsity pattern and the solver's symbolic analysis are cached and
 /// rebuilt only when the graph's structure (vertices, edges, fixed flags) changed, so repeated
 /// calls on a growing graph pay only for numeric work. The optimiser never prints.
 class Optimizer {
