@@ -1,0 +1,187 @@
+// SPDX-License-Identifier: MIT
+#include "solvers/block_cholesky.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace dualgraph {
+namespace {
+
+using Block = BlockCholesky::Block;
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+
+/// In-place Cholesky of a symmetric 6×6 block (lower triangle read, strict upper zeroed). `column` names
+/// the block column in messages.
+Status choleskyInPlace(Block& a, int column) {
+  for (int k = 0; k < 6; ++k) {
+    double d = a(k, k);
+    for (int m = 0; m < k; ++m) d -= a(k, m) * a(k, m);
+    if (!std::isfinite(d)) {
+      return Status(StatusCode::kNumericalError, "block Cholesky: non-finite pivot at row " +
+                                                      std::to_string(6 * column + k) + " (NaN/Inf in the matrix)");
+    }
+    if (!(d > 0.0)) {
+      return Status(StatusCode::kNotPositiveDefinite, "block Cholesky: matrix is not positive definite (pivot " +
+                                                           std::to_string(d) + " at row " +
+                                                           std::to_string(6 * column + k) + ")");
+    }
+    const double l = std::sqrt(d);
+    a(k, k) = l;
+    const double inverse = 1.0 / l;
+    for (int i = k + 1; i < 6; ++i) {
+      double s = a(i, k);
+      for (int m = 0; m < k; ++m) s -= a(i, m) * a(k, m);
+      a(i, k) = s * inverse;
+    }
+  }
+  a.triangularView<Eigen::StrictlyUpper>().setZero();
+  return Status();
+}
+
+}  // namespace
+
+Status BlockCholesky::analyse(int num_blocks, const std::vector<std::pair<int, int>>& pairs) {
+  factorized_ = false;
+  num_blocks_ = 0;
+  col_begin_.assign(1, 0);
+  row_.clear();
+  if (num_blocks < 0) return Status(StatusCode::kInvalidArgument, "block Cholesky: negative block count");
+  // Lower pattern of H per column, then fill: a column's rows (but its parent) join its parent's.
+  std::vector<std::vector<int>> rows(num_blocks);
+  for (const auto& [a, b] : pairs) {
+    if (a < 0 || b < 0 || a >= num_blocks || b >= num_blocks || a == b) {
+      return Status(StatusCode::kInvalidArgument, "block Cholesky: bad block pair (" + std::to_string(a) + ", " +
+                                                      std::to_string(b) + ") for " + std::to_string(num_blocks) +
+                                                      " blocks");
+    }
+    rows[std::min(a, b)].push_back(std::max(a, b));
+  }
+  std::vector<std::vector<int>> children(num_blocks);
+  for (int j = 0; j < num_blocks; ++j) {
+    std::vector<int>& column = rows[j];
+    for (int child : children[j]) {
+      for (int r : rows[child]) {
+        if (r != j) column.push_back(r);
+      }
+    }
+    std::sort(column.begin(), column.end());
+    column.erase(std::unique(column.begin(), column.end()), column.end());
+    if (!column.empty()) children[column.front()].push_back(j);
+  }
+  col_begin_.assign(num_blocks + 1, 0);
+  for (int j = 0; j < num_blocks; ++j) {
+    row_.push_back(j);
+    row_.insert(row_.end(), rows[j].begin(), rows[j].end());
+    col_begin_[j + 1] = static_cast<int>(row_.size());
+  }
+  num_blocks_ = num_blocks;
+  // Update targets: block (row_a, row_b) for a ≥ b among each column's off-diagonal blocks.
+  target_.clear();
+  target_begin_.assign(num_blocks + 1, 0);
+  size_t max_column = 0;
+  for (int j = 0; j < num_blocks; ++j) {
+    const int first = col_begin_[j] + 1;
+    const int end = col_begin_[j + 1];
+    max_column = std::max(max_column, static_cast<size_t>(end - first));
+    for (int a = first; a < end; ++a) {
+      for (int b = first; b <= a; ++b) {
+        const int target = blockIndex(row_[a], row_[b]);
+        if (target < 0) return Status(StatusCode::kInvalidArgument, "block Cholesky: fill pattern is not closed");
+        target_.push_back(target);
+      }
+    }
+    target_begin_[j + 1] = static_cast<int>(target_.size());
+  }
+  factor_.assign(row_.size(), Block::Zero());
+  sigma_.assign(row_.size(), Block::Zero());
+  diagonal_inverse_.assign(num_blocks, Block::Zero());
+  work_.assign(max_column, Block::Zero());
+  return Status();
+}
+
+int BlockCholesky::blockIndex(int row, int col) const {
+  if (col < 0 || col >= num_blocks_ || row < col || row >= num_blocks_) return -1;
+  const auto begin = row_.begin() + col_begin_[col];
+  const auto end = row_.begin() + col_begin_[col + 1];
+  const auto it = std::lower_bound(begin, end, row);
+  return it != end && *it == row ? static_cast<int>(it - row_.begin()) : -1;
+}
+
+Status BlockCholesky::factorize(const Block* h, const double* diagonal_add) {
+  factorized_ = false;
+  std::copy(h, h + row_.size(), factor_.begin());
+  if (diagonal_add != nullptr) {
+    for (int j = 0; j < num_blocks_; ++j) {
+      factor_[col_begin_[j]].diagonal() += Eigen::Map<const Vector6>(diagonal_add + 6 * j);
+    }
+  }
+  for (int j = 0; j < num_blocks_; ++j) {
+    Block& diagonal = factor_[col_begin_[j]];
+    DG_RETURN_IF_ERROR(choleskyInPlace(diagonal, j));
+    Block& inverse = diagonal_inverse_[j];
+    inverse.setIdentity();
+    diagonal.triangularView<Eigen::Lower>().solveInPlace(inverse);
+    const int first = col_begin_[j] + 1;
+    const int end = col_begin_[j + 1];
+    const Block inverse_transposed = inverse.transpose();
+    for (int p = first; p < end; ++p) factor_[p] = (factor_[p] * inverse_transposed).eval();
+    const int* target = target_.data() + target_begin_[j];
+    for (int a = first; a < end; ++a) {
+      for (int b = first; b <= a; ++b) factor_[*target++].noalias() -= factor_[a] * factor_[b].transpose();
+    }
+  }
+  factorized_ = true;
+  return Status();
+}
+
+Status BlockCholesky::solve(const double* b, double* x) const {
+  if (!factorized_) return Status(StatusCode::kFailedPrecondition, "block Cholesky: solve before a successful factorize");
+  const int n = 6 * num_blocks_;
+  if (x != b) std::copy(b, b + n, x);
+  for (int j = 0; j < num_blocks_; ++j) {
+    Eigen::Map<Vector6> x_j(x + 6 * j);
+    const Vector6 y = diagonal_inverse_[j] * x_j;
+    x_j = y;
+    for (int p = col_begin_[j] + 1; p < col_begin_[j + 1]; ++p) Eigen::Map<Vector6>(x + 6 * row_[p]).noalias() -= factor_[p] * y;
+  }
+  for (int j = num_blocks_ - 1; j >= 0; --j) {
+    Vector6 r = Eigen::Map<const Vector6>(x + 6 * j);
+    for (int p = col_begin_[j] + 1; p < col_begin_[j + 1]; ++p) {
+      r.noalias() -= factor_[p].transpose() * Eigen::Map<const Vector6>(x + 6 * row_[p]);
+    }
+    Eigen::Map<Vector6>(x + 6 * j).noalias() = diagonal_inverse_[j].transpose() * r;
+  }
+  return Status();
+}
+
+Status BlockCholesky::selectedInverse() {
+  if (!factorized_) {
+    return Status(StatusCode::kFailedPrecondition, "block Cholesky: selected inverse before a successful factorize");
+  }
+  for (int j = num_blocks_ - 1; j >= 0; --j) {
+    const int first = col_begin_[j] + 1;
+    const int m = col_begin_[j + 1] - first;
+    const Block& inverse = diagonal_inverse_[j];
+    for (int i = 0; i < m; ++i) work_[i].noalias() = factor_[first + i] * inverse;
+    const int* target = target_.data() + target_begin_[j];  // (a, b), a ≥ b: target[a(a+1)/2 + b]
+    for (int a = 0; a < m; ++a) {
+      Block sum = Block::Zero();
+      for (int i = 0; i < m; ++i) {
+        if (i <= a) {
+          sum.noalias() += sigma_[target[a * (a + 1) / 2 + i]] * work_[i];
+        } else {
+          sum.noalias() += sigma_[target[i * (i + 1) / 2 + a]].transpose() * work_[i];
+        }
+      }
+      sigma_[first + a] = -sum;
+    }
+    Block diagonal;
+    diagonal.noalias() = inverse.transpose() * inverse;
+    for (int a = 0; a < m; ++a) diagonal.noalias() -= work_[a].transpose() * sigma_[first + a];
+    sigma_[col_begin_[j]] = 0.5 * (diagonal + diagonal.transpose());
+  }
+  return Status();
+}
+
+}  // namespace dualgraph
