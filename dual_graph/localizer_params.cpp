@@ -68,6 +68,9 @@ Status validateChoices(const LocalizerParams& params) {
     return invalid("linear_solver", "is not a LinearSolverKind");
   }
   if (std::string(lmDampingName(params.lm_damping)) == "unknown") return invalid("lm_damping", "is not an LmDamping");
+  if (std::string(temporarySolverKindName(params.temp_solver)) == "unknown") {
+    return invalid("temp_solver", "is not a TemporarySolverKind");
+  }
   return Status::okStatus();
 }
 
@@ -135,6 +138,14 @@ const char* landmarkModelName(LandmarkModel model) {
   switch (model) {
     case LandmarkModel::kPose: return "pose";
     case LandmarkModel::kPoint: return "point";
+  }
+  return "unknown";
+}
+
+const char* temporarySolverKindName(TemporarySolverKind kind) {
+  switch (kind) {
+    case TemporarySolverKind::kBlock: return "block";
+    case TemporarySolverKind::kGraph: return "graph";
   }
   return "unknown";
 }

@@ -22,6 +22,12 @@ enum class LandmarkModel {
   kPoint,  ///< gate centre `p_world` (VertexPointXYZ), position detections (a pose detection's translation)
 };
 
+/// Which solver optimises a temporary graph and computes its gates' marginals.
+enum class TemporarySolverKind {
+  kBlock,  ///< TemporarySolver: LM and the selected inverse on 6×6 blocks (dual_graph/temporary_solver.h)
+  kGraph,  ///< the generic Optimizer + MarginalCovariance (the oracle; always used with linear_solver: cholmod)
+};
+
 /// Every tunable of the `Localizer`, with the defaults it is documented and tested with. Distances in
 /// metres, angles in radians, standard deviations σ in the units of their quantity. Loadable from YAML
 /// (`loadLocalizerParams`), keys named exactly as the fields.
@@ -81,6 +87,11 @@ struct LocalizerParams {
   /// when kCholmod, otherwise Eigen in the graph's own order (EigenOrdering::kNatural: a time-ordered
   /// chain, gates last, so the gates' marginals read only the factor's tail).
   LinearSolverKind linear_solver = LinearSolverKind::kAuto;
+  /// Temporary graphs: kBlock (default) runs LM and the marginals on 6×6 blocks in the graph's id order
+  /// (about 10× faster at 11 gates / 50 poses, bench/README.md); kGraph the generic Optimizer with Eigen
+  /// in that order (or CHOLMOD when `linear_solver` is kCholmod, which always takes this path). Both
+  /// give the same distilled edges to round-off (test/dual_graph/temporary_solver_test.cpp).
+  TemporarySolverKind temp_solver = TemporarySolverKind::kBlock;
   /// Main and temporary graphs: Levenberg–Marquardt's damping (core/optimizer.h). kDiagonal: the gate
   /// priors and detections make max diag(H) far larger than a keyframe's own curvature, so g2o's λI
   /// damps the keyframes hard and a cold solve takes 7–8 iterations where diagonal damping takes 4–5;
@@ -103,5 +114,7 @@ Status validateLocalizerParams(const LocalizerParams& params);
 /// "dual"/"single", "pose"/"point".
 const char* localizerModeName(LocalizerMode mode);
 const char* landmarkModelName(LandmarkModel model);
+/// "block"/"graph".
+const char* temporarySolverKindName(TemporarySolverKind kind);
 
 }  // namespace dualgraph

@@ -185,6 +185,7 @@ constexpr FieldSlot<bool> kBoolFields[] = {
 constexpr LocalizerMode kModes[] = {LocalizerMode::kDual, LocalizerMode::kSingle};
 constexpr LandmarkModel kLandmarks[] = {LandmarkModel::kPose, LandmarkModel::kPoint};
 constexpr LmDamping kDampings[] = {LmDamping::kIdentity, LmDamping::kDiagonal};
+constexpr TemporarySolverKind kTemporarySolvers[] = {TemporarySolverKind::kBlock, TemporarySolverKind::kGraph};
 
 /// Reads one `name: value` pair into `params`; an unknown name is an error at the key.
 Status readField(const std::string& source, const YAML::Node& key, const YAML::Node& value,
@@ -203,6 +204,9 @@ Status readField(const std::string& source, const YAML::Node& key, const YAML::N
   if (name == "landmark") return readEnum(source, name, value, kLandmarks, &landmarkModelName, params.landmark);
   if (name == "linear_solver") return readLinearSolver(source, name, value, params.linear_solver);
   if (name == "lm_damping") return readEnum(source, name, value, kDampings, &lmDampingName, params.lm_damping);
+  if (name == "temp_solver") {
+    return readEnum(source, name, value, kTemporarySolvers, &temporarySolverKindName, params.temp_solver);
+  }
   if (name == "robust_kernel") return readScalar(source, name, value, params.robust_kernel);
   if (name == "initial_world_T_odom") return readTransform(source, name, value, params.initial_world_T_odom);
   return fieldError(source, key.Mark(), name, "unknown key");

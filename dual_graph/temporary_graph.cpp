@@ -95,10 +95,9 @@ TemporaryGraph::VertexIds TemporaryGraph::assignVertexIds(double t_keyframe) con
   return ids;
 }
 
-Status TemporaryGraph::buildAndOptimize(Graph& graph, Optimizer& optimizer, double t_keyframe,
-                                        const Eigen::Isometry3d& odom_T_keyframe, const OdometryHistory& history,
-                                        std::vector<int>& gate_ids, std::vector<int>& gate_vertices,
-                                        DistillationResult& result) const {
+Status TemporaryGraph::buildGraph(Graph& graph, double t_keyframe, const Eigen::Isometry3d& odom_T_keyframe,
+                                  const OdometryHistory& history, std::vector<int>& gate_ids,
+                                  std::vector<int>& gate_vertices, DistillationResult& result) const {
   const VertexIds ids = assignVertexIds(t_keyframe);
   const int keyframe_id = ids.keyframe;
   auto keyframe = std::make_unique<VertexSE3>(keyframe_id);
@@ -107,9 +106,7 @@ Status TemporaryGraph::buildAndOptimize(Graph& graph, Optimizer& optimizer, doub
   DG_RETURN_IF_ERROR(graph.addVertex(std::move(keyframe)));
   // Node j is its own vertex, or the keyframe itself when it was taken at the keyframe instant.
   const std::vector<int>& node_vertex = ids.node;
-  std::vector<double> node_time(nodes_.size());
   for (size_t j = 0; j < nodes_.size(); ++j) {
-    node_time[j] = nodes_[j].t;
     if (node_vertex[j] == keyframe_id) continue;
     auto vertex = std::make_unique<VertexSE3>(node_vertex[j]);
     vertex->setEstimate(nodes_[j].odom_T_body);
@@ -122,9 +119,9 @@ Status TemporaryGraph::buildAndOptimize(Graph& graph, Optimizer& optimizer, doub
     const bool last = j + 1 == nodes_.size();
     const int to = last ? keyframe_id : node_vertex[j + 1];
     if (from == to) continue;
-    const double t_to = last ? t_keyframe : node_time[j + 1];
+    const double t_to = last ? t_keyframe : nodes_[j + 1].t;
     const Eigen::Isometry3d to_pose = last ? odom_T_keyframe : nodes_[j + 1].odom_T_body;
-    Result<Matrix6d> covariance = history.relativeCovariance(node_time[j], t_to, model);
+    Result<Matrix6d> covariance = history.relativeCovariance(nodes_[j].t, t_to, model);
     if (!covariance.ok()) return covariance.status();
     Result<Matrix6d> information = poseInformationFromMetricCovariance(*covariance, "temporary odometry covariance");
     if (!information.ok()) return information.status();
@@ -150,16 +147,53 @@ Status TemporaryGraph::buildAndOptimize(Graph& graph, Optimizer& optimizer, doub
   }
   result.nodes = static_cast<int>(graph.numVertices() - ids.gate.size());
   result.edges = static_cast<int>(graph.numEdges());
+  return Status();
+}
+
+OptimizerParams TemporaryGraph::lmParams() const {
   OptimizerParams lm;
   lm.max_iterations = params_.temp_max_iterations;
   lm.relative_decrease_stop = params_.temp_relative_decrease_stop;
   lm.damping = params_.lm_damping;
-  const SolverSummary summary = optimizer.optimize(lm);
+  return lm;
+}
+
+namespace {
+
+Status optimizationFailure(const SolverSummary& summary) {
+  return Status(StatusCode::kNumericalError, std::string("temporary graph optimisation failed (") +
+                                                 terminationReasonName(summary.termination) + "): " + summary.message);
+}
+
+}  // namespace
+
+Status TemporaryGraph::optimizeWithGraph(Graph& graph, const std::vector<int>& gate_vertices,
+                                         std::vector<Result<Eigen::MatrixXd>>& covariances,
+                                         DistillationResult& result) const {
+  // Eigen in the graph's own order unless CHOLMOD is asked for: the ids (assignVertexIds) already make
+  // a good elimination order, which saves AMD's analysis, and each gate's marginal solve only touches
+  // the factor from that gate's rows on (EigenOrdering::kNatural, solveColumnsAtRows).
+  Optimizer optimizer(graph, params_.linear_solver == LinearSolverKind::kCholmod
+                                 ? makeLinearSolver(LinearSolverKind::kCholmod)
+                                 : std::make_unique<EigenSolver>(EigenOrdering::kNatural));
+  const SolverSummary summary = optimizer.optimize(lmParams());
   result.iterations = summary.iterations;
-  if (!summary.usable()) {
-    return Status(StatusCode::kNumericalError, std::string("temporary graph optimisation failed (") +
-                                                   terminationReasonName(summary.termination) + "): " + summary.message);
-  }
+  if (!summary.usable()) return optimizationFailure(summary);
+  MarginalCovariance marginals;
+  DG_RETURN_IF_ERROR(marginals.compute(optimizer, graph));
+  for (int vertex : gate_vertices) covariances.push_back(marginals.block(vertex));
+  return Status();
+}
+
+Status TemporaryGraph::optimizeWithBlocks(Graph& graph, const std::vector<int>& gate_vertices,
+                                          std::vector<Result<Eigen::MatrixXd>>& covariances,
+                                          DistillationResult& result) {
+  DG_RETURN_IF_ERROR(solver_.setGraph(graph));
+  const SolverSummary summary = solver_.optimize(lmParams());
+  result.iterations = summary.iterations;
+  if (!summary.usable()) return optimizationFailure(summary);
+  DG_RETURN_IF_ERROR(solver_.computeMarginals());
+  for (int vertex : gate_vertices) covariances.push_back(solver_.marginal(vertex));
   return Status();
 }
 
@@ -169,17 +203,15 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
   if (nodes_.empty()) return result;
   const double start_ms = nowMs();
   Graph graph;
-  // Eigen in the graph's own order unless CHOLMOD is asked for: the ids (assignVertexIds) already make
-  // a good elimination order, which saves AMD's analysis, and each gate's marginal solve only touches
-  // the factor from that gate's rows on (EigenOrdering::kNatural, solveColumnsAtRows).
-  Optimizer optimizer(graph, params_.linear_solver == LinearSolverKind::kCholmod
-                                 ? makeLinearSolver(LinearSolverKind::kCholmod)
-                                 : std::make_unique<EigenSolver>(EigenOrdering::kNatural));
   std::vector<int> gate_ids, gate_vertices;
-  Status built =
-      buildAndOptimize(graph, optimizer, t_keyframe, odom_T_keyframe, history, gate_ids, gate_vertices, result);
-  MarginalCovariance marginals;
-  if (built.ok()) built = marginals.compute(optimizer, graph);
+  std::vector<Result<Eigen::MatrixXd>> covariances;
+  Status built = buildGraph(graph, t_keyframe, odom_T_keyframe, history, gate_ids, gate_vertices, result);
+  const bool blocks =
+      params_.temp_solver == TemporarySolverKind::kBlock && params_.linear_solver != LinearSolverKind::kCholmod;
+  if (built.ok()) {
+    built = blocks ? optimizeWithBlocks(graph, gate_vertices, covariances, result)
+                   : optimizeWithGraph(graph, gate_vertices, covariances, result);
+  }
   if (!built.ok()) {
     result.skipped_gates = static_cast<int>(distinctGates().size());
     result.skip_reason = built.message();
@@ -197,7 +229,7 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
     for (const NodeObservation& observation : observations_) {
       distilled.observations += observation.measurement.gate_id == gate_ids[g] ? 1 : 0;
     }
-    Result<Eigen::MatrixXd> covariance = marginals.block(vertex_id);
+    const Result<Eigen::MatrixXd>& covariance = covariances[g];
     Status usable = covariance.ok() ? Status() : covariance.status();
     const std::string what = "distilled covariance of gate " + std::to_string(gate_ids[g]);
     if (usable.ok() && params_.landmark == LandmarkModel::kPose) {

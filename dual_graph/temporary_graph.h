@@ -9,10 +9,9 @@
 #include "dual_graph/gate_edge.h"
 #include "dual_graph/localizer_params.h"
 #include "dual_graph/odometry_history.h"
+#include "dual_graph/temporary_solver.h"
 
 namespace dualgraph {
-
-class Optimizer;
 
 /// What one distillation did (statistics and the edges for the main graph).
 struct DistillationResult {
@@ -33,7 +32,8 @@ struct DistillationResult {
 /// turns each gate L into one edge K → L with measurement K⁻¹·L and information Σ_L⁻¹, Σ_L the
 /// marginal covariance of L (its own tangent space, which is exactly the tangent of that edge's error;
 /// for a point the world-axes covariance is rotated into K's axes). A detection at the keyframe instant
-/// attaches to K itself.
+/// attaches to K itself. The graph is optimised by `TemporarySolver` (6×6 blocks, the default) or the generic
+/// Optimizer (`temp_solver: graph` or `linear_solver: cholmod`); both give the same edges to round-off.
 class TemporaryGraph {
  public:
   TemporaryGraph(const LocalizerParams& params, std::shared_ptr<const RobustKernel> kernel);
@@ -72,12 +72,19 @@ class TemporaryGraph {
   /// Nodes in time order, each gate right after the last node that observes it (so at most the gates
   /// still in view are coupled to a node while the chain is eliminated), then the keyframe.
   VertexIds assignVertexIds(double t_keyframe) const;
-  /// Builds and optimises the graph; fills `result` except the gates; `gate_ids` in order of first
-  /// observation, `gate_vertices` their vertices.
-  Status buildAndOptimize(Graph& graph, Optimizer& optimizer, double t_keyframe,
-                          const Eigen::Isometry3d& odom_T_keyframe, const OdometryHistory& history,
-                          std::vector<int>& gate_ids, std::vector<int>& gate_vertices,
-                          DistillationResult& result) const;
+  /// Builds the graph (nodes, fixed keyframe, gates, odometry and detection edges); fills `result`'s
+  /// sizes; `gate_ids` in order of first observation, `gate_vertices` their vertices.
+  Status buildGraph(Graph& graph, double t_keyframe, const Eigen::Isometry3d& odom_T_keyframe,
+                    const OdometryHistory& history, std::vector<int>& gate_ids, std::vector<int>& gate_vertices,
+                    DistillationResult& result) const;
+  OptimizerParams lmParams() const;
+  /// Optimises `graph` and appends each gate vertex's marginal covariance (or why it has none) to
+  /// `covariances`: with the generic Optimizer and MarginalCovariance (temp_solver: graph, or CHOLMOD) …
+  Status optimizeWithGraph(Graph& graph, const std::vector<int>& gate_vertices,
+                           std::vector<Result<Eigen::MatrixXd>>& covariances, DistillationResult& result) const;
+  /// … or with the block solver (temp_solver: block), which keeps its buffers between keyframes.
+  Status optimizeWithBlocks(Graph& graph, const std::vector<int>& gate_vertices,
+                            std::vector<Result<Eigen::MatrixXd>>& covariances, DistillationResult& result);
   /// Gate ids observed in the interval, in order of first observation.
   std::vector<int> distinctGates() const;
 
@@ -85,6 +92,7 @@ class TemporaryGraph {
   std::shared_ptr<const RobustKernel> kernel_;
   std::vector<Node, Eigen::aligned_allocator<Node>> nodes_;
   std::vector<NodeObservation, Eigen::aligned_allocator<NodeObservation>> observations_;
+  TemporarySolver solver_;  ///< work buffers of the block solver, reused between keyframes
 };
 
 /// The per-metre model and input-covariance choice of `params`.

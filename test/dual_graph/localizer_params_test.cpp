@@ -23,7 +23,7 @@ const std::vector<std::string> kFieldNames = {
     "mode", "landmark", "mapping", "d_main", "theta_main", "d_temp", "theta_temp", "d_single", "theta_single",
     "use_input_covariance", "odom_sigma_t", "odom_sigma_r", "odom_min_distance", "map_sigma_t", "map_sigma_r",
     "fix_map_gates", "initial_world_T_odom", "initial_sigma_t", "initial_sigma_r", "main_max_iterations",
-    "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "temp_relative_decrease_stop", "linear_solver", "lm_damping", "robust_kernel", "chi2_gate_pose",
+    "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "temp_relative_decrease_stop", "linear_solver", "lm_damping", "temp_solver", "robust_kernel", "chi2_gate_pose",
     "chi2_gate_point"};
 
 /// Field by field; the transform to `pose_tolerance` (max abs difference of the 4x4 matrices).
@@ -56,6 +56,7 @@ void expectSameParams(const LocalizerParams& a, const LocalizerParams& b, double
   EXPECT_EQ(a.temp_relative_decrease_stop, b.temp_relative_decrease_stop);
   EXPECT_EQ(a.linear_solver, b.linear_solver);
   EXPECT_EQ(a.lm_damping, b.lm_damping);
+  EXPECT_EQ(a.temp_solver, b.temp_solver);
   EXPECT_EQ(a.robust_kernel, b.robust_kernel);
   EXPECT_EQ(a.chi2_gate_pose, b.chi2_gate_pose);
   EXPECT_EQ(a.chi2_gate_point, b.chi2_gate_point);
@@ -89,6 +90,7 @@ temp_max_iterations: 30
 temp_relative_decrease_stop: 1e-8
 linear_solver: eigen
 lm_damping: identity
+temp_solver: graph
 robust_kernel: cauchy:1.5
 chi2_gate_pose: 0
 chi2_gate_point: 11.345
@@ -107,6 +109,7 @@ LocalizerParams allOverriddenExpected() {
   p.temp_relative_decrease_stop = 1e-8;
   p.main_window = 12;
   p.linear_solver = LinearSolverKind::kEigen, p.lm_damping = LmDamping::kIdentity, p.robust_kernel = "cauchy:1.5";
+  p.temp_solver = TemporarySolverKind::kGraph;
   p.chi2_gate_pose = 0.0, p.chi2_gate_point = 11.345;
   return p;
 }
@@ -216,6 +219,8 @@ TEST(LocalizerParamsYaml, UnknownEnumValueListsTheAllowedOnes) {
   expectParseError("\nlandmark: corner\n", 2, "landmark", "(expected pose or point)");
   expectParseError("linear_solver: lapack\n", 1, "linear_solver", "cholmod, eigen or auto");
   expectParseError("lm_damping: marquardt\n", 1, "lm_damping", "identity or diagonal");
+  expectParseError("temp_solver: cholmod\n", 1, "temp_solver", "(expected block or graph)");
+  expectParseError("temp_solver: 1\n", 1, "temp_solver", "block or graph");
 }
 
 TEST(LocalizerParamsYaml, DocumentThatIsNotAMappingIsRejected) {
@@ -283,6 +288,7 @@ TEST(LocalizerParamsValidation, EachOutOfDomainFieldIsNamed) {
       {"chi2_gate_pose", [](LocalizerParams& p) { p.chi2_gate_pose = -1.0; }},
       {"chi2_gate_point", [](LocalizerParams& p) { p.chi2_gate_point = INFINITY; }},
       {"robust_kernel", [](LocalizerParams& p) { p.robust_kernel = "bogus:1"; }},
+      {"temp_solver", [](LocalizerParams& p) { p.temp_solver = static_cast<TemporarySolverKind>(7); }},
       {"robust_kernel", [](LocalizerParams& p) { p.robust_kernel = "huber"; }},
       {"initial_world_T_odom", [](LocalizerParams& p) { p.initial_world_T_odom.translation().x() = INFINITY; }},
       {"initial_world_T_odom", [](LocalizerParams& p) { p.initial_world_T_odom.linear()(0, 0) = 1.001; }},
@@ -311,6 +317,8 @@ TEST(LocalizerParamsNames, EnumNamesAreTheYamlSpellings) {
   EXPECT_STREQ(localizerModeName(LocalizerMode::kSingle), "single");
   EXPECT_STREQ(landmarkModelName(LandmarkModel::kPose), "pose");
   EXPECT_STREQ(landmarkModelName(LandmarkModel::kPoint), "point");
+  EXPECT_STREQ(temporarySolverKindName(TemporarySolverKind::kBlock), "block");
+  EXPECT_STREQ(temporarySolverKindName(TemporarySolverKind::kGraph), "graph");
 }
 
 }  // namespace

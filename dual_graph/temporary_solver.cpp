@@ -1,0 +1,291 @@
+// SPDX-License-Identifier: MIT
+#include "dual_graph/temporary_solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/wall_clock.h"
+
+namespace dualgraph {
+namespace {
+
+// The generic Optimizer's constants (core/optimizer_loops.cpp), so both paths take the same steps.
+constexpr double kMinScaledDiagonal = 1e-6;
+constexpr double kMaxScaledDiagonal = 1e32;
+constexpr int kMaxSlots = 4;
+constexpr int kB = BlockCholesky::kBlockDim;
+
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+using ConstMap = Eigen::Map<const Eigen::MatrixXd>;
+
+std::string edgeName(const EdgeBase& edge) {
+  std::string name = "edge between vertices";
+  for (const VertexBase* v : edge.vertices()) name += " " + std::to_string(v->id());
+  if (edge.sourceLine() > 0) name += " (line " + std::to_string(edge.sourceLine()) + ")";
+  return name;
+}
+
+}  // namespace
+
+Status TemporarySolver::setGraph(Graph& graph) {
+  graph_ = &graph;
+  marginals_ready_ = false;
+  active_.clear();
+  block_dim_.clear();
+  active_edges_.clear();
+  edge_begin_.assign(1, 0);
+  edge_block_.clear();
+  pair_begin_.assign(1, 0);
+  pair_index_.clear();
+  pattern_.clear();
+  const int max_id = graph.vertices().empty() ? -1 : graph.vertices().rbegin()->first;
+  if (!graph.vertices().empty() && graph.vertices().begin()->first < 0) {
+    return Status(StatusCode::kFailedPrecondition, "temporary solver: negative vertex id");
+  }
+  block_by_id_.assign(max_id + 1, -1);
+  for (const auto& edge : graph.edges()) {
+    if (edge->errorDim() > kB || edge->numVertices() > static_cast<size_t>(kMaxSlots)) {
+      return Status(StatusCode::kInvalidArgument, "temporary solver: " + edgeName(*edge) + " is larger than 6×6 blocks");
+    }
+    for (const VertexBase* v : edge->vertices()) {
+      if (v == nullptr) return Status(StatusCode::kFailedPrecondition, "temporary solver: edge with an empty vertex slot");
+      if (!v->fixed()) block_by_id_[v->id()] = 0;  // attached and free
+    }
+  }
+  for (const auto& [id, vertex] : graph.vertices()) {
+    if (block_by_id_[id] < 0) continue;
+    if (vertex->tangentDim() > kB) {
+      return Status(StatusCode::kInvalidArgument, "temporary solver: vertex " + std::to_string(id) + " has more than 6 dimensions");
+    }
+    block_by_id_[id] = static_cast<int>(active_.size());
+    active_.push_back(vertex.get());
+    block_dim_.push_back(vertex->tangentDim());
+  }
+  for (const auto& edge : graph.edges()) {
+    const size_t first = edge_block_.size();
+    for (const VertexBase* v : edge->vertices()) edge_block_.push_back(v->fixed() ? -1 : block_by_id_[v->id()]);
+    if (std::all_of(edge_block_.begin() + first, edge_block_.end(), [](int b) { return b < 0; })) {
+      edge_block_.resize(first);
+      continue;
+    }
+    active_edges_.push_back(edge.get());
+    edge_begin_.push_back(static_cast<int>(edge_block_.size()));
+    for (size_t a = first; a < edge_block_.size(); ++a) {
+      for (size_t b = a + 1; b < edge_block_.size(); ++b) {
+        if (edge_block_[a] >= 0 && edge_block_[b] >= 0 && edge_block_[a] != edge_block_[b]) {
+          pattern_.emplace_back(edge_block_[a], edge_block_[b]);
+        }
+      }
+    }
+  }
+  const int num_blocks = static_cast<int>(active_.size());
+  DG_RETURN_IF_ERROR(cholesky_.analyse(num_blocks, pattern_));
+  for (size_t e = 0; e < active_edges_.size(); ++e) {
+    for (int a = edge_begin_[e]; a < edge_begin_[e + 1]; ++a) {
+      if (edge_block_[a] < 0) continue;
+      for (int b = a; b < edge_begin_[e + 1]; ++b) {
+        if (edge_block_[b] < 0) continue;
+        pair_index_.push_back(cholesky_.blockIndex(std::max(edge_block_[a], edge_block_[b]),
+                                                   std::min(edge_block_[a], edge_block_[b])));
+      }
+    }
+    pair_begin_.push_back(static_cast<int>(pair_index_.size()));
+  }
+  h_.resize(cholesky_.numStoredBlocks());
+  rhs_.setZero(kB * num_blocks);
+  damping_.setZero(kB * num_blocks);
+  step_.setZero(kB * num_blocks);
+  return Status();
+}
+
+double TemporarySolver::evaluateChi2(std::string* first_bad) {
+  double sum = 0.0;
+  for (const auto& edge : graph_->edges()) {
+    edge->computeError();
+    // As the generic optimiser: the plain χ² decides finiteness (a kernel may map ∞ to a plateau).
+    double chi2 = edge->chi2();
+    const RobustKernel* kernel = edge->robustKernel();
+    if (kernel != nullptr && std::isfinite(chi2)) chi2 = kernel->robustify(chi2)[0];
+    if (!std::isfinite(chi2) && first_bad != nullptr && first_bad->empty()) {
+      *first_bad = edgeName(*edge) + " has a non-finite χ²";
+    }
+    sum += chi2;
+  }
+  return sum;
+}
+
+void TemporarySolver::assembleEdge(size_t k) {
+  const EdgeBase& edge = *active_edges_[k];
+  const int m = edge.errorDim();
+  const RobustKernel* kernel = edge.robustKernel();
+  const double weight = kernel != nullptr ? kernel->robustify(edge.chi2())[1] : 1.0;
+  const int* blocks = edge_block_.data() + edge_begin_[k];
+  const int slots = edge_begin_[k + 1] - edge_begin_[k];
+  const int* pair = pair_index_.data() + pair_begin_[k];
+  bool uniform = m == kB;
+  for (int a = 0; a < slots && uniform; ++a) uniform = blocks[a] < 0 || block_dim_[blocks[a]] == kB;
+  if (uniform) {  // SE(3) edges: fixed-size products only
+    const Eigen::Map<const Matrix6> information(edge.informationData());
+    const Eigen::Map<const Vector6> error(edge.errorData());
+    Matrix6 weighted[kMaxSlots];  // G_a = w Ω J_a
+    for (int a = 0; a < slots; ++a) {
+      if (blocks[a] < 0) continue;
+      weighted[a].noalias() = weight * (information * Eigen::Map<const Matrix6>(edge.jacobianData(a)));
+      rhs_.segment<kB>(kB * blocks[a]).noalias() -= weighted[a].transpose() * error;
+    }
+    for (int a = 0; a < slots; ++a) {
+      if (blocks[a] < 0) continue;
+      for (int b = a; b < slots; ++b) {
+        if (blocks[b] < 0) continue;
+        const bool lower = blocks[a] >= blocks[b];  // stored block (row, col) = J_rowᵀ G_col
+        const int row = lower ? a : b;
+        h_[*pair++].noalias() += Eigen::Map<const Matrix6>(edge.jacobianData(row)).transpose() * weighted[lower ? b : a];
+      }
+    }
+    return;
+  }
+  const ConstMap information(edge.informationData(), m, m);
+  const Eigen::Map<const Eigen::VectorXd> error(edge.errorData(), m);
+  Small weighted[kMaxSlots];
+  for (int a = 0; a < slots; ++a) {
+    if (blocks[a] < 0) continue;
+    const int da = block_dim_[blocks[a]];
+    weighted[a].noalias() = weight * (information * ConstMap(edge.jacobianData(a), m, da));
+    rhs_.segment(kB * blocks[a], da).noalias() -= weighted[a].transpose() * error;
+  }
+  for (int a = 0; a < slots; ++a) {
+    if (blocks[a] < 0) continue;
+    for (int b = a; b < slots; ++b) {
+      if (blocks[b] < 0) continue;
+      const bool lower = blocks[a] >= blocks[b];
+      const int row = lower ? a : b;
+      const int col = lower ? b : a;
+      const int rows = block_dim_[blocks[row]];
+      const int cols = block_dim_[blocks[col]];
+      h_[*pair++].topLeftCorner(rows, cols).noalias() += ConstMap(edge.jacobianData(row), m, rows).transpose() * weighted[col];
+    }
+  }
+}
+
+void TemporarySolver::linearizeAndAssemble() {
+  std::fill(h_.begin(), h_.end(), BlockCholesky::Block::Zero());
+  rhs_.setZero();
+  for (size_t k = 0; k < active_edges_.size(); ++k) {
+    active_edges_[k]->computeJacobians();
+    assembleEdge(k);
+  }
+  // Padding of smaller vertices: identity diagonal, no coupling, zero right-hand side.
+  for (size_t j = 0; j < active_.size(); ++j) {
+    for (int c = block_dim_[j]; c < kB; ++c) h_[cholesky_.diagonalIndex(static_cast<int>(j))](c, c) = 1.0;
+  }
+}
+
+void TemporarySolver::setDamping(bool scaled, double lambda) {
+  for (size_t j = 0; j < active_.size(); ++j) {
+    const BlockCholesky::Block& diagonal = h_[cholesky_.diagonalIndex(static_cast<int>(j))];
+    for (int c = 0; c < kB; ++c) {
+      const bool real = c < block_dim_[j];
+      damping_[kB * j + c] = !real ? 0.0 : scaled ? lambda * std::clamp(diagonal(c, c), kMinScaledDiagonal, kMaxScaledDiagonal)
+                                                  : lambda;
+    }
+  }
+}
+
+double TemporarySolver::dampingEnergy() const { return (damping_.array() * step_.array().square()).sum(); }
+
+void TemporarySolver::applyStep() {
+  for (size_t j = 0; j < active_.size(); ++j) active_[j]->plus(step_.data() + kB * j);
+}
+
+Status TemporarySolver::solveStep(SolverSummary& summary) {
+  ++summary.factorizations;
+  DG_RETURN_IF_ERROR(cholesky_.factorize(h_.data(), damping_.data()));
+  DG_RETURN_IF_ERROR(cholesky_.solve(rhs_.data(), step_.data()));
+  if (!step_.allFinite()) return Status(StatusCode::kNumericalError, "non-finite step");
+  return Status();
+}
+
+Status TemporarySolver::findNonFinite() const {
+  for (size_t k = 0; k < active_edges_.size(); ++k) {
+    const EdgeBase& edge = *active_edges_[k];
+    for (size_t i = 0; i < edge.numVertices(); ++i) {
+      if (edge.vertex(i)->fixed()) continue;
+      const double* jacobian = edge.jacobianData(i);
+      const int size = edge.errorDim() * edge.vertex(i)->tangentDim();
+      if (std::all_of(jacobian, jacobian + size, [](double x) { return std::isfinite(x); })) continue;
+      return Status(StatusCode::kNumericalError, "the Jacobian of the " + edgeName(edge) + " with respect to vertex " +
+                                                     std::to_string(edge.vertex(i)->id()) + " is not finite");
+    }
+  }
+  const int num_blocks = static_cast<int>(active_.size());
+  for (int j = 0; j < num_blocks; ++j) {  // column j's stored blocks are contiguous
+    bool finite = rhs_.segment<kB>(kB * j).allFinite();
+    const int end = j + 1 < num_blocks ? cholesky_.diagonalIndex(j + 1) : cholesky_.numStoredBlocks();
+    for (int p = cholesky_.diagonalIndex(j); finite && p < end; ++p) finite = h_[p].allFinite();
+    if (!finite) {
+      return Status(StatusCode::kNumericalError, "H or b is not finite in the block column of vertex " +
+                                                     std::to_string(active_[j]->id()));
+    }
+  }
+  return Status();
+}
+
+SolverSummary TemporarySolver::optimize(const OptimizerParams& params) {
+  SolverSummary summary;
+  const double start_ms = nowMs();
+  summary.linear_solver = "block Cholesky (6x6)";
+  if (graph_ == nullptr) {
+    summary.termination = TerminationReason::kLinearSolverFailure;
+    summary.message = "temporary solver: setGraph was not called";
+    return summary;
+  }
+  summary.vertices = static_cast<int>(active_.size());
+  summary.edges = static_cast<int>(active_edges_.size());
+  for (int d : block_dim_) summary.dimension += d;
+  std::string first_bad;
+  errors_stale_ = false;
+  summary.initial_chi2 = evaluateChi2(&first_bad);
+  summary.final_chi2 = summary.initial_chi2;
+  if (!first_bad.empty()) {
+    summary.termination = TerminationReason::kInvalidInput;
+    summary.message = first_bad;
+  } else if (active_.empty()) {
+    summary.termination = TerminationReason::kNothingToOptimize;
+    summary.message = "no free vertex is attached to an edge";
+  } else if (params.max_iterations <= 0) {
+    summary.termination = TerminationReason::kMaxIterations;
+  } else {
+    linearizeAndAssemble();
+    runLevenbergMarquardt(params, start_ms, summary);
+  }
+  if (errors_stale_) summary.final_chi2 = evaluateChi2(nullptr);
+  summary.total_ms = nowMs() - start_ms;
+  return summary;
+}
+
+Status TemporarySolver::computeMarginals() {
+  marginals_ready_ = false;
+  if (graph_ == nullptr) return Status(StatusCode::kFailedPrecondition, "temporary solver: setGraph was not called");
+  if (active_.empty()) return Status(StatusCode::kFailedPrecondition, "no free vertex in the system");
+  evaluateChi2(nullptr);
+  linearizeAndAssemble();
+  DG_RETURN_IF_ERROR(cholesky_.factorize(h_.data()));
+  DG_RETURN_IF_ERROR(cholesky_.selectedInverse());
+  marginals_ready_ = true;
+  return Status();
+}
+
+Result<Eigen::MatrixXd> TemporarySolver::marginal(int id) const {
+  if (!marginals_ready_) return Status(StatusCode::kFailedPrecondition, "marginal covariance: computeMarginals did not succeed");
+  if (id < 0 || id >= static_cast<int>(block_by_id_.size()) || block_by_id_[id] < 0) {
+    return Status(StatusCode::kFailedPrecondition, "marginal covariance: vertex " + std::to_string(id) + " is not free in the system");
+  }
+  const int block = block_by_id_[id];
+  const int d = block_dim_[block];
+  return Eigen::MatrixXd(cholesky_.inverseDiagonal(block).topLeftCorner(d, d));
+}
+
+}  // namespace dualgraph

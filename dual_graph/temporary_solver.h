@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/graph.h"
+#include "core/optimizer.h"
+#include "solvers/block_cholesky.h"
+
+namespace dualgraph {
+
+/// Levenberg–Marquardt with marginal covariances for the temporary graph, on 6×6 blocks (BlockCholesky)
+/// instead of the generic Optimizer's scalar CSC system, which is its oracle (`temp_solver: graph`).
+///
+/// The graph's edges are evaluated through their own `computeError`/`computeJacobians` (the residuals and
+/// Jacobians are those of the edge types: nothing is written twice). Each free vertex attached to an edge
+/// is one block, in increasing id, so the graph's ids are the elimination order (natural order, no
+/// permutation); a vertex of tangent dimension < 6 (a VertexPointXYZ) is padded with an identity diagonal.
+/// H = Σ Jᵀ W J and b = −Σ Jᵀ W e with W = ρ'(eᵀΩe)·Ω (the robust kernel's IRLS weight, exactly as
+/// SparseSystem weights), in the units of the edges' information matrices. The iteration is the
+/// generic Optimizer's LM (core/optimizer_loops.cpp): the same damping (`params.damping`: H + λI with
+/// λ₀ = τ·max diag H, or H + λ·diag H clamped to [1e-6, 1e32] with λ₀ = 1e-4), gain ratio from the
+/// damping actually applied, Nielsen's λ update, the same acceptance (including steps below χ²'s
+/// round-off) and stopping rules (`relative_decrease_stop`, `step_norm_stop`, `max_iterations`,
+/// `max_trials`, `time_budget_ms`) and the same terminations. Only Levenberg–Marquardt (`params.algorithm`
+/// is not read). Covariances are Σ = H⁻¹ of the undamped H at the current estimate, in each vertex's own
+/// tangent space (VertexSE3: g2o's [δt; δq]), from the selected inverse of the block factor.
+///
+/// The object keeps its buffers between graphs (one per TemporaryGraph): `setGraph` rebuilds the
+/// structure, the numeric phases allocate nothing once the sizes have been seen. Never prints.
+class TemporarySolver {
+ public:
+  /// Builds the block structure of `graph` (kept by pointer until the next call; its structure must not
+  /// change meanwhile). kFailedPrecondition for an edge with an empty slot or a negative vertex id.
+  Status setGraph(Graph& graph);
+  /// LM from the current estimate; the estimate is left at the last accepted state.
+  SolverSummary optimize(const OptimizerParams& params);
+  /// Linearises at the current estimate and computes the selected inverse of the undamped H; then
+  /// `marginal`. Errors: the factorisation's status (kNotPositiveDefinite, kNumericalError),
+  /// kFailedPrecondition when no free vertex is attached to an edge.
+  Status computeMarginals();
+  /// Covariance of free vertex `id` (tangentDim square) from the last successful `computeMarginals`;
+  /// kFailedPrecondition when there is none or `id` is not in the system.
+  Result<Eigen::MatrixXd> marginal(int id) const;
+
+ private:
+  /// Σ ρ(eᵀΩe) over every edge after computing its error; names the first non-finite edge in `first_bad`.
+  double evaluateChi2(std::string* first_bad);
+  /// H and b from the active edges' Jacobians (their errors must be current).
+  void linearizeAndAssemble();
+  void assembleEdge(size_t active_index);
+  /// Factorises H + diag(damping_) and solves for the step.
+  Status solveStep(SolverSummary& summary);
+  /// After a failed solve: kNumericalError naming the first non-finite Jacobian, H or b entry.
+  Status findNonFinite() const;
+  void setDamping(bool scaled, double lambda);
+  double dampingEnergy() const;
+  void applyStep();
+  void runLevenbergMarquardt(const OptimizerParams& params, double start_ms, SolverSummary& summary);
+
+  Graph* graph_ = nullptr;
+  std::vector<VertexBase*> active_;     ///< per block
+  std::vector<int> block_dim_;          ///< per block: tangent dimension (≤ 6)
+  std::vector<int> block_by_id_;        ///< vertex id → block, -1 when not in the system
+  std::vector<EdgeBase*> active_edges_; ///< edges with at least one free vertex, graph order
+  std::vector<int> edge_begin_;         ///< per active edge: first entry of edge_block_ (+ one past the end)
+  std::vector<int> edge_block_;         ///< per edge slot: block or -1 (fixed)
+  std::vector<int> pair_begin_;         ///< per active edge: first entry of pair_index_
+  std::vector<int> pair_index_;         ///< per active slot pair (a ≤ b): stored block of (max, min)
+  std::vector<std::pair<int, int>> pattern_;
+  BlockCholesky cholesky_;
+  BlockCholesky::BlockVector h_;        ///< undamped H in BlockCholesky's storage
+  Eigen::VectorXd rhs_;                 ///< b, 6 per block (padded entries zero)
+  Eigen::VectorXd damping_;             ///< what is added to H's diagonal
+  Eigen::VectorXd step_;
+  bool marginals_ready_ = false;
+  bool errors_stale_ = false;
+};
+
+}  // namespace dualgraph
