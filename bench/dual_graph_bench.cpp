@@ -17,17 +17,19 @@
 namespace dualgraph {
 namespace {
 
-/// TemporaryGraph::distil on a recorded interval (args: gates, poses, gates seen per pose): the graph
-/// is built, optimised and its gates' marginals inverted into edges. The recorded graph is copied
-/// before each call outside the timing (distil clears it). Manual time around distil alone.
+/// TemporaryGraph::distil on a recorded interval (args: gates, poses, gates seen per pose, solver 0 = block
+/// (the default), 1 = graph (the generic Optimizer, the former path)): the graph is built, optimised and
+/// its gates' marginals inverted into edges. One TemporaryGraph is reused, as in the Localizer (its block
+/// solver keeps its buffers): the observations are recorded again before each call, outside the timing
+/// (distil clears them). Manual time around distil alone.
 void BM_TemporaryGraph_Distil(benchmark::State& state) {
-  const bench::TemporaryScenario scenario = bench::makeTemporaryScenario(
+  bench::TemporaryScenario scenario = bench::makeTemporaryScenario(
       static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), static_cast<int>(state.range(2)));
-  Result<std::unique_ptr<TemporaryGraph>> recorded = bench::recordTemporaryGraph(scenario);
-  if (!recorded.ok()) return state.SkipWithError(recorded.status().message().c_str());
+  scenario.params.temp_solver = state.range(3) == 0 ? TemporarySolverKind::kBlock : TemporarySolverKind::kGraph;
+  TemporaryGraph temporary(scenario.params, scenario.kernel);
   DistillationResult result;
   for (auto _ : state) {
-    TemporaryGraph temporary(**recorded);
+    if (Status s = bench::recordInto(temporary, scenario); !s.ok()) return state.SkipWithError(s.message().c_str());
     const auto start = std::chrono::steady_clock::now();
     result = bench::distilScenario(temporary, scenario);
     state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
@@ -40,10 +42,9 @@ void BM_TemporaryGraph_Distil(benchmark::State& state) {
   state.counters["lm_iterations"] = result.iterations;
 }
 BENCHMARK(BM_TemporaryGraph_Distil)
-    ->ArgNames({"gates", "poses", "per_pose"})
-    ->Args({4, 20, 4})
-    ->Args({11, 50, 4})
-    ->Args({11, 50, 11})
+    ->ArgNames({"gates", "poses", "per_pose", "graph"})
+    ->ArgsProduct({{4}, {20}, {4}, {0, 1}})
+    ->ArgsProduct({{11}, {50}, {4, 11}, {0, 1}})
     ->UseManualTime()
     ->Unit(benchmark::kMicrosecond);
 

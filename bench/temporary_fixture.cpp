@@ -66,13 +66,18 @@ TemporaryScenario makeTemporaryScenario(int gates, int poses, int per_node, unsi
   return scenario;
 }
 
-Result<std::unique_ptr<TemporaryGraph>> recordTemporaryGraph(const TemporaryScenario& scenario) {
-  auto temporary = std::make_unique<TemporaryGraph>(scenario.params, scenario.kernel);
+Status recordInto(TemporaryGraph& temporary, const TemporaryScenario& scenario) {
   for (size_t k = 0; k < scenario.observations.size(); ++k) {
     for (const GateObservation& observation : scenario.observations[k]) {
-      DG_RETURN_IF_ERROR(temporary->addObservation(observation, scenario.samples[k].odom_T_body, scenario.history));
+      DG_RETURN_IF_ERROR(temporary.addObservation(observation, scenario.samples[k].odom_T_body, scenario.history));
     }
   }
+  return Status();
+}
+
+Result<std::unique_ptr<TemporaryGraph>> recordTemporaryGraph(const TemporaryScenario& scenario) {
+  auto temporary = std::make_unique<TemporaryGraph>(scenario.params, scenario.kernel);
+  DG_RETURN_IF_ERROR(recordInto(*temporary, scenario));
   return temporary;
 }
 

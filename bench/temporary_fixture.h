@@ -32,6 +32,9 @@ TemporaryScenario makeTemporaryScenario(int gates, int poses, int per_node, unsi
 /// A TemporaryGraph holding the scenario's observations (what the Localizer has recorded when the
 /// keyframe arrives); distil it with `distilScenario`. kFailedPrecondition if an observation is refused.
 Result<std::unique_ptr<TemporaryGraph>> recordTemporaryGraph(const TemporaryScenario& scenario);
+/// Records the scenario's observations into `temporary` (empty; e.g. just distilled, so a benchmark can
+/// reuse one TemporaryGraph and its work buffers as the Localizer does).
+Status recordInto(TemporaryGraph& temporary, const TemporaryScenario& scenario);
 DistillationResult distilScenario(TemporaryGraph& temporary, const TemporaryScenario& scenario);
 
 /// The graph `distil` builds for this scenario (nodes, fixed keyframe, gates, odometry and detection edges
