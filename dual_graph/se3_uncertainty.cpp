@@ -33,15 +33,30 @@ Matrix6d odometryModelCovariance(const Eigen::Isometry3d& increment, double sigm
   return variances.asDiagonal();
 }
 
+namespace {
+
+/// The inverse of a symmetric positive definite matrix by LLT (fixed-size for N = 6, 3: no heap in the
+/// factorisation); kNotPositiveDefinite when the factorisation fails.
+template <int N>
+Result<Eigen::MatrixXd> inverseSpd(const Eigen::MatrixXd& symmetric) {
+  using Matrix = Eigen::Matrix<double, N, N>;
+  const Eigen::LLT<Matrix> llt{Matrix(symmetric)};
+  if (llt.info() != Eigen::Success) return Status(StatusCode::kNotPositiveDefinite, "Cholesky failed");
+  return Eigen::MatrixXd(llt.solve(Matrix::Identity(symmetric.rows(), symmetric.cols())));
+}
+
+}  // namespace
+
 Result<Eigen::MatrixXd> informationFromCovariance(const Eigen::MatrixXd& covariance, const std::string& what) {
   const Eigen::MatrixXd symmetric = 0.5 * (covariance + covariance.transpose());
   DG_RETURN_IF_ERROR(checkCovariance(symmetric, what));
-  const Eigen::LLT<Eigen::MatrixXd> llt(symmetric);
-  if (llt.info() != Eigen::Success) {
+  Result<Eigen::MatrixXd> inverse = symmetric.rows() == 6   ? inverseSpd<6>(symmetric)
+                                    : symmetric.rows() == 3 ? inverseSpd<3>(symmetric)
+                                                            : inverseSpd<Eigen::Dynamic>(symmetric);
+  if (!inverse.ok()) {
     return Status(StatusCode::kNotPositiveDefinite, what + " is not positive definite (Cholesky failed)");
   }
-  Eigen::MatrixXd information = llt.solve(Eigen::MatrixXd::Identity(symmetric.rows(), symmetric.cols()));
-  information = 0.5 * (information + information.transpose());
+  Eigen::MatrixXd information = 0.5 * (*inverse + inverse->transpose());
   if (!information.allFinite()) return Status(StatusCode::kNumericalError, what + ": its inverse is not finite");
   return information;
 }

@@ -33,6 +33,7 @@ std::string edgeName(const EdgeBase& edge) {
 Status TemporarySolver::setGraph(Graph& graph) {
   graph_ = &graph;
   marginals_ready_ = false;
+  errors_current_ = false;
   active_.clear();
   block_dim_.clear();
   active_edges_.clear();
@@ -262,6 +263,7 @@ SolverSummary TemporarySolver::optimize(const OptimizerParams& params) {
     runLevenbergMarquardt(params, start_ms, summary);
   }
   if (errors_stale_) summary.final_chi2 = evaluateChi2(nullptr);
+  errors_current_ = true;
   summary.total_ms = nowMs() - start_ms;
   return summary;
 }
@@ -270,7 +272,8 @@ Status TemporarySolver::computeMarginals() {
   marginals_ready_ = false;
   if (graph_ == nullptr) return Status(StatusCode::kFailedPrecondition, "temporary solver: setGraph was not called");
   if (active_.empty()) return Status(StatusCode::kFailedPrecondition, "no free vertex in the system");
-  evaluateChi2(nullptr);
+  if (!errors_current_) evaluateChi2(nullptr);
+  errors_current_ = false;
   linearizeAndAssemble();
   DG_RETURN_IF_ERROR(cholesky_.factorize(h_.data()));
   DG_RETURN_IF_ERROR(cholesky_.selectedInverse());

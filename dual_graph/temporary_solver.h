@@ -37,7 +37,8 @@ class TemporarySolver {
   /// LM from the current estimate; the estimate is left at the last accepted state.
   SolverSummary optimize(const OptimizerParams& params);
   /// Linearises at the current estimate and computes the selected inverse of the undamped H; then
-  /// `marginal`. Errors: the factorisation's status (kNotPositiveDefinite, kNumericalError),
+  /// `marginal`. Right after `optimize` it reuses the errors optimize left (the estimate must not be
+  /// changed in between; anything else recomputes them). Errors: the factorisation's status (kNotPositiveDefinite, kNumericalError),
   /// kFailedPrecondition when no free vertex is attached to an edge.
   Status computeMarginals();
   /// Covariance of free vertex `id` (tangentDim square) from the last successful `computeMarginals`;
@@ -76,6 +77,7 @@ class TemporarySolver {
   Eigen::VectorXd step_;
   bool marginals_ready_ = false;
   bool errors_stale_ = false;
+  bool errors_current_ = false;  ///< every edge's error is at the current estimate (set by optimize only)
 };
 
 }  // namespace dualgraph

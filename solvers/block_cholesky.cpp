@@ -39,6 +39,20 @@ Status choleskyInPlace(Block& a, int column) {
   return Status();
 }
 
+/// L⁻¹ of a lower-triangular 6×6 block with a positive diagonal, by columns (Eigen's triangular solve
+/// with a matrix right-hand side goes through its dynamic-size kernel).
+void invertLower(const Block& l, Block& inverse) {
+  inverse.setZero();
+  for (int c = 0; c < 6; ++c) {
+    inverse(c, c) = 1.0 / l(c, c);
+    for (int i = c + 1; i < 6; ++i) {
+      double s = 0.0;
+      for (int k = c; k < i; ++k) s += l(i, k) * inverse(k, c);
+      inverse(i, c) = -s / l(i, i);
+    }
+  }
+}
+
 }  // namespace
 
 Status BlockCholesky::analyse(int num_blocks, const std::vector<std::pair<int, int>>& pairs) {
@@ -120,14 +134,14 @@ Status BlockCholesky::factorize(const Block* h, const double* diagonal_add) {
     Block& diagonal = factor_[col_begin_[j]];
     DG_RETURN_IF_ERROR(choleskyInPlace(diagonal, j));
     Block& inverse = diagonal_inverse_[j];
-    inverse.setIdentity();
-    diagonal.triangularView<Eigen::Lower>().solveInPlace(inverse);
+    invertLower(diagonal, inverse);
     const int first = col_begin_[j] + 1;
     const int end = col_begin_[j + 1];
     const Block inverse_transposed = inverse.transpose();
     for (int p = first; p < end; ++p) factor_[p] = (factor_[p] * inverse_transposed).eval();
     const int* target = target_.data() + target_begin_[j];
     for (int a = first; a < end; ++a) {
+      // The full 6×6 product also for the diagonal target (b == a): a lower-triangle-only loop measured slower.
       for (int b = first; b <= a; ++b) factor_[*target++].noalias() -= factor_[a] * factor_[b].transpose();
     }
   }
