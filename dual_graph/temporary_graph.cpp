@@ -54,9 +54,22 @@ Status TemporaryGraph::addObservation(const GateObservation& observation, const 
   Result<GateEdgeMeasurement> measurement = attachObservationToNode(
       observation, node_T_body, compensated ? &compensation_covariance : nullptr, params_.landmark);
   if (!measurement.ok()) return measurement.status();
-  if (new_node) nodes_.push_back(Node{observation.t, odom_T_body});
+  if (new_node) {
+    if (!nodes_.empty()) {
+      Result<Matrix6d> information = odometryInformation(nodes_.back().t, observation.t, history);
+      nodes_.back().status_to_next = information.status();
+      if (information.ok()) nodes_.back().information_to_next = *information;
+    }
+    nodes_.push_back(Node{observation.t, odom_T_body});
+  }
   observations_.push_back(NodeObservation{nodes_.size() - 1, *measurement});
   return Status();
+}
+
+Result<Matrix6d> TemporaryGraph::odometryInformation(double t_from, double t_to, const OdometryHistory& history) const {
+  Result<Matrix6d> covariance = history.relativeCovariance(t_from, t_to, noiseModelOf(params_));
+  if (!covariance.ok()) return covariance.status();
+  return poseInformationFromMetricCovariance(*covariance, "temporary odometry covariance");
 }
 
 std::vector<int> TemporaryGraph::distinctGates() const {
@@ -112,18 +125,17 @@ Status TemporaryGraph::buildGraph(Graph& graph, double t_keyframe, const Eigen::
     vertex->setEstimate(nodes_[j].odom_T_body);
     DG_RETURN_IF_ERROR(graph.addVertex(std::move(vertex)));
   }
-  // The odometry chain node_0 → … → node_last → K.
-  const OdometryNoiseModel model = noiseModelOf(params_);
+  // The odometry chain node_0 → … → node_last → K (between nodes, the information is computed when the
+  // later node is recorded).
   for (size_t j = 0; j < nodes_.size(); ++j) {
     const int from = node_vertex[j];
     const bool last = j + 1 == nodes_.size();
     const int to = last ? keyframe_id : node_vertex[j + 1];
     if (from == to) continue;
-    const double t_to = last ? t_keyframe : nodes_[j + 1].t;
     const Eigen::Isometry3d to_pose = last ? odom_T_keyframe : nodes_[j + 1].odom_T_body;
-    Result<Matrix6d> covariance = history.relativeCovariance(nodes_[j].t, t_to, model);
-    if (!covariance.ok()) return covariance.status();
-    Result<Matrix6d> information = poseInformationFromMetricCovariance(*covariance, "temporary odometry covariance");
+    if (!last && !nodes_[j].status_to_next.ok()) return nodes_[j].status_to_next;
+    const Result<Matrix6d> information = last ? odometryInformation(nodes_[j].t, t_keyframe, history)
+                                              : Result<Matrix6d>(nodes_[j].information_to_next);
     if (!information.ok()) return information.status();
     Result<EdgeSE3*> edge =
         addRelativePoseEdge(graph, from, to, nodes_[j].odom_T_body.inverse() * to_pose, *information);

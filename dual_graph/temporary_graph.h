@@ -56,8 +56,14 @@ class TemporaryGraph {
   struct Node {
     double t;
     Eigen::Isometry3d odom_T_body;
+    /// Information (g2o units) of the odometry edge to the next node, computed when that node is created
+    /// (off the keyframe's critical path); its status is reported by `distil` as before.
+    Matrix6d information_to_next = Matrix6d::Zero();
+    Status status_to_next;
     EIGEN_MAKE_ALIGNED_OPERATOR_NEW
   };
+  /// The information of the odometry edge (t_from, t_to]; kNotPositiveDefinite etc. when unusable.
+  Result<Matrix6d> odometryInformation(double t_from, double t_to, const OdometryHistory& history) const;
   struct NodeObservation {
     size_t node;
     GateEdgeMeasurement measurement;

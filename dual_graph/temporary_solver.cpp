@@ -21,6 +21,41 @@ using Vector6 = Eigen::Matrix<double, 6, 1>;
 using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 using ConstMap = Eigen::Map<const Eigen::MatrixXd>;
 
+using ConstMap6 = Eigen::Map<const Matrix6>;
+
+/// Which 3×3 quadrants of a 6×6 Jacobian are not exactly zero (bit 2r + c for quadrant (r, c)). SE(3)
+/// Jacobians have zero quadrants by construction (EdgeSE3: J_i's lower left, J_j's off-diagonal ones);
+/// skipping them saves a third of the assembly's products, whatever the edge type.
+unsigned nonzeroQuadrants(const ConstMap6& j) {
+  unsigned mask = 0;
+  for (int r = 0; r < 2; ++r) {
+    for (int c = 0; c < 2; ++c) {
+      if (!(j.block<3, 3>(3 * r, 3 * c).array() == 0.0).all()) mask |= 1u << (2 * r + c);
+    }
+  }
+  return mask;
+}
+
+/// g = w_information · j over j's nonzero quadrants.
+void weightedProduct(const Matrix6& w_information, const ConstMap6& j, unsigned mask, Matrix6& g) {
+  for (int c = 0; c < 2; ++c) {
+    auto g_c = g.block<6, 3>(0, 3 * c);
+    g_c.setZero();
+    for (int r = 0; r < 2; ++r) {
+      if ((mask >> (2 * r + c)) & 1u) g_c.noalias() += w_information.block<6, 3>(0, 3 * r) * j.block<3, 3>(3 * r, 3 * c);
+    }
+  }
+}
+
+/// h += jᵀ g over j's nonzero quadrants.
+void addTransposedProduct(const ConstMap6& j, unsigned mask, const Matrix6& g, BlockCholesky::Block& h) {
+  for (int r = 0; r < 2; ++r) {
+    for (int k = 0; k < 2; ++k) {
+      if ((mask >> (2 * k + r)) & 1u) h.block<3, 6>(3 * r, 0).noalias() += j.block<3, 3>(3 * k, 3 * r).transpose() * g.block<3, 6>(3 * k, 0);
+    }
+  }
+}
+
 std::string edgeName(const EdgeBase& edge) {
   std::string name = "edge between vertices";
   for (const VertexBase* v : edge.vertices()) name += " " + std::to_string(v->id());
@@ -129,12 +164,15 @@ void TemporarySolver::assembleEdge(size_t k) {
   bool uniform = m == kB;
   for (int a = 0; a < slots && uniform; ++a) uniform = blocks[a] < 0 || block_dim_[blocks[a]] == kB;
   if (uniform) {  // SE(3) edges: fixed-size products only
-    const Eigen::Map<const Matrix6> information(edge.informationData());
+    const Matrix6 w_information = weight * ConstMap6(edge.informationData());
     const Eigen::Map<const Vector6> error(edge.errorData());
     Matrix6 weighted[kMaxSlots];  // G_a = w Ω J_a
+    unsigned masks[kMaxSlots];
     for (int a = 0; a < slots; ++a) {
       if (blocks[a] < 0) continue;
-      weighted[a].noalias() = weight * (information * Eigen::Map<const Matrix6>(edge.jacobianData(a)));
+      const ConstMap6 jacobian(edge.jacobianData(a));
+      masks[a] = nonzeroQuadrants(jacobian);
+      weightedProduct(w_information, jacobian, masks[a], weighted[a]);
       rhs_.segment<kB>(kB * blocks[a]).noalias() -= weighted[a].transpose() * error;
     }
     for (int a = 0; a < slots; ++a) {
@@ -143,7 +181,7 @@ void TemporarySolver::assembleEdge(size_t k) {
         if (blocks[b] < 0) continue;
         const bool lower = blocks[a] >= blocks[b];  // stored block (row, col) = J_rowᵀ G_col
         const int row = lower ? a : b;
-        h_[*pair++].noalias() += Eigen::Map<const Matrix6>(edge.jacobianData(row)).transpose() * weighted[lower ? b : a];
+        addTransposedProduct(ConstMap6(edge.jacobianData(row)), masks[row], weighted[lower ? b : a], h_[*pair++]);
       }
     }
     return;

@@ -62,7 +62,17 @@ Status BlockCholesky::analyse(int num_blocks, const std::vector<std::pair<int, i
   row_.clear();
   if (num_blocks < 0) return Status(StatusCode::kInvalidArgument, "block Cholesky: negative block count");
   // Lower pattern of H per column, then fill: a column's rows (but its parent) join its parent's.
-  std::vector<std::vector<int>> rows(num_blocks);
+  // Per-column work lists, kept between calls (their capacity is reused: no allocation once warm).
+  std::vector<std::vector<int>>& rows = rows_work_;
+  std::vector<std::vector<int>>& children = children_work_;
+  if (rows.size() < static_cast<size_t>(num_blocks)) {
+    rows.resize(num_blocks);
+    children.resize(num_blocks);
+  }
+  for (int j = 0; j < num_blocks; ++j) {
+    rows[j].clear();
+    children[j].clear();
+  }
   for (const auto& [a, b] : pairs) {
     if (a < 0 || b < 0 || a >= num_blocks || b >= num_blocks || a == b) {
       return Status(StatusCode::kInvalidArgument, "block Cholesky: bad block pair (" + std::to_string(a) + ", " +
@@ -71,7 +81,6 @@ Status BlockCholesky::analyse(int num_blocks, const std::vector<std::pair<int, i
     }
     rows[std::min(a, b)].push_back(std::max(a, b));
   }
-  std::vector<std::vector<int>> children(num_blocks);
   for (int j = 0; j < num_blocks; ++j) {
     std::vector<int>& column = rows[j];
     for (int child : children[j]) {
@@ -107,10 +116,11 @@ Status BlockCholesky::analyse(int num_blocks, const std::vector<std::pair<int, i
     }
     target_begin_[j + 1] = static_cast<int>(target_.size());
   }
-  factor_.assign(row_.size(), Block::Zero());
-  sigma_.assign(row_.size(), Block::Zero());
-  diagonal_inverse_.assign(num_blocks, Block::Zero());
-  work_.assign(max_column, Block::Zero());
+  // Every entry is written before it is read (factorize copies H; the inverse is filled column by column).
+  factor_.resize(row_.size());
+  sigma_.resize(row_.size());
+  diagonal_inverse_.resize(num_blocks);
+  work_.resize(max_column);
   return Status();
 }
 

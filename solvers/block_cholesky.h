@@ -67,6 +67,8 @@ class BlockCholesky {
   BlockVector diagonal_inverse_; ///< per column: L_jj⁻¹
   BlockVector sigma_;            ///< the selected inverse
   BlockVector work_;             ///< per off-diagonal block of a column: W_i
+  std::vector<std::vector<int>> rows_work_;      ///< analyse: per column, its rows (reused)
+  std::vector<std::vector<int>> children_work_;  ///< analyse: per column, its elimination-tree children
   bool factorized_ = false;
 };
 
