@@ -49,17 +49,6 @@ std::string fixed(double v, int digits) {
 
 }  // namespace
 
-CLI::App* addAblationCommand(CLI::App& app, AblationOptions& o) {
-  CLI::App* cmd = app.add_subcommand("ablation", "Simulate and run the paper's ablation: Tables I-III (Markdown + CSV)");
-  cmd->add_option("--tracks", o.tracks, "Track YAML files (default: the bundled RATM ellipse and lemniscate)");
-  cmd->add_option("--seeds", o.seeds, "Seeds, e.g. 1,2,3")->delimiter(',');
-  cmd->add_option("--out", o.out, "Output folder (sequences, runs and tables)")->required();
-  cmd->add_option("--config", o.config, "Base configuration (default: the bundled data/config/default.yaml)");
-  cmd->add_option("--laps", o.laps, "Laps per flight (default: the tracks')")->check(CLI::PositiveNumber);
-  cmd->add_flag("--quiet", o.quiet, "No progress lines");
-  return cmd;
-}
-
 int runAblationCommand(const AblationOptions& o) {
   const std::string data = bundledDataDir();
   const std::vector<std::string> tracks =

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
 
@@ -17,8 +16,6 @@ struct AblationOptions {
   bool quiet = false;
 };
 
-/// Registers the subcommand and its flags on `app`.
-CLI::App* addAblationCommand(CLI::App& app, AblationOptions& options);
 /// Simulates every track × seed, runs the paper's configurations and writes Tables I–III as
 /// Markdown (tables.md) and CSV (table1.csv, table2.csv, table3.csv, runs.csv) into `out`.
 int runAblationCommand(const AblationOptions& options);

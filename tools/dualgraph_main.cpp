@@ -5,12 +5,7 @@
 #include <exception>
 #include <iostream>
 
-#include "tools/ablation_command.h"
-#include "tools/eval_command.h"
-#include "tools/optimize_command.h"
-#include "tools/report_command.h"
-#include "tools/run_command.h"
-#include "tools/simulate_command.h"
+#include "tools/command_line.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"dualgraph: drift-corrected localisation with a dual pose graph, and its graph engine"};

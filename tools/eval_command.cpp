@@ -80,19 +80,6 @@ JsonObject toJson(const EvalOptions& o, const TrajectoryMetrics& m) {
 
 }  // namespace
 
-CLI::App* addEvalCommand(CLI::App& app, EvalOptions& o) {
-  CLI::App* cmd = app.add_subcommand("eval", "Trajectory accuracy of an estimate against ground truth (ATE, RPE)");
-  cmd->add_option("--gt", o.gt, "Ground truth, TUM (t x y z qx qy qz qw)")->required();
-  cmd->add_option("--est", o.est, "Estimate, TUM (covariance columns allowed and ignored)")->required();
-  cmd->add_option("--align", o.align, "Alignment for the rotation ATE: se3 (Umeyama, no scale), 4dof (x y z yaw), none")
-      ->check(CLI::IsMember({"se3", "4dof", "none"}));
-  cmd->add_option("--json", o.json, "Also write the metrics as one JSON object to this file (atomically)");
-  cmd->add_option("--max-gap", o.max_gap_s, "Estimate poses without ground truth within this many seconds are "
-                                            "not associated (counted)")
-      ->check(CLI::PositiveNumber);
-  return cmd;
-}
-
 int runEvalCommand(const EvalOptions& o) {
   const auto alignment = parseTrajectoryAlignment(o.align);
   if (!alignment.ok()) return fail(alignment.status().message());

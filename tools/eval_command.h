@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <string>
 
 namespace dualgraph::tools {
@@ -16,8 +15,6 @@ struct EvalOptions {
   double max_gap_s = 0.1;   ///< association gap [s]
 };
 
-/// Registers the subcommand and its flags on `app`.
-CLI::App* addEvalCommand(CLI::App& app, EvalOptions& options);
 /// Runs it; returns the process exit code (0 ok, 1 bad input or no usable overlap).
 int runEvalCommand(const EvalOptions& options);
 

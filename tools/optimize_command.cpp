@@ -39,35 +39,6 @@ void listTypes(const TypeRegistry& registry) {
 
 }  // namespace
 
-CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& o) {
-  CLI::App* cmd = app.add_subcommand("optimize", "Optimise a g2o file and print a summary");
-  cmd->add_option("input", o.input, "Input graph (g2o text format)");
-  cmd->add_option("-o,--output", o.output, "Write the optimised graph here (only on success)");
-  cmd->add_option("-i,--iterations", o.iterations, "Maximum iterations")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--solver", o.algorithm, "lm (Levenberg-Marquardt) or gn (Gauss-Newton)")
-      ->check(CLI::IsMember({"lm", "gn"}));
-  cmd->add_option("--linear", o.linear, "Linear solver: cholmod, eigen or auto (Eigen up to 3000 unknowns, CHOLMOD above)")
-      ->check(CLI::IsMember({"cholmod", "eigen", "auto"}));
-  cmd->add_option("--damping", o.damping,
-                  "Levenberg-Marquardt damping: identity (H + lambda I, g2o's) or diagonal (H + lambda diag H, Ceres')")
-      ->check(CLI::IsMember({"identity", "diagonal"}));
-  cmd->add_option("--robust", o.robust, "Robust kernel on every edge, e.g. huber:1.0 (huber|cauchy|tukey|dcs)");
-  cmd->add_option("--relative-decrease", o.relative_decrease,
-                  "Stop when an accepted step lowers chi2 by less than this fraction");
-  cmd->add_option("--time-budget-ms", o.time_budget_ms, "Wall-time budget for the optimisation (0 = none)");
-  cmd->add_flag("--json", o.json, "Print the summary as one JSON object");
-  cmd->add_flag("--list-types", o.list_types, "List the registered g2o tags and exit");
-  cmd->add_flag("--repair-information", o.repair_information,
-                "Replace non-positive-definite information matrices by the nearest positive-definite ones");
-  cmd->add_flag("--skip-unknown-tags", o.skip_unknown_tags, "Skip lines with unknown tags (default: error)");
-  cmd->add_option("--gauge", o.gauge,
-                  "Vertex fixed when the file fixes none: highest (id, as g2o's tool ends up doing), "
-                  "lowest, or none")
-      ->check(CLI::IsMember({"highest", "lowest", "none"}));
-  cmd->add_flag("-v,--verbose", o.verbose, "Print one line per iteration (to stderr)");
-  return cmd;
-}
-
 int runOptimizeCommand(const OptimizeOptions& o) {
   TypeRegistry registry;
   const Status registered = registerBuiltinTypes(registry);

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <string>
 
 namespace dualgraph::tools {
@@ -25,8 +24,6 @@ struct OptimizeOptions {
   double time_budget_ms = 0.0;
 };
 
-/// Registers the subcommand and its flags on `app`.
-CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& options);
 /// Runs it; returns the process exit code.
 int runOptimizeCommand(const OptimizeOptions& options);
 

@@ -17,15 +17,6 @@ int fail(const std::string& message) {
 
 }  // namespace
 
-CLI::App* addReportCommand(CLI::App& app, ReportOptions& o) {
-  CLI::App* cmd = app.add_subcommand(
-      "report", "HTML report (inline SVG) and PNG plots of run folders: XY trajectories, error, optimisation time");
-  cmd->add_option("--run", o.runs, "Run folder of `dualgraph run` (repeat for several runs)")->required();
-  cmd->add_option("--out", o.out, "HTML file to write; the PNGs <run>_xy.png, ... go next to it")->required();
-  cmd->add_option("--sequence", o.sequence, "Sequence folder of every run (default: the one run.yaml names)");
-  return cmd;
-}
-
 int runReportCommand(const ReportOptions& o) {
   std::vector<RunReport> runs;
   for (const std::string& dir : o.runs) {

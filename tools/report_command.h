@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
 
@@ -14,8 +13,6 @@ struct ReportOptions {
   std::string sequence;           ///< replaces every run's run.yaml sequence folder when set
 };
 
-/// Registers the subcommand and its flags on `app`.
-CLI::App* addReportCommand(CLI::App& app, ReportOptions& options);
 /// Runs it; returns the process exit code (0 ok, 1 a missing or malformed file, named on stderr).
 int runReportCommand(const ReportOptions& options);
 

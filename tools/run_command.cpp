@@ -108,20 +108,6 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run) {
 
 }  // namespace
 
-CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
-  CLI::App* cmd = app.add_subcommand("run", "Localise a sequence folder with the dual (or single) pose graph");
-  cmd->add_option("--sequence", o.sequence, "Sequence folder (vio.tum, corners.csv or detections.csv, gates.yaml, ...)")
-      ->required();
-  cmd->add_option("--out", o.out, "Output folder (created)")->required();
-  cmd->add_option("--config", o.config, "Configuration YAML (default: the bundled data/config/default.yaml)");
-  cmd->add_option("--mode", o.mode, "dual or single (default: the config's)")->check(CLI::IsMember({"dual", "single"}));
-  cmd->add_option("--d-main", o.d_main, "Main-graph keyframe distance [m]")->check(CLI::PositiveNumber);
-  cmd->add_option("--d-temp", o.d_temp, "Temporary-graph node distance [m]")->check(CLI::PositiveNumber);
-  cmd->add_option("--d-single", o.d_single, "Single-graph node distance [m]")->check(CLI::PositiveNumber);
-  cmd->add_flag("--quiet", o.quiet, "No progress line and no summary");
-  return cmd;
-}
-
 int runRunCommand(const RunOptions& o) {
   const std::string config_path = o.config.empty() ? bundledDataDir() + "/config/default.yaml" : o.config;
   auto params = loadRunConfig(config_path);

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <string>
 
 namespace dualgraph::tools {
@@ -16,8 +15,6 @@ struct RunOptions {
   bool quiet = false;
 };
 
-/// Registers the subcommand and its flags on `app`.
-CLI::App* addRunCommand(CLI::App& app, RunOptions& options);
 /// Runs it; returns the process exit code (0 ok, 1 bad input or failed run).
 int runRunCommand(const RunOptions& options);
 

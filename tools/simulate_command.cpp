@@ -47,38 +47,6 @@ std::string bundledDataDir() {
   return DUALGRAPH_DEFAULT_DATA_DIR;
 }
 
-CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
-  CLI::App* cmd = app.add_subcommand("simulate", "Simulate a racing flight: ground truth, drifting VIO, gate detections");
-  RaceSimParams& p = o.params;
-  cmd->add_option("--track", o.track, "Track YAML (gates and path), e.g. data/tracks/ratm_ellipse.yaml")->required();
-  cmd->add_option("--out", o.out, "Sequence folder to write (created)")->required();
-  cmd->add_option("--seed", p.seed, "Seed of every random draw");
-  cmd->add_option("--camera", o.camera, "Camera YAML (default: the bundled RATM piloted camera)");
-  cmd->add_option("--laps", o.laps, "Laps (default: the track's)")->check(CLI::PositiveNumber);
-  cmd->add_option("--speed", o.speed, "Top speed [m/s] (default: the track's)")->check(CLI::PositiveNumber);
-  cmd->add_option("--detections", o.detections, "corners (pixels, corners.csv) or poses (PnP, detections.csv)")
-      ->check(CLI::IsMember({"corners", "poses"}));
-  cmd->add_option("--gt-rate", p.gt_rate, "Ground-truth rate [Hz] (>= 100)");
-  cmd->add_option("--vio-rate", p.vio_rate, "Odometry rate [Hz]");
-  cmd->add_option("--max-lateral-acceleration", p.flight.max_lateral_acceleration, "[m/s^2]");
-  cmd->add_option("--max-longitudinal-acceleration", p.flight.max_longitudinal_acceleration, "[m/s^2]");
-  cmd->add_option("--yaw-rate-bias", p.vio.yaw_rate_bias, "VIO yaw-rate bias magnitude [rad/s]");
-  cmd->add_option("--velocity-bias", p.vio.velocity_bias, "VIO horizontal velocity bias [m/s]");
-  cmd->add_option("--velocity-bias-random-walk", p.vio.velocity_bias_random_walk, "[m/s/sqrt(s)]");
-  cmd->add_option("--scale-error-sigma", p.vio.scale_error_sigma, "VIO scale error sigma");
-  cmd->add_option("--pixel-sigma", p.detection.pixel_sigma, "Corner noise [px]");
-  cmd->add_option("--max-range", p.detection.max_range, "Detection range limit [m]");
-  cmd->add_option("--miss-probability", p.detection.miss_probability, "Per visible gate and image");
-  cmd->add_option("--displaced-corner-probability", p.detection.displaced_corner_probability, "Outlier rate");
-  cmd->add_option("--wrong-id-probability", p.detection.wrong_id_probability, "Outlier rate");
-  cmd->add_option("--false-gate-probability", p.detection.false_gate_probability, "Per image");
-  cmd->add_flag("--unknown-ids", p.detection.unknown_ids, "Write gate_id -1 (the association decides)");
-  cmd->add_option("--map-sigma", p.map_position_sigma, "Perturb the written map's gate centres [m]");
-  cmd->add_option("--map-yaw-sigma", p.map_yaw_sigma, "Perturb the written map's gate yaw [rad]");
-  cmd->add_flag("--no-plot", o.no_plot, "Do not write xy.png");
-  return cmd;
-}
-
 int runSimulateCommand(SimulateOptions o) {
   auto track = loadTrackYaml(o.track);
   if (!track.ok()) return fail(track.status().message());

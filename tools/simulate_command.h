@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <cstdint>
 #include <string>
 
@@ -22,8 +21,6 @@ struct SimulateOptions {
   RaceSimParams params;
 };
 
-/// Registers the subcommand and its flags on `app`.
-CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& options);
 /// Runs it; returns the process exit code (0 ok, 1 bad input or failure).
 int runSimulateCommand(SimulateOptions options);
 

@@ -1,0 +1,116 @@
+// SPDX-License-Identifier: MIT
+// Every subcommand's flags, in the one file that includes CLI11: CLI11 2.1 is header-only and costs about
+// 10 s of compile per file at -O3 (14 s under the sanitizers), so the command files stay free of it.
+#include "tools/command_line.h"
+
+namespace dualgraph::tools {
+
+CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& o) {
+  CLI::App* cmd = app.add_subcommand("optimize", "Optimise a g2o file and print a summary");
+  cmd->add_option("input", o.input, "Input graph (g2o text format)");
+  cmd->add_option("-o,--output", o.output, "Write the optimised graph here (only on success)");
+  cmd->add_option("-i,--iterations", o.iterations, "Maximum iterations")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--solver", o.algorithm, "lm (Levenberg-Marquardt) or gn (Gauss-Newton)")
+      ->check(CLI::IsMember({"lm", "gn"}));
+  cmd->add_option("--linear", o.linear, "Linear solver: cholmod, eigen or auto (Eigen up to 3000 unknowns, CHOLMOD above)")
+      ->check(CLI::IsMember({"cholmod", "eigen", "auto"}));
+  cmd->add_option("--damping", o.damping,
+                  "Levenberg-Marquardt damping: identity (H + lambda I, g2o's) or diagonal (H + lambda diag H, Ceres')")
+      ->check(CLI::IsMember({"identity", "diagonal"}));
+  cmd->add_option("--robust", o.robust, "Robust kernel on every edge, e.g. huber:1.0 (huber|cauchy|tukey|dcs)");
+  cmd->add_option("--relative-decrease", o.relative_decrease,
+                  "Stop when an accepted step lowers chi2 by less than this fraction");
+  cmd->add_option("--time-budget-ms", o.time_budget_ms, "Wall-time budget for the optimisation (0 = none)");
+  cmd->add_flag("--json", o.json, "Print the summary as one JSON object");
+  cmd->add_flag("--list-types", o.list_types, "List the registered g2o tags and exit");
+  cmd->add_flag("--repair-information", o.repair_information,
+                "Replace non-positive-definite information matrices by the nearest positive-definite ones");
+  cmd->add_flag("--skip-unknown-tags", o.skip_unknown_tags, "Skip lines with unknown tags (default: error)");
+  cmd->add_option("--gauge", o.gauge,
+                  "Vertex fixed when the file fixes none: highest (id, as g2o's tool ends up doing), "
+                  "lowest, or none")
+      ->check(CLI::IsMember({"highest", "lowest", "none"}));
+  cmd->add_flag("-v,--verbose", o.verbose, "Print one line per iteration (to stderr)");
+  return cmd;
+}
+
+CLI::App* addEvalCommand(CLI::App& app, EvalOptions& o) {
+  CLI::App* cmd = app.add_subcommand("eval", "Trajectory accuracy of an estimate against ground truth (ATE, RPE)");
+  cmd->add_option("--gt", o.gt, "Ground truth, TUM (t x y z qx qy qz qw)")->required();
+  cmd->add_option("--est", o.est, "Estimate, TUM (covariance columns allowed and ignored)")->required();
+  cmd->add_option("--align", o.align, "Alignment for the rotation ATE: se3 (Umeyama, no scale), 4dof (x y z yaw), none")
+      ->check(CLI::IsMember({"se3", "4dof", "none"}));
+  cmd->add_option("--json", o.json, "Also write the metrics as one JSON object to this file (atomically)");
+  cmd->add_option("--max-gap", o.max_gap_s, "Estimate poses without ground truth within this many seconds are "
+                                            "not associated (counted)")
+      ->check(CLI::PositiveNumber);
+  return cmd;
+}
+
+CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
+  CLI::App* cmd = app.add_subcommand("simulate", "Simulate a racing flight: ground truth, drifting VIO, gate detections");
+  RaceSimParams& p = o.params;
+  cmd->add_option("--track", o.track, "Track YAML (gates and path), e.g. data/tracks/ratm_ellipse.yaml")->required();
+  cmd->add_option("--out", o.out, "Sequence folder to write (created)")->required();
+  cmd->add_option("--seed", p.seed, "Seed of every random draw");
+  cmd->add_option("--camera", o.camera, "Camera YAML (default: the bundled RATM piloted camera)");
+  cmd->add_option("--laps", o.laps, "Laps (default: the track's)")->check(CLI::PositiveNumber);
+  cmd->add_option("--speed", o.speed, "Top speed [m/s] (default: the track's)")->check(CLI::PositiveNumber);
+  cmd->add_option("--detections", o.detections, "corners (pixels, corners.csv) or poses (PnP, detections.csv)")
+      ->check(CLI::IsMember({"corners", "poses"}));
+  cmd->add_option("--gt-rate", p.gt_rate, "Ground-truth rate [Hz] (>= 100)");
+  cmd->add_option("--vio-rate", p.vio_rate, "Odometry rate [Hz]");
+  cmd->add_option("--max-lateral-acceleration", p.flight.max_lateral_acceleration, "[m/s^2]");
+  cmd->add_option("--max-longitudinal-acceleration", p.flight.max_longitudinal_acceleration, "[m/s^2]");
+  cmd->add_option("--yaw-rate-bias", p.vio.yaw_rate_bias, "VIO yaw-rate bias magnitude [rad/s]");
+  cmd->add_option("--velocity-bias", p.vio.velocity_bias, "VIO horizontal velocity bias [m/s]");
+  cmd->add_option("--velocity-bias-random-walk", p.vio.velocity_bias_random_walk, "[m/s/sqrt(s)]");
+  cmd->add_option("--scale-error-sigma", p.vio.scale_error_sigma, "VIO scale error sigma");
+  cmd->add_option("--pixel-sigma", p.detection.pixel_sigma, "Corner noise [px]");
+  cmd->add_option("--max-range", p.detection.max_range, "Detection range limit [m]");
+  cmd->add_option("--miss-probability", p.detection.miss_probability, "Per visible gate and image");
+  cmd->add_option("--displaced-corner-probability", p.detection.displaced_corner_probability, "Outlier rate");
+  cmd->add_option("--wrong-id-probability", p.detection.wrong_id_probability, "Outlier rate");
+  cmd->add_option("--false-gate-probability", p.detection.false_gate_probability, "Per image");
+  cmd->add_flag("--unknown-ids", p.detection.unknown_ids, "Write gate_id -1 (the association decides)");
+  cmd->add_option("--map-sigma", p.map_position_sigma, "Perturb the written map's gate centres [m]");
+  cmd->add_option("--map-yaw-sigma", p.map_yaw_sigma, "Perturb the written map's gate yaw [rad]");
+  cmd->add_flag("--no-plot", o.no_plot, "Do not write xy.png");
+  return cmd;
+}
+
+CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
+  CLI::App* cmd = app.add_subcommand("run", "Localise a sequence folder with the dual (or single) pose graph");
+  cmd->add_option("--sequence", o.sequence, "Sequence folder (vio.tum, corners.csv or detections.csv, gates.yaml, ...)")
+      ->required();
+  cmd->add_option("--out", o.out, "Output folder (created)")->required();
+  cmd->add_option("--config", o.config, "Configuration YAML (default: the bundled data/config/default.yaml)");
+  cmd->add_option("--mode", o.mode, "dual or single (default: the config's)")->check(CLI::IsMember({"dual", "single"}));
+  cmd->add_option("--d-main", o.d_main, "Main-graph keyframe distance [m]")->check(CLI::PositiveNumber);
+  cmd->add_option("--d-temp", o.d_temp, "Temporary-graph node distance [m]")->check(CLI::PositiveNumber);
+  cmd->add_option("--d-single", o.d_single, "Single-graph node distance [m]")->check(CLI::PositiveNumber);
+  cmd->add_flag("--quiet", o.quiet, "No progress line and no summary");
+  return cmd;
+}
+
+CLI::App* addAblationCommand(CLI::App& app, AblationOptions& o) {
+  CLI::App* cmd = app.add_subcommand("ablation", "Simulate and run the paper's ablation: Tables I-III (Markdown + CSV)");
+  cmd->add_option("--tracks", o.tracks, "Track YAML files (default: the bundled RATM ellipse and lemniscate)");
+  cmd->add_option("--seeds", o.seeds, "Seeds, e.g. 1,2,3")->delimiter(',');
+  cmd->add_option("--out", o.out, "Output folder (sequences, runs and tables)")->required();
+  cmd->add_option("--config", o.config, "Base configuration (default: the bundled data/config/default.yaml)");
+  cmd->add_option("--laps", o.laps, "Laps per flight (default: the tracks')")->check(CLI::PositiveNumber);
+  cmd->add_flag("--quiet", o.quiet, "No progress lines");
+  return cmd;
+}
+
+CLI::App* addReportCommand(CLI::App& app, ReportOptions& o) {
+  CLI::App* cmd = app.add_subcommand(
+      "report", "HTML report (inline SVG) and PNG plots of run folders: XY trajectories, error, optimisation time");
+  cmd->add_option("--run", o.runs, "Run folder of `dualgraph run` (repeat for several runs)")->required();
+  cmd->add_option("--out", o.out, "HTML file to write; the PNGs <run>_xy.png, ... go next to it")->required();
+  cmd->add_option("--sequence", o.sequence, "Sequence folder of every run (default: the one run.yaml names)");
+  return cmd;
+}
+
+}  // namespace dualgraph::tools

@@ -1,0 +1,23 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include "tools/ablation_command.h"
+#include "tools/eval_command.h"
+#include "tools/optimize_command.h"
+#include "tools/report_command.h"
+#include "tools/run_command.h"
+#include "tools/simulate_command.h"
+
+namespace dualgraph::tools {
+
+// Each registers its subcommand and flags on `app`, bound to `options` (defaults: the struct's).
+CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& options);
+CLI::App* addEvalCommand(CLI::App& app, EvalOptions& options);
+CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& options);
+CLI::App* addRunCommand(CLI::App& app, RunOptions& options);
+CLI::App* addAblationCommand(CLI::App& app, AblationOptions& options);
+CLI::App* addReportCommand(CLI::App& app, ReportOptions& options);
+
+}  // namespace dualgraph::tools
