@@ -44,6 +44,10 @@ void bindParams(py::module_& m) {
                     [](LocalizerParams& p, const std::string& v) {
                       p.lm_damping = parseName<LmDamping>(v, "lm_damping", {{"identity", LmDamping::kIdentity}, {"diagonal", LmDamping::kDiagonal}});
                     })
+      .def_property("temp_solver", [](const LocalizerParams& p) { return temporarySolverKindName(p.temp_solver); },
+                    [](LocalizerParams& p, const std::string& v) {
+                      p.temp_solver = parseName<TemporarySolverKind>(v, "temp_solver", {{"block", TemporarySolverKind::kBlock}, {"graph", TemporarySolverKind::kGraph}});
+                    })
       .def_property("initial_world_T_odom", [](const LocalizerParams& p) { return poseArray(p.initial_world_T_odom); },
                     [](LocalizerParams& p, py::handle pose) { p.initial_world_T_odom = toPose(pose, "initial_world_T_odom"); })
       .def("validate", [](const LocalizerParams& p) { check(validateLocalizerParams(p)); },

@@ -185,6 +185,8 @@ class LocalizerInput(unittest.TestCase):
             dualgraph.LocalizerParams().mode = "triple"
         with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "lm_damping must be one of 'identity', 'diagonal'"):
             dualgraph.LocalizerParams().lm_damping = "marquardt"
+        with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "temp_solver must be one of 'block', 'graph'"):
+            dualgraph.LocalizerParams().temp_solver = "cholmod"
         with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "gates: expected a dict"):
             dualgraph.Localizer(dualgraph.LocalizerParams(), [[0, 0, 0, 0, 0, 0, 1]])
         with self.assertRaisesRegex(dualgraph.InvalidArgumentError, r"gates\[0\]: expected shape"):

@@ -9,8 +9,14 @@
 #include <random>
 #include <vector>
 
+#include "core/optimizer.h"
+#include "dual_graph/graph_edges.h"
 #include "dual_graph/temporary_graph.h"
+#include "dual_graph/temporary_solver.h"
+#include "solvers/eigen_solver.h"
+#include "solvers/marginal_covariance.h"
 #include "test/dual_graph/distillation_fixtures.h"
+#include "types/vertex_se3.h"
 
 namespace dualgraph {
 namespace {
@@ -167,6 +173,88 @@ TEST(TemporarySolver, CholmodAlwaysTakesTheGraphPath) {
   for (size_t g = 0; g < graph.gates.size(); ++g) {
     EXPECT_EQ(block.gates[g].pose_information, graph.gates[g].pose_information);  // bit for bit: one path
   }
+}
+
+/// A small pose graph: a chain 0..5 with odometry, loop closures and a noisy start, vertex 6 fixed.
+void buildChain(Graph& graph, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>> truth;
+  for (int k = 0; k < 7; ++k) {
+    Vector6d xi;
+    xi << k, 0.3 * k, 0.0, 0.0, 0.0, 0.4 * k;
+    truth.push_back(se3Exp(xi));
+    Vector6d noise;
+    for (int i = 0; i < 6; ++i) noise[i] = 0.1 * normal(rng);
+    auto vertex = std::make_unique<VertexSE3>(k);
+    vertex->setEstimate(k == 6 ? truth[k] : truth[k] * se3Exp(noise));
+    vertex->setFixed(k == 6);
+    ASSERT_TRUE(graph.addVertex(std::move(vertex)).ok());
+  }
+  // Noisy measurements: χ² ends well above its round-off, so accepting or rejecting a step is decided by
+  // the model, not by round-off (on a zero-residual problem the last steps are a coin toss).
+  auto noisy = [&](const Eigen::Isometry3d& pose) {
+    Vector6d noise;
+    for (int i = 0; i < 6; ++i) noise[i] = 0.05 * normal(rng);
+    return Eigen::Isometry3d(pose * se3Exp(noise));
+  };
+  for (int k = 0; k < 6; ++k) {
+    ASSERT_TRUE(addRelativePoseEdge(graph, k, k + 1, noisy(truth[k].inverse() * truth[k + 1]), 100.0 * Matrix6d::Identity()).ok());
+    if (k + 3 >= 7) continue;
+    Matrix6d a;  // a loop closure with a full information matrix, from this seed only
+    for (int i = 0; i < 36; ++i) a.data()[i] = normal(rng);
+    const Matrix6d information = 50.0 * (a * a.transpose() / 6.0 + 0.3 * Matrix6d::Identity());
+    ASSERT_TRUE(addRelativePoseEdge(graph, k, k + 3, noisy(truth[k].inverse() * truth[k + 3]), information).ok());
+  }
+}
+
+TEST(TemporarySolver, TakesTheGenericOptimizersStepsAndMarginals) {
+  for (const LmDamping damping : {LmDamping::kIdentity, LmDamping::kDiagonal}) {
+    Graph block_graph, generic_graph;
+    buildChain(block_graph, 5);
+    buildChain(generic_graph, 5);
+    OptimizerParams params;
+    params.damping = damping;
+    params.max_iterations = 30;
+    TemporarySolver solver;
+    ASSERT_TRUE(solver.setGraph(block_graph).ok());
+    const SolverSummary block = solver.optimize(params);
+    Optimizer optimizer(generic_graph, std::make_unique<EigenSolver>(EigenOrdering::kNatural));
+    const SolverSummary generic = optimizer.optimize(params);
+    SCOPED_TRACE(lmDampingName(damping));
+    EXPECT_EQ(block.termination, generic.termination) << block.message << " | " << generic.message;
+    EXPECT_EQ(block.iterations, generic.iterations);
+    EXPECT_EQ(block.factorizations, generic.factorizations);
+    EXPECT_LE(std::abs(block.initial_chi2 - generic.initial_chi2), 1e-12 * generic.initial_chi2);
+    EXPECT_LE(std::abs(block.final_chi2 - generic.final_chi2), 1e-9 * generic.initial_chi2);
+    ASSERT_TRUE(solver.computeMarginals().ok());
+    MarginalCovariance marginals;
+    ASSERT_TRUE(marginals.compute(optimizer, generic_graph).ok());
+    for (int id = 0; id < 6; ++id) {
+      EXPECT_LE(relativeDifference(*solver.marginal(id), *marginals.block(id)), 1e-8) << "vertex " << id;
+    }
+    EXPECT_EQ(solver.marginal(6).status().code(), StatusCode::kFailedPrecondition);  // fixed: not in the system
+  }
+}
+
+TEST(TemporarySolver, FaultsAreTerminationsAndStatuses) {
+  TemporarySolver solver;
+  EXPECT_EQ(solver.optimize(OptimizerParams{}).termination, TerminationReason::kLinearSolverFailure);  // no graph
+  EXPECT_EQ(solver.computeMarginals().code(), StatusCode::kFailedPrecondition);
+  Graph graph;
+  buildChain(graph, 6);
+  ASSERT_TRUE(solver.setGraph(graph).ok());
+  EXPECT_EQ(solver.marginal(0).status().code(), StatusCode::kFailedPrecondition);  // not computed yet
+  double& information_00 = graph.edges().front()->mutableInformationData()[0];
+  const double saved = information_00;
+  information_00 = std::nan("");
+  const SolverSummary nan = solver.optimize(OptimizerParams{});
+  EXPECT_EQ(nan.termination, TerminationReason::kInvalidInput);
+  EXPECT_NE(nan.message.find("edge between vertices 0 1"), std::string::npos) << nan.message;
+  information_00 = saved;
+  for (const auto& [id, vertex] : graph.vertices()) vertex->setFixed(true);
+  ASSERT_TRUE(solver.setGraph(graph).ok());
+  EXPECT_EQ(solver.optimize(OptimizerParams{}).termination, TerminationReason::kNothingToOptimize);
 }
 
 }  // namespace
