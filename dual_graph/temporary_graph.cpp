@@ -42,7 +42,7 @@ Status TemporaryGraph::addObservation(const GateObservation& observation, const 
     const Eigen::Isometry3d increment = nodes_.back().odom_T_body.inverse() * odom_T_body;
     new_node = translationOf(increment) >= params_.d_temp || rotationAngleOf(increment) >= params_.theta_temp;
   }
-  const Node& node = new_node ? Node{observation.t, odom_T_body} : nodes_.back();
+  const Node& node = new_node ? Node{observation.t, odom_T_body, Matrix6d::Zero(), Status()} : nodes_.back();
   const Eigen::Isometry3d node_T_body = node.odom_T_body.inverse() * odom_T_body;
   Matrix6d compensation_covariance = Matrix6d::Zero();
   const bool compensated = observation.t > node.t;
@@ -60,7 +60,7 @@ Status TemporaryGraph::addObservation(const GateObservation& observation, const 
       nodes_.back().status_to_next = information.status();
       if (information.ok()) nodes_.back().information_to_next = *information;
     }
-    nodes_.push_back(Node{observation.t, odom_T_body});
+    nodes_.push_back(Node{observation.t, odom_T_body, Matrix6d::Zero(), Status()});
   }
   observations_.push_back(NodeObservation{nodes_.size() - 1, *measurement});
   return Status();

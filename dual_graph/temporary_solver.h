@@ -28,7 +28,8 @@ namespace dualgraph {
 /// tangent space (VertexSE3: g2o's [δt; δq]), from the selected inverse of the block factor.
 ///
 /// The object keeps its buffers between graphs (one per TemporaryGraph): `setGraph` rebuilds the
-/// structure, the numeric phases allocate nothing once the sizes have been seen. Never prints.
+/// structure into them, and the numeric phases allocate nothing of their own once the sizes have been
+/// seen (the graph's vertices keep their own undo stacks). Never prints.
 class TemporarySolver {
  public:
   /// Builds the block structure of `graph` (kept by pointer until the next call; its structure must not
@@ -50,7 +51,7 @@ class TemporarySolver {
   double evaluateChi2(std::string* first_bad);
   /// H and b from the active edges' Jacobians (their errors must be current).
   void linearizeAndAssemble();
-  void assembleEdge(size_t active_index);
+  void assembleEdge(size_t active_index);  ///< temporary_solver_assembly.cpp
   /// Factorises H + diag(damping_) and solves for the step.
   Status solveStep(SolverSummary& summary);
   /// After a failed solve: kNumericalError naming the first non-finite Jacobian, H or b entry.
