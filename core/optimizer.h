@@ -27,6 +27,17 @@ enum class LmDamping {
 };
 const char* lmDampingName(LmDamping damping);
 
+/// The constants of the LM loop, shared by `Optimizer` and the temporary graph's block solver
+/// (dual_graph/temporary_solver.h), so both take the same steps.
+namespace lm_constants {
+/// LmDamping::kDiagonal: Ceres' defaults (1 / initial_trust_region_radius, min/max_lm_diagonal).
+inline constexpr double kInitialScaledLambda = 1e-4;
+inline constexpr double kMinScaledDiagonal = 1e-6;
+inline constexpr double kMaxScaledDiagonal = 1e32;
+/// Relative round-off of an evaluated χ² (a sum of up to millions of positive terms: ≈ 4500 ε).
+inline constexpr double kChi2RoundOff = 1e-12;
+}  // namespace lm_constants
+
 /// Why `Optimizer::optimize` stopped. The estimate is always left at the last accepted state
 /// (bit for bit: rejected trials are undone from a saved copy, never by a reverse step); when
 /// nothing was accepted, at the start.

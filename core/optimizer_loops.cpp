@@ -21,12 +21,7 @@ void discardAll(const std::vector<VertexBase*>& vertices) {
   for (VertexBase* v : vertices) v->discardTop();
 }
 
-// LmDamping::kDiagonal: Ceres' defaults (1 / initial_trust_region_radius, min/max_lm_diagonal).
-constexpr double kInitialScaledLambda = 1e-4;
-constexpr double kMinScaledDiagonal = 1e-6;
-constexpr double kMaxScaledDiagonal = 1e32;
-// Relative round-off of an evaluated χ² (a sum of up to millions of positive terms: ≈ 4500 ε).
-constexpr double kChi2RoundOff = 1e-12;
+using namespace lm_constants;  // NOLINT: the loop's constants (core/optimizer.h)
 
 }  // namespace
 

@@ -10,11 +10,6 @@
 namespace dualgraph {
 namespace {
 
-// The generic Optimizer's constants (core/optimizer_loops.cpp), so both paths take the same steps.
-constexpr double kMinScaledDiagonal = 1e-6;
-constexpr double kMaxScaledDiagonal = 1e32;
-constexpr int kMaxSlots = 4;  // vertices per edge (the assembly's stack arrays)
-constexpr int kB = BlockCholesky::kBlockDim;
 
 std::string edgeName(const EdgeBase& edge) {
   std::string name = "edge between vertices";
@@ -131,7 +126,7 @@ void TemporarySolver::setDamping(bool scaled, double lambda) {
     const BlockCholesky::Block& diagonal = h_[cholesky_.diagonalIndex(static_cast<int>(j))];
     for (int c = 0; c < kB; ++c) {
       const bool real = c < block_dim_[j];
-      damping_[kB * j + c] = !real ? 0.0 : scaled ? lambda * std::clamp(diagonal(c, c), kMinScaledDiagonal, kMaxScaledDiagonal)
+      damping_[kB * j + c] = !real ? 0.0 : scaled ? lambda * std::clamp(diagonal(c, c), lm_constants::kMinScaledDiagonal, lm_constants::kMaxScaledDiagonal)
                                                   : lambda;
     }
   }

@@ -47,6 +47,8 @@ class TemporarySolver {
   Result<Eigen::MatrixXd> marginal(int id) const;
 
  private:
+  static constexpr int kMaxSlots = 4;                     ///< vertices per edge (the assembly's stack arrays)
+  static constexpr int kB = BlockCholesky::kBlockDim;     ///< every block is kB × kB (smaller ones padded)
   /// Σ ρ(eᵀΩe) over every edge after computing its error; names the first non-finite edge in `first_bad`.
   double evaluateChi2(std::string* first_bad);
   /// H and b from the active edges' Jacobians (their errors must be current).

@@ -5,8 +5,6 @@
 namespace dualgraph {
 namespace {
 
-constexpr int kMaxSlots = 4;  // as temporary_solver.cpp (setGraph refuses larger edges)
-constexpr int kB = BlockCholesky::kBlockDim;
 
 using Matrix6 = Eigen::Matrix<double, 6, 6>;
 using Vector6 = Eigen::Matrix<double, 6, 1>;

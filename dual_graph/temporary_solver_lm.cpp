@@ -9,12 +9,6 @@
 #include "dual_graph/temporary_solver.h"
 
 namespace dualgraph {
-namespace {
-
-constexpr double kInitialScaledLambda = 1e-4;  // as core/optimizer_loops.cpp
-constexpr double kChi2RoundOff = 1e-12;
-
-}  // namespace
 
 void TemporarySolver::runLevenbergMarquardt(const OptimizerParams& params, double start_ms, SolverSummary& summary) {
   const auto out_of_time = [&] { return params.time_budget_ms > 0.0 && nowMs() - start_ms >= params.time_budget_ms; };
@@ -26,7 +20,7 @@ void TemporarySolver::runLevenbergMarquardt(const OptimizerParams& params, doubl
     for (int c = 0; c < block_dim_[j]; ++c) max_diagonal = std::max(max_diagonal, diagonal(c, c));
   }
   double lambda = params.initial_lambda > 0.0 ? params.initial_lambda
-                  : scaled                    ? kInitialScaledLambda
+                  : scaled                    ? lm_constants::kInitialScaledLambda
                                               : params.tau * std::max(max_diagonal, 1e-12);
   double nu = 2.0;
   summary.termination = TerminationReason::kMaxIterations;
@@ -66,7 +60,7 @@ void TemporarySolver::runLevenbergMarquardt(const OptimizerParams& params, doubl
       new_chi2 = evaluateChi2(nullptr);
       const double predicted = dampingEnergy() + step_.dot(rhs_);
       const double rho = (chi2 - new_chi2) / std::max(predicted, 1e-300);
-      const double round_off = kChi2RoundOff * chi2;
+      const double round_off = lm_constants::kChi2RoundOff * chi2;
       const bool unresolvable = predicted <= std::min(round_off, params.relative_decrease_stop * chi2) &&
                                 std::fabs(new_chi2 - chi2) <= round_off;
       if (std::isfinite(new_chi2) && (rho > 0.0 || unresolvable)) {
