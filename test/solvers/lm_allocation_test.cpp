@@ -6,7 +6,8 @@
 // analysis) shows up as a non-zero difference. Allocations inside the linear solver are attributed to it
 // by a forwarding solver: none either for EigenSolver (and AutoSolver on this small graph); CHOLMOD's
 // are printed, not asserted (cholmod_factorize allocates its permuted transpose at every call).
-// (Interposing malloc is not possible under AddressSanitizer, which owns malloc: skipped there.)
+// (Interposing malloc is not possible under AddressSanitizer, which owns malloc: skipped there, also when
+// only the libraries are instrumented: DUALGRAPH_TEST_LINKS_SANITIZERS, test/CMakeLists.txt.)
 #include <gtest/gtest.h>
 
 #include <array>
@@ -21,7 +22,7 @@
 #include "types/se3_math.h"
 #include "types/vertex_se3.h"
 
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__) || DUALGRAPH_TEST_LINKS_SANITIZERS  // (test files may be uninstrumented)
 #define DUALGRAPH_COUNT_MALLOC 0
 #elif defined(__has_feature)
 #if __has_feature(address_sanitizer)
