@@ -10,7 +10,6 @@
 namespace dualgraph {
 namespace {
 
-
 std::string edgeName(const EdgeBase& edge) {
   std::string name = "edge between vertices";
   for (const VertexBase* v : edge.vertices()) name += " " + std::to_string(v->id());
