@@ -155,6 +155,22 @@ class Optimizer {
   double evaluateChi2(std::string* first_bad);
   void linearizeAndAssemble(SolverSummary& summary);
   void runLevenbergMarquardt(const OptimizerParams& params, SolverSummary& summary);
+  // The steps of runLevenbergMarquardtLoop (core/lm_loop.h), which runLevenbergMarquardt calls.
+  template <typename System>
+  friend void runLevenbergMarquardtLoop(System&, const OptimizerParams&, double, SolverSummary&);
+  double lmMaxDiagonal() const { return system_.maxDiagonal(); }
+  void lmSetDamping(bool scaled, double lambda);
+  Status lmSolveStep(SolverSummary& summary) { return solveStep(summary); }
+  Status lmFindNonFinite() const { return findNonFiniteSystem(); }
+  void lmPush();
+  void lmPop();
+  void lmDiscardTop();
+  void lmApplyStep() { system_.applyUpdate(step_.data()); }
+  double lmEvaluateChi2() { return evaluateChi2(nullptr); }
+  double lmPredictedDecrease() const;
+  double lmStepInfNorm() const { return step_.lpNorm<Eigen::Infinity>(); }
+  void lmMarkErrorsStale() { errors_stale_ = true; }
+  void lmRelinearize(SolverSummary& summary) { linearizeAndAssemble(summary); }
   void runGaussNewton(const OptimizerParams& params, SolverSummary& summary);
   /// Factorises the current values and solves for Δ into step_.
   Status solveStep(SolverSummary& summary);

@@ -62,6 +62,22 @@ class TemporarySolver {
   double dampingEnergy() const;
   void applyStep();
   void runLevenbergMarquardt(const OptimizerParams& params, double start_ms, SolverSummary& summary);
+  // The steps of runLevenbergMarquardtLoop (core/lm_loop.h, shared with Optimizer): temporary_solver_lm.cpp.
+  template <typename System>
+  friend void runLevenbergMarquardtLoop(System&, const OptimizerParams&, double, SolverSummary&);
+  double lmMaxDiagonal() const;
+  void lmSetDamping(bool scaled, double lambda) { setDamping(scaled, lambda); }
+  Status lmSolveStep(SolverSummary& summary) { return solveStep(summary); }
+  Status lmFindNonFinite() const { return findNonFinite(); }
+  void lmPush();
+  void lmPop();
+  void lmDiscardTop();
+  void lmApplyStep() { applyStep(); }
+  double lmEvaluateChi2() { return evaluateChi2(nullptr); }
+  double lmPredictedDecrease() const;
+  double lmStepInfNorm() const;
+  void lmMarkErrorsStale() { errors_stale_ = true; }
+  void lmRelinearize(SolverSummary& /*summary*/) { linearizeAndAssemble(); }
 
   Graph* graph_ = nullptr;
   std::vector<VertexBase*> active_;     ///< per block
