@@ -3,7 +3,9 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace dualgraph {
@@ -70,6 +72,38 @@ bool EdgeBase::repairInformation(double relative_floor) {
   information = eig.eigenvectors() * clamped.asDiagonal() * eig.eigenvectors().transpose();
   information = 0.5 * (information + information.transpose()).eval();
   return true;
+}
+
+std::string describeEdge(const EdgeBase& edge) {
+  std::string name = "edge between vertices";
+  for (const VertexBase* v : edge.vertices()) name += " " + std::to_string(v->id());
+  if (edge.sourceLine() > 0) name += " (line " + std::to_string(edge.sourceLine()) + ")";
+  return name;
+}
+
+double optimizerChi2(const EdgeBase& edge, std::string* first_bad) {
+  double chi2 = edge.chi2();
+  const RobustKernel* kernel = edge.robustKernel();
+  if (kernel != nullptr && std::isfinite(chi2)) chi2 = kernel->robustify(chi2)[0];
+  if (!std::isfinite(chi2) && first_bad != nullptr && first_bad->empty()) {
+    *first_bad = describeEdge(edge) + " has a non-finite χ²";
+  }
+  return chi2;
+}
+
+Status findNonFiniteJacobian(const std::vector<EdgeBase*>& edges) {
+  for (const EdgeBase* edge : edges) {
+    for (size_t i = 0; i < edge->numVertices(); ++i) {
+      const VertexBase* vertex = edge->vertex(i);
+      if (vertex->fixed()) continue;
+      const double* jacobian = edge->jacobianData(i);
+      const int size = edge->errorDim() * vertex->tangentDim();
+      if (std::all_of(jacobian, jacobian + size, [](double x) { return std::isfinite(x); })) continue;
+      return Status(StatusCode::kNumericalError, "the Jacobian of the " + describeEdge(*edge) + " with respect to vertex " +
+                                                     std::to_string(vertex->id()) + " is not finite");
+    }
+  }
+  return Status();
 }
 
 }  // namespace dualgraph

@@ -5,6 +5,7 @@
 #include <array>
 #include <memory>
 #include <ostream>
+#include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -202,5 +203,15 @@ class BaseEdge : public EdgeBase {
  public:
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
+
+/// "edge between vertices 3 7 (line 12)": how the optimisers name an edge in their messages.
+std::string describeEdge(const EdgeBase& edge);
+/// ρ(eᵀΩe) of an edge whose error is current, as the optimisers sum it; names the edge in `first_bad` (if
+/// that is empty) when the value is not finite. A kernel can map an infinite eᵀΩe to a finite ρ (Tukey's
+/// plateau); the error is still unusable (its weight 0 times ∞ poisons b), so the plain χ² decides finiteness.
+double optimizerChi2(const EdgeBase& edge, std::string* first_bad);
+/// After a failed solve: kNumericalError naming the first of `edges` whose Jacobian with respect to a free
+/// vertex has a non-finite entry; OK when there is none.
+Status findNonFiniteJacobian(const std::vector<EdgeBase*>& edges);
 
 }  // namespace dualgraph

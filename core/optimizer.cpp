@@ -30,23 +30,6 @@ void prefetchAhead(const std::vector<EdgePointer>& edges, size_t k) {
   if (k + kPrefetchAhead < edges.size()) edges[k + kPrefetchAhead]->prefetch();
 }
 
-/// ρ(eᵀΩe) of an edge whose error is current; names the edge in `first_bad` (if empty) when the
-/// value is not finite.
-double edgeChi2(const EdgeBase& edge, std::string* first_bad) {
-  // A kernel can map an infinite eᵀΩe to a finite ρ (Tukey's plateau); the error is still
-  // unusable (its weight 0 times ∞ poisons b), so the plain χ² decides finiteness.
-  double chi2 = edge.chi2();
-  const RobustKernel* kernel = edge.robustKernel();
-  if (kernel != nullptr && std::isfinite(chi2)) chi2 = kernel->robustify(chi2)[0];
-  if (!std::isfinite(chi2) && first_bad != nullptr && first_bad->empty()) {
-    *first_bad = "edge between vertices";
-    for (const VertexBase* v : edge.vertices()) *first_bad += " " + std::to_string(v->id());
-    if (edge.sourceLine() > 0) *first_bad += " (line " + std::to_string(edge.sourceLine()) + ")";
-    *first_bad += " has a non-finite χ²";
-  }
-  return chi2;
-}
-
 /// Adds the active edges [begin, end) to H and b after computing their Jacobians (their errors
 /// are current), each part on its phase clock; `clock` is the time the run started and is
 /// advanced to the time it ended.
@@ -82,7 +65,7 @@ double evaluateChi2AndLinearize(const std::vector<std::unique_ptr<EdgeBase>>& ed
       prefetchAhead(edges, k);
       EdgeBase* edge = edges[k].get();
       edge->computeError();
-      sum += edgeChi2(*edge, first_bad);
+      sum += optimizerChi2(*edge, first_bad);
       if (next_active < active.size() && active[next_active] == edge) ++next_active;
     }
     clock = nowMs();
@@ -160,7 +143,7 @@ double Optimizer::evaluateChi2(std::string* first_bad) {
   for (size_t k = 0; k < edges.size(); ++k) {
     prefetchAhead(edges, k);
     edges[k]->computeError();
-    sum += edgeChi2(*edges[k], first_bad);
+    sum += optimizerChi2(*edges[k], first_bad);
   }
   return sum;
 }
@@ -191,20 +174,7 @@ Status Optimizer::solveStep(SolverSummary& summary) {
 }
 
 Status Optimizer::findNonFiniteSystem() const {
-  for (const EdgeBase* edge : system_.activeEdges()) {
-    const auto& vertices = edge->vertices();
-    for (size_t i = 0; i < vertices.size(); ++i) {
-      if (vertices[i]->fixed()) continue;
-      const double* jacobian = edge->jacobianData(i);
-      const int size = edge->errorDim() * vertices[i]->tangentDim();
-      if (std::all_of(jacobian, jacobian + size, [](double x) { return std::isfinite(x); })) continue;
-      std::string message = "the Jacobian of the edge between vertices";
-      for (const VertexBase* v : vertices) message += " " + std::to_string(v->id());
-      if (edge->sourceLine() > 0) message += " (line " + std::to_string(edge->sourceLine()) + ")";
-      message += " with respect to vertex " + std::to_string(vertices[i]->id()) + " is not finite";
-      return Status(StatusCode::kNumericalError, message);
-    }
-  }
+  DG_RETURN_IF_ERROR(findNonFiniteJacobian(system_.activeEdges()));
   const SparseMatrixView h = system_.matrix();
   for (int column = 0; column < h.n; ++column) {
     bool finite = std::isfinite(system_.rhs()[column]);

@@ -8,17 +8,6 @@
 #include "core/wall_clock.h"
 
 namespace dualgraph {
-namespace {
-
-std::string edgeName(const EdgeBase& edge) {
-  std::string name = "edge between vertices";
-  for (const VertexBase* v : edge.vertices()) name += " " + std::to_string(v->id());
-  if (edge.sourceLine() > 0) name += " (line " + std::to_string(edge.sourceLine()) + ")";
-  return name;
-}
-
-}  // namespace
-
 Status TemporarySolver::setGraph(Graph& graph) {
   graph_ = &graph;
   marginals_ready_ = false;
@@ -38,7 +27,7 @@ Status TemporarySolver::setGraph(Graph& graph) {
   block_by_id_.assign(max_id + 1, -1);
   for (const auto& edge : graph.edges()) {
     if (edge->errorDim() > kB || edge->numVertices() > static_cast<size_t>(kMaxSlots)) {
-      return Status(StatusCode::kInvalidArgument, "temporary solver: " + edgeName(*edge) + " is larger than 6×6 blocks");
+      return Status(StatusCode::kInvalidArgument, "temporary solver: " + describeEdge(*edge) + " is larger than 6×6 blocks");
     }
     for (const VertexBase* v : edge->vertices()) {
       if (v == nullptr) return Status(StatusCode::kFailedPrecondition, "temporary solver: edge with an empty vertex slot");
@@ -95,14 +84,7 @@ double TemporarySolver::evaluateChi2(std::string* first_bad) {
   double sum = 0.0;
   for (const auto& edge : graph_->edges()) {
     edge->computeError();
-    // As the generic optimiser: the plain χ² decides finiteness (a kernel may map ∞ to a plateau).
-    double chi2 = edge->chi2();
-    const RobustKernel* kernel = edge->robustKernel();
-    if (kernel != nullptr && std::isfinite(chi2)) chi2 = kernel->robustify(chi2)[0];
-    if (!std::isfinite(chi2) && first_bad != nullptr && first_bad->empty()) {
-      *first_bad = edgeName(*edge) + " has a non-finite χ²";
-    }
-    sum += chi2;
+    sum += optimizerChi2(*edge, first_bad);
   }
   return sum;
 }
@@ -146,17 +128,7 @@ Status TemporarySolver::solveStep(SolverSummary& summary) {
 }
 
 Status TemporarySolver::findNonFinite() const {
-  for (size_t k = 0; k < active_edges_.size(); ++k) {
-    const EdgeBase& edge = *active_edges_[k];
-    for (size_t i = 0; i < edge.numVertices(); ++i) {
-      if (edge.vertex(i)->fixed()) continue;
-      const double* jacobian = edge.jacobianData(i);
-      const int size = edge.errorDim() * edge.vertex(i)->tangentDim();
-      if (std::all_of(jacobian, jacobian + size, [](double x) { return std::isfinite(x); })) continue;
-      return Status(StatusCode::kNumericalError, "the Jacobian of the " + edgeName(edge) + " with respect to vertex " +
-                                                     std::to_string(edge.vertex(i)->id()) + " is not finite");
-    }
-  }
+  DG_RETURN_IF_ERROR(findNonFiniteJacobian(active_edges_));
   const int num_blocks = static_cast<int>(active_.size());
   for (int j = 0; j < num_blocks; ++j) {  // column j's stored blocks are contiguous
     bool finite = rhs_.segment<kB>(kB * j).allFinite();
