@@ -42,7 +42,7 @@ Status TemporaryGraph::addObservation(const GateObservation& observation, const 
     const Eigen::Isometry3d increment = nodes_.back().odom_T_body.inverse() * odom_T_body;
     new_node = translationOf(increment) >= params_.d_temp || rotationAngleOf(increment) >= params_.theta_temp;
   }
-  const Node& node = new_node ? Node{observation.t, odom_T_body, Matrix6d::Zero(), Status()} : nodes_.back();
+  const Node& node = new_node ? Node{observation.t, odom_T_body, Matrix6d(Matrix6d::Zero())} : nodes_.back();
   const Eigen::Isometry3d node_T_body = node.odom_T_body.inverse() * odom_T_body;
   Matrix6d compensation_covariance = Matrix6d::Zero();
   const bool compensated = observation.t > node.t;
@@ -55,12 +55,8 @@ Status TemporaryGraph::addObservation(const GateObservation& observation, const 
       observation, node_T_body, compensated ? &compensation_covariance : nullptr, params_.landmark);
   if (!measurement.ok()) return measurement.status();
   if (new_node) {
-    if (!nodes_.empty()) {
-      Result<Matrix6d> information = odometryInformation(nodes_.back().t, observation.t, history);
-      nodes_.back().status_to_next = information.status();
-      if (information.ok()) nodes_.back().information_to_next = *information;
-    }
-    nodes_.push_back(Node{observation.t, odom_T_body, Matrix6d::Zero(), Status()});
+    if (!nodes_.empty()) nodes_.back().information_to_next = odometryInformation(nodes_.back().t, observation.t, history);
+    nodes_.push_back(Node{observation.t, odom_T_body, Matrix6d(Matrix6d::Zero())});
   }
   observations_.push_back(NodeObservation{nodes_.size() - 1, *measurement});
   return Status();
@@ -133,9 +129,8 @@ Status TemporaryGraph::buildGraph(Graph& graph, double t_keyframe, const Eigen::
     const int to = last ? keyframe_id : node_vertex[j + 1];
     if (from == to) continue;
     const Eigen::Isometry3d to_pose = last ? odom_T_keyframe : nodes_[j + 1].odom_T_body;
-    if (!last && !nodes_[j].status_to_next.ok()) return nodes_[j].status_to_next;
-    const Result<Matrix6d> information = last ? odometryInformation(nodes_[j].t, t_keyframe, history)
-                                              : Result<Matrix6d>(nodes_[j].information_to_next);
+    const Result<Matrix6d> information =
+        last ? odometryInformation(nodes_[j].t, t_keyframe, history) : nodes_[j].information_to_next;
     if (!information.ok()) return information.status();
     Result<EdgeSE3*> edge =
         addRelativePoseEdge(graph, from, to, nodes_[j].odom_T_body.inverse() * to_pose, *information);

@@ -57,9 +57,8 @@ class TemporaryGraph {
     double t;
     Eigen::Isometry3d odom_T_body;
     /// Information (g2o units) of the odometry edge to the next node, computed when that node is created
-    /// (off the keyframe's critical path); its status is reported by `distil` as before.
-    Matrix6d information_to_next = Matrix6d::Zero();
-    Status status_to_next;
+    /// (off the keyframe's critical path), or why it is unusable (reported by `distil`).
+    Result<Matrix6d> information_to_next = Matrix6d(Matrix6d::Zero());
     EIGEN_MAKE_ALIGNED_OPERATOR_NEW
   };
   /// The information of the odometry edge (t_from, t_to]; kNotPositiveDefinite etc. when unusable.
