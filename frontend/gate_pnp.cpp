@@ -44,8 +44,8 @@ bool jacobian(const Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, co
     Vector6d step = Vector6d::Zero();
     step[k] = h;
     Vector8d plus, minus;
-    if (!residuals(camera_T_gate * se3Exp(step), p_gate, pixels, camera, plus) ||
-        !residuals(camera_T_gate * se3Exp(-step), p_gate, pixels, camera, minus)) {
+    if (!residuals(se3BoxPlus(camera_T_gate, step), p_gate, pixels, camera, plus) ||
+        !residuals(se3BoxPlus(camera_T_gate, -step), p_gate, pixels, camera, minus)) {
       return false;
     }
     J_r_eps.col(k) = (plus - minus) / (2.0 * h);
@@ -54,6 +54,42 @@ bool jacobian(const Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, co
 }
 
 double rms(const Vector8d& r) { return std::sqrt(r.squaredNorm() / 4.0); }
+
+/// Gauss–Newton on the translation only (the rotation kept): the profile of the pixel error at a
+/// given orientation. Returns the RMS [px], or −1 when a corner falls behind the camera.
+double refineTranslation(Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, const GateCornerPixels& pixels,
+                         const CameraModel& camera, int iterations) {
+  Vector8d r;
+  if (!residuals(camera_T_gate, p_gate, pixels, camera, r)) return -1.0;
+  for (int it = 0; it < iterations; ++it) {
+    Matrix86d J;
+    if (!jacobian(camera_T_gate, p_gate, pixels, camera, J)) break;
+    const Eigen::Matrix<double, 8, 3> J_t = J.leftCols<3>();
+    Vector6d step = Vector6d::Zero();
+    step.head<3>() = -(J_t.transpose() * J_t).ldlt().solve(J_t.transpose() * r);
+    const Eigen::Isometry3d candidate = se3BoxPlus(camera_T_gate, step);
+    Vector8d r_candidate;
+    if (!step.allFinite() || !residuals(candidate, p_gate, pixels, camera, r_candidate) ||
+        r_candidate.squaredNorm() > r.squaredNorm()) {
+      break;
+    }
+    camera_T_gate = candidate;
+    r = r_candidate;
+    if (step.norm() < 1e-12) break;
+  }
+  return rms(r);
+}
+
+/// The gate turned so that its normal is reflected about the line of sight (camera → gate centre):
+/// the other tilt that a small or far square's image hardly tells apart from this one.
+Eigen::Isometry3d mirroredTilt(const Eigen::Isometry3d& camera_T_gate) {
+  const Eigen::Vector3d sight = camera_T_gate.translation().normalized();
+  const Eigen::Vector3d normal = camera_T_gate.linear().col(0);
+  const Eigen::Vector3d mirrored = 2.0 * normal.dot(sight) * sight - normal;
+  Eigen::Isometry3d result = camera_T_gate;
+  result.linear() = Eigen::Quaterniond::FromTwoVectors(normal, mirrored).toRotationMatrix() * camera_T_gate.linear();
+  return result;
+}
 
 /// Gauss–Newton on the pixel error from `camera_T_gate` (halving steps that do not decrease it).
 /// Returns the RMS [px], or −1 when a corner falls behind the camera.
@@ -68,7 +104,7 @@ double refine(Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, const Ga
     if (!step.allFinite()) break;
     bool improved = false;
     for (double scale = 1.0; scale > 1e-3 && !improved; scale *= 0.5) {
-      const Eigen::Isometry3d candidate = camera_T_gate * se3Exp(scale * step);
+      const Eigen::Isometry3d candidate = se3BoxPlus(camera_T_gate, scale * step);
       Vector8d r_candidate;
       if (residuals(candidate, p_gate, pixels, camera, r_candidate) && r_candidate.squaredNorm() <= r.squaredNorm()) {
         camera_T_gate = candidate;
@@ -219,6 +255,15 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
       alternative = static_cast<int>(k);
     }
   }
+  if (alternative < 0) {  // IPPE and SQPnP found one basin: the other tilt, with its translation re-fitted
+    Eigen::Isometry3d mirror = mirroredTilt(solution.camera_T_gate);
+    const double error = refineTranslation(mirror, p_gate, corners, camera, params.max_refinement_iterations);
+    if (error >= 0.0 && so3Log(solution.camera_T_gate.linear().transpose() * mirror.linear()).norm() > kPi / 180.0) {
+      candidates.push_back(mirror);
+      candidate_rms.push_back(error);
+      alternative = static_cast<int>(candidates.size() - 1);
+    }
+  }
   if (alternative >= 0) {
     solution.alternative_camera_T_gate = candidates[static_cast<size_t>(alternative)];
     solution.alternative_reprojection_rms = candidate_rms[static_cast<size_t>(alternative)];
@@ -243,16 +288,20 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
     const Eigen::Isometry3d& other = solution.alternative_camera_T_gate;
     Matrix86d J_other;
     if (jacobian(other, p_gate, corners, camera, J_other)) {
-      const Eigen::Isometry3d offset = solution.camera_T_gate.inverse() * other;
-      const Matrix6d adjoint = se3Adjoint(offset);
+      // Σ₂ moved into the returned pose's chart: best ⊞ (δ + A ε₂) = other ⊞ ε₂ to first order.
+      const Vector6d delta = se3BoxMinus(solution.camera_T_gate, other);
+      Matrix6d adjoint = Matrix6d::Zero();
+      adjoint.topLeftCorner<3, 3>() = solution.camera_T_gate.linear().transpose() * other.linear();
+      adjoint.bottomRightCorner<3, 3>() = so3RightJacobianInverse(delta.tail<3>());
       const Matrix6d other_covariance = adjoint * (params.pixel_sigma * params.pixel_sigma *
                                                    (J_other.transpose() * J_other).inverse()) * adjoint.transpose();
       const double sigma2 = params.pixel_sigma * params.pixel_sigma;
       const double ssr_best = 4.0 * solution.reprojection_rms * solution.reprojection_rms;
       const double ssr_other = 4.0 * solution.alternative_reprojection_rms * solution.alternative_reprojection_rms;
       const double ratio = std::exp(-std::min(700.0, (ssr_other - ssr_best) / (2.0 * sigma2)));  // w₂ / w₁ ≤ 1
-      const double w_other = ratio / (1.0 + ratio);
-      const Vector6d delta = se3Log(offset);
+      // Each mode's posterior mass: its peak likelihood times its volume √det Σ (Laplace).
+      const double volume = std::sqrt(std::max(0.0, other_covariance.determinant() / solution.covariance.determinant()));
+      const double w_other = ratio * volume / (1.0 + ratio * volume);
       const Matrix6d mixture = (1.0 - w_other) * solution.covariance +
                                w_other * (other_covariance + delta * delta.transpose());
       if (mixture.allFinite()) solution.covariance = mixture;

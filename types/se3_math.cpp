@@ -148,6 +148,20 @@ Matrix6d se3Adjoint(const Eigen::Isometry3d& pose) {
   return adjoint;
 }
 
+Eigen::Isometry3d se3BoxPlus(const Eigen::Isometry3d& pose, const Vector6d& xi) {
+  Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
+  result.translation() = pose.translation() + pose.linear() * xi.head<3>();
+  result.linear() = pose.linear() * so3Exp(xi.tail<3>());
+  return result;
+}
+
+Vector6d se3BoxMinus(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  Vector6d xi;
+  xi.head<3>() = a.linear().transpose() * (b.translation() - a.translation());
+  xi.tail<3>() = so3Log(a.linear().transpose() * b.linear());
+  return xi;
+}
+
 Eigen::Isometry3d g2oIncrement(const Vector6d& v) {
   Eigen::Isometry3d increment = Eigen::Isometry3d::Identity();
   const Eigen::Vector3d qv = v.tail<3>();

@@ -50,6 +50,13 @@ Eigen::Isometry3d se3Exp(const Vector6d& xi);
 Vector6d se3Log(const Eigen::Isometry3d& pose);
 /// Adjoint in [t; θ] order, so that T · exp(ξ) · T⁻¹ = exp(Ad(T) ξ): [[R, [t]× R], [0, R]].
 Matrix6d se3Adjoint(const Eigen::Isometry3d& pose);
+/// T ⊞ ξ in the chart the SE(3) edges measure their error in (g2o's [t; q] chart in metric units,
+/// translation and rotation apart): translation t + R ρ, rotation R exp(θ). Equal to T · exp(ξ) to first
+/// order; unlike it, the translation does not turn with θ (Jl(θ) ρ), which matters when |θ| is large
+/// (a far gate's uncertain tilt). The chart of every metric [t; θ] covariance the graph consumes.
+Eigen::Isometry3d se3BoxPlus(const Eigen::Isometry3d& pose, const Vector6d& xi);
+/// ξ with se3BoxPlus(a, ξ) = b: [Rₐᵀ (t_b − t_a); log(Rₐᵀ R_b)], |θ| ∈ [0, π].
+Vector6d se3BoxMinus(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b);
 
 // ---------------------------------------------------------------------------------------------
 // g2o's compact-quaternion chart of SE(3), used by VERTEX_SE3:QUAT / EDGE_SE3:QUAT.

@@ -195,7 +195,7 @@ double meanNees(const CameraModel& camera, unsigned seed, int* rejected) {
       ++*rejected;
       continue;
     }
-    const Vector6d e = se3Log(truth.inverse() * solution.camera_T_gate);
+    const Vector6d e = se3BoxMinus(solution.camera_T_gate, truth);  // the covariance's chart
     sum += e.dot(solution.covariance.ldlt().solve(e));
     ++count;
   }

@@ -124,10 +124,10 @@ inline std::string fileBytes(const std::string& path) {
   return out.str();
 }
 
-/// Normalised estimation error squared of `estimate` against `truth` for a right-perturbation
-/// covariance in [t; θ]: e = log(truth⁻¹ · estimate), eᵀ Σ⁻¹ e.
+/// Normalised estimation error squared of `estimate` against `truth` for a metric [t; θ] covariance in
+/// the chart the graph's edges use: e = se3BoxMinus(estimate, truth), eᵀ Σ⁻¹ e.
 inline double poseNees(const Eigen::Isometry3d& estimate, const Matrix6d& covariance, const Eigen::Isometry3d& truth) {
-  const Vector6d error = se3Log(truth.inverse() * estimate);
+  const Vector6d error = se3BoxMinus(estimate, truth);
   return error.dot(covariance.ldlt().solve(error));
 }
 

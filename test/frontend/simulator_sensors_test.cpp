@@ -187,16 +187,19 @@ std::vector<NeesSample> pnpNees() {
   return out;
 }
 
-TEST(DetectionSimulator, PnpNeesIsConsistentUpCloseAndOverconfidentFarAway) {
-  // Mean NEES of 1000 independent 6-DoF errors: χ²₆₀₀₀ / 1000, two-sided 95 % band [5.79, 6.22].
-  // Issue 4 asks for it over the first 1000 views. KNOWN GAP, not loosened silently: measured ~9.9.
-  // Views spanning ≥ 160 px (≲ 4 m) meet the band; beyond ~6 m and at near-frontal views (line of
-  // sight within 15° of the gate normal) the square's two mirrored tilts (IPPE's ambiguity,
-  // `ambiguous` on ~1/4 of the views) and the nonlinearity of a small gate make σ²(JᵀJ)⁻¹ overconfident.
+// The band of a mean of n independent χ²(6) NEES values: 6 ± 1.96 √(12 / n).
+bool inNeesBand(double mean, int n) { return std::abs(mean - 6.0) <= 1.96 * std::sqrt(12.0 / n); }
+
+TEST(DetectionSimulator, PnpNeesIsConsistentUpCloseAndFarAwayWithAGapInBetween) {
+  // Mean NEES of 1000 independent 6-DoF errors: χ²₆₀₀₀ / 1000, two-sided 95 % band [5.79, 6.22], in the
+  // chart the graph's edges use (poseNees). Issue 4 asks for it over the first 1000 views. KNOWN GAP,
+  // not loosened silently: measured 6.33 (9.9 before the mirrored-tilt candidate, the Laplace mode
+  // weights and this chart). Close views (≥ 160 px) and far ones (≥ 10 m, where the mirrored tilt is
+  // found for nearly every view) are each in their band; the excess is at 6–10 m (≈ 6.4–7.0).
   const std::vector<NeesSample> samples = pnpNees();
   ASSERT_GE(samples.size(), 1000u);
-  double first = 0, large = 0, near = 0, far = 0;
-  int large_n = 0, near_n = 0, far_n = 0, ambiguous = 0;
+  double first = 0, large = 0, near = 0, middle = 0, far = 0;
+  int large_n = 0, near_n = 0, middle_n = 0, far_n = 0, ambiguous = 0;
   for (size_t i = 0; i < samples.size(); ++i) {
     const NeesSample& s = samples[i];
     if (s.diagonal_px >= 160.0) large += s.nees, ++large_n;
@@ -204,15 +207,17 @@ TEST(DetectionSimulator, PnpNeesIsConsistentUpCloseAndOverconfidentFarAway) {
     first += s.nees / 1000;
     ambiguous += s.ambiguous ? 1 : 0;
     if (s.range < 6.0) near += s.nees, ++near_n;
+    if (s.range >= 6.0 && s.range < 10.0) middle += s.nees, ++middle_n;
     if (s.range >= 10.0) far += s.nees, ++far_n;
   }
-  large /= large_n, near /= near_n, far /= far_n;
-  std::printf("[ measured ] PnP NEES: first 1000 views %.3f (%d ambiguous; < 6 m %.2f over %d, >= 10 m %.2f over %d); "
-              "first 1000 of >= 160 px %.3f\n", first, ambiguous, near, near_n, far, far_n, large);
-  EXPECT_GE(large, 5.79);
-  EXPECT_LE(large, 6.22);
-  EXPECT_LT(first, 11.0);       // regression bound on the known gap (the band is [5.79, 6.22])
-  EXPECT_GT(far, 1.5 * near);   // and what drives it
+  large /= large_n, near /= near_n, middle /= middle_n, far /= far_n;
+  std::printf("[ measured ] PnP NEES: first 1000 views %.3f (%d ambiguous; < 6 m %.2f over %d, 6-10 m %.2f over %d, "
+              ">= 10 m %.2f over %d); first 1000 of >= 160 px %.3f\n",
+              first, ambiguous, near, near_n, middle, middle_n, far, far_n, large);
+  EXPECT_TRUE(inNeesBand(large, large_n)) << large;
+  EXPECT_TRUE(inNeesBand(far, far_n)) << far;
+  EXPECT_LT(first, 6.6);  // regression bound on the known gap (the band is [5.79, 6.22])
+  EXPECT_FALSE(inNeesBand(middle, middle_n)) << middle << ": the gap closed, tighten the bound above";
 }
 
 // |count − n p| ≤ 4 √(n p (1 − p)) (+1 for tiny n p).

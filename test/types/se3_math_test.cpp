@@ -130,6 +130,31 @@ TEST(Se3Adjoint, ConjugatesTheExponential) {
   }
 }
 
+// The edges' chart: box-minus inverts box-plus, agrees with the g2o chart of a⁻¹ b (metric units), and
+// equals T · exp(ξ) to first order only (second order in |θ|·|ρ|).
+TEST(Se3BoxPlusMinus, InverseOfEachOtherAndTheEdgesChartInMetricUnits) {
+  Rng rng(testing::kSeed + 7);
+  for (const Regime regime : kAllRegimes) {
+    SCOPED_TRACE(static_cast<int>(regime));
+    for (int k = 0; k < kSamples; ++k) {
+      const Eigen::Isometry3d a = testing::randomPose(rng, regime);
+      const Eigen::Isometry3d b = testing::randomPose(rng, regime);
+      const Vector6d xi = se3BoxMinus(a, b);
+      ASSERT_LT(maxAbs(se3BoxPlus(a, xi).matrix() - b.matrix()), 1e-9);
+      EXPECT_LT(maxAbs(xi.head<3>() - g2oChart(a.inverse() * b).head<3>()), 1e-9);
+      EXPECT_NEAR(xi.tail<3>().norm(), so3Log((a.inverse() * b).linear()).norm(), 1e-9);
+    }
+  }
+  Vector6d xi;
+  xi << 1.0, -2.0, 0.5, 0.3, -0.2, 0.4;
+  const Eigen::Isometry3d pose = testing::randomPose(rng, Regime::kRandom);
+  for (const double scale : {1e-3, 1e-4}) {
+    const Eigen::Matrix4d gap = se3BoxPlus(pose, scale * xi).matrix() - (pose * se3Exp(scale * xi)).matrix();
+    EXPECT_LT(maxAbs(gap), 2.0 * scale * scale * xi.squaredNorm()) << scale;  // second order
+    EXPECT_GT(maxAbs(gap), 0.01 * scale * scale);                              // but not zero
+  }
+}
+
 TEST(QuaternionHelpers, NameTheCoefficientOrderExplicitly) {
   const Eigen::Quaterniond a = quatFromXyzw(0.1, 0.2, 0.3, 0.9);
   const Eigen::Quaterniond b = quatFromWxyz(0.9, 0.1, 0.2, 0.3);
