@@ -44,6 +44,7 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
     else if (key == "max_range") status = readPositive(source, field, value, pnp.max_range);
     else if (key == "min_corner_angle_deg") status = readNumber(source, field, value, pnp.min_corner_angle_deg);
     else if (key == "max_condition_number") status = readPositive(source, field, value, pnp.max_condition_number);
+    else if (key == "mirrored_tilt_alternative") status = readBool(source, field, value, pnp.mirrored_tilt_alternative);
     else if (key == "max_refinement_iterations") status = readNonNegativeInt(source, field, value, pnp.max_refinement_iterations, 0);
     else if (key == "max_association_distance") status = readPositive(source, field, value, association.max_distance);
     else if (key == "max_normal_angle") status = readNumber(source, field, value, association.max_normal_angle);

@@ -54,6 +54,7 @@ void expectSamePnp(const GatePnpParams& a, const GatePnpParams& b) {
   EXPECT_EQ(a.min_corner_angle_deg, b.min_corner_angle_deg);
   EXPECT_EQ(a.max_condition_number, b.max_condition_number);
   EXPECT_EQ(a.max_refinement_iterations, b.max_refinement_iterations);
+  EXPECT_EQ(a.mirrored_tilt_alternative, b.mirrored_tilt_alternative);
 }
 
 void expectSameAssociation(const AssociationParams& a, const AssociationParams& b) {
@@ -105,6 +106,7 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
       "  min_corner_angle_deg: 7.5\n"
       "  max_condition_number: 1.0e8\n"
       "  max_refinement_iterations: 7\n"
+      "  mirrored_tilt_alternative: true\n"
       "  max_association_distance: 1.25\n"
       "  max_normal_angle: 0.9\n"
       "  allow_reversed: false\n"
@@ -125,6 +127,7 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
   EXPECT_EQ(f.pnp.min_corner_angle_deg, 7.5);
   EXPECT_EQ(f.pnp.max_condition_number, 1.0e8);
   EXPECT_EQ(f.pnp.max_refinement_iterations, 7);
+  EXPECT_TRUE(f.pnp.mirrored_tilt_alternative);
   EXPECT_EQ(f.pnp.gate_size, GatePnpParams{}.gate_size);  // from the map, not the config
   EXPECT_EQ(f.association.max_distance, 1.25);
   EXPECT_EQ(f.association.max_normal_angle, 0.9);

@@ -161,7 +161,7 @@ struct NeesSample {
 // PnP on the kTrue detections of the RATM ellipse flight (seed 1, default noise) in order, until
 // 1000 of them span a diagonal ≥ 160 px. NEES: the estimate turned by the 90° step closest to the
 // truth (its covariance with it), e = log(truth⁻¹ · estimate).
-std::vector<NeesSample> pnpNees() {
+std::vector<NeesSample> pnpNees(const GatePnpParams& pnp) {
   const CameraModel camera = simtest::ratmCamera();
   const DetectionSimParams params;
   auto detections = simulateDetections(ratmFlight("ratm_ellipse.yaml"), simtest::shippedTrack("ratm_ellipse.yaml"), camera, params, 1);
@@ -172,7 +172,7 @@ std::vector<NeesSample> pnpNees() {
     if (d.kind != SimulatedDetectionKind::kTrue || large == 1000) continue;
     GateCornerPixels pixels;
     for (int i = 0; i < 4; ++i) pixels.col(i) = d.corners.corners[static_cast<size_t>(i)];
-    const GatePnpSolution solution = solveGatePnp(pixels, camera, d.seen_from_front ? GateSide::kFront : GateSide::kBack);
+    const GatePnpSolution solution = solveGatePnp(pixels, camera, d.seen_from_front ? GateSide::kFront : GateSide::kBack, pnp);
     EXPECT_TRUE(solution.ok()) << solution.message;  // pixel_sigma 1, the detector's
     if (!solution.ok()) continue;
     Eigen::Isometry3d estimate = solution.body_T_gate;
@@ -190,34 +190,56 @@ std::vector<NeesSample> pnpNees() {
 // The band of a mean of n independent χ²(6) NEES values: 6 ± 1.96 √(12 / n).
 bool inNeesBand(double mean, int n) { return std::abs(mean - 6.0) <= 1.96 * std::sqrt(12.0 / n); }
 
-TEST(DetectionSimulator, PnpNeesIsConsistentUpCloseAndFarAwayWithAGapInBetween) {
-  // Mean NEES of 1000 independent 6-DoF errors: χ²₆₀₀₀ / 1000, two-sided 95 % band [5.79, 6.22], in the
-  // chart the graph's edges use (poseNees). Issue 4 asks for it over the first 1000 views. KNOWN GAP,
-  // not loosened silently: measured 6.33 (9.9 before the mirrored-tilt candidate, the Laplace mode
-  // weights and this chart). Close views (≥ 160 px) and far ones (≥ 10 m, where the mirrored tilt is
-  // found for nearly every view) are each in their band; the excess is at 6–10 m (≈ 6.4–7.0).
-  const std::vector<NeesSample> samples = pnpNees();
-  ASSERT_GE(samples.size(), 1000u);
+struct NeesSummary {
   double first = 0, large = 0, near = 0, middle = 0, far = 0;
   int large_n = 0, near_n = 0, middle_n = 0, far_n = 0, ambiguous = 0;
+};
+
+// Means over the first 1000 views (all, < 6 m, 6–10 m, ≥ 10 m) and over the first 1000 spanning ≥ 160 px.
+NeesSummary summarizeNees(const std::vector<NeesSample>& samples, const char* what) {
+  NeesSummary m;
   for (size_t i = 0; i < samples.size(); ++i) {
     const NeesSample& s = samples[i];
-    if (s.diagonal_px >= 160.0) large += s.nees, ++large_n;
+    if (s.diagonal_px >= 160.0) m.large += s.nees, ++m.large_n;
     if (i >= 1000) continue;
-    first += s.nees / 1000;
-    ambiguous += s.ambiguous ? 1 : 0;
-    if (s.range < 6.0) near += s.nees, ++near_n;
-    if (s.range >= 6.0 && s.range < 10.0) middle += s.nees, ++middle_n;
-    if (s.range >= 10.0) far += s.nees, ++far_n;
+    m.first += s.nees / 1000;
+    m.ambiguous += s.ambiguous ? 1 : 0;
+    if (s.range < 6.0) m.near += s.nees, ++m.near_n;
+    if (s.range >= 6.0 && s.range < 10.0) m.middle += s.nees, ++m.middle_n;
+    if (s.range >= 10.0) m.far += s.nees, ++m.far_n;
   }
-  large /= large_n, near /= near_n, middle /= middle_n, far /= far_n;
-  std::printf("[ measured ] PnP NEES: first 1000 views %.3f (%d ambiguous; < 6 m %.2f over %d, 6-10 m %.2f over %d, "
+  m.large /= m.large_n, m.near /= m.near_n, m.middle /= m.middle_n, m.far /= m.far_n;
+  std::printf("[ measured ] PnP NEES (%s): first 1000 views %.3f (%d ambiguous; < 6 m %.2f over %d, 6-10 m %.2f over %d, "
               ">= 10 m %.2f over %d); first 1000 of >= 160 px %.3f\n",
-              first, ambiguous, near, near_n, middle, middle_n, far, far_n, large);
-  EXPECT_TRUE(inNeesBand(large, large_n)) << large;
-  EXPECT_TRUE(inNeesBand(far, far_n)) << far;
-  EXPECT_LT(first, 6.6);  // regression bound on the known gap (the band is [5.79, 6.22])
-  EXPECT_FALSE(inNeesBand(middle, middle_n)) << middle << ": the gap closed, tighten the bound above";
+              what, m.first, m.ambiguous, m.near, m.near_n, m.middle, m.middle_n, m.far, m.far_n, m.large);
+  return m;
+}
+
+// Mean NEES of 1000 independent 6-DoF errors: χ²₆₀₀₀ / 1000, two-sided 95 % band [5.79, 6.22], in the
+// chart the graph's edges use (poseNees). Issue 4 asks for it over the first 1000 views. KNOWN GAP, not
+// loosened silently: 7.18 by default (9.9 when Σ was taken in the coupled SE(3) exponential's chart),
+// 6.33 with mirrored_tilt_alternative. Close views (≥ 160 px) are in their band either way.
+TEST(DetectionSimulator, PnpNeesIsConsistentUpCloseAndOverconfidentAtNearFrontalFarViews) {
+  const std::vector<NeesSample> samples = pnpNees(GatePnpParams{});
+  ASSERT_GE(samples.size(), 1000u);
+  const NeesSummary m = summarizeNees(samples, "default");
+  EXPECT_TRUE(inNeesBand(m.large, m.large_n)) << m.large;
+  EXPECT_LT(m.first, 7.6);               // regression bound on the known gap
+  EXPECT_FALSE(inNeesBand(m.far, m.far_n)) << m.far << ": far views are consistent now, tighten the bound";
+}
+
+// With the mirrored tilt as the alternative mode, far views (≥ 10 m) are in their band too; the excess
+// left is at 6–10 m, where the tilt is neither determined nor clearly two-fold.
+TEST(DetectionSimulator, PnpNeesWithTheMirroredTiltIsConsistentFarAwayWithAGapInBetween) {
+  GatePnpParams pnp;
+  pnp.mirrored_tilt_alternative = true;
+  const std::vector<NeesSample> samples = pnpNees(pnp);
+  ASSERT_GE(samples.size(), 1000u);
+  const NeesSummary m = summarizeNees(samples, "mirrored tilt");
+  EXPECT_TRUE(inNeesBand(m.large, m.large_n)) << m.large;
+  EXPECT_TRUE(inNeesBand(m.far, m.far_n)) << m.far;
+  EXPECT_LT(m.first, 6.6);  // regression bound on the known gap (the band is [5.79, 6.22])
+  EXPECT_FALSE(inNeesBand(m.middle, m.middle_n)) << m.middle << ": the gap closed, tighten the bound above";
 }
 
 // |count − n p| ≤ 4 √(n p (1 − p)) (+1 for tiny n p).
