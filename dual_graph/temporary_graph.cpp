@@ -104,22 +104,18 @@ TemporaryGraph::VertexIds TemporaryGraph::assignVertexIds(double t_keyframe) con
   return ids;
 }
 
-Status TemporaryGraph::buildGraph(Graph& graph, double t_keyframe, const Eigen::Isometry3d& odom_T_keyframe,
-                                  const OdometryHistory& history, std::vector<int>& gate_ids,
-                                  std::vector<int>& gate_vertices, DistillationResult& result) const {
+Status TemporaryGraph::buildProblem(double t_keyframe, const Eigen::Isometry3d& odom_T_keyframe,
+                                    const OdometryHistory& history, std::vector<int>& gate_ids,
+                                    std::vector<int>& gate_vertices, DistillationResult& result) {
+  problem_.clear();
   const VertexIds ids = assignVertexIds(t_keyframe);
   const int keyframe_id = ids.keyframe;
-  auto keyframe = std::make_unique<VertexSE3>(keyframe_id);
-  keyframe->setEstimate(odom_T_keyframe);
-  keyframe->setFixed(true);
-  DG_RETURN_IF_ERROR(graph.addVertex(std::move(keyframe)));
+  DG_RETURN_IF_ERROR(problem_.addPose(keyframe_id, odom_T_keyframe, true));
   // Node j is its own vertex, or the keyframe itself when it was taken at the keyframe instant.
   const std::vector<int>& node_vertex = ids.node;
   for (size_t j = 0; j < nodes_.size(); ++j) {
     if (node_vertex[j] == keyframe_id) continue;
-    auto vertex = std::make_unique<VertexSE3>(node_vertex[j]);
-    vertex->setEstimate(nodes_[j].odom_T_body);
-    DG_RETURN_IF_ERROR(graph.addVertex(std::move(vertex)));
+    DG_RETURN_IF_ERROR(problem_.addPose(node_vertex[j], nodes_[j].odom_T_body, false));
   }
   // The odometry chain node_0 → … → node_last → K (between nodes, the information is computed when the
   // later node is recorded).
@@ -132,28 +128,23 @@ Status TemporaryGraph::buildGraph(Graph& graph, double t_keyframe, const Eigen::
     const Result<Matrix6d> information =
         last ? odometryInformation(nodes_[j].t, t_keyframe, history) : nodes_[j].information_to_next;
     if (!information.ok()) return information.status();
-    Result<EdgeSE3*> edge =
-        addRelativePoseEdge(graph, from, to, nodes_[j].odom_T_body.inverse() * to_pose, *information);
-    if (!edge.ok()) return edge.status();
+    DG_RETURN_IF_ERROR(problem_.addPoseEdge(from, to, nodes_[j].odom_T_body.inverse() * to_pose, *information));
   }
   // Gates: created at their first observation, one edge per observation.
   for (const NodeObservation& observation : observations_) {
     const int gate = observation.measurement.gate_id;
     const int gate_vertex = ids.gate.at(gate);
-    if (graph.vertex(gate_vertex) == nullptr) {
+    if (std::find(gate_ids.begin(), gate_ids.end(), gate) == gate_ids.end()) {
       const Eigen::Isometry3d& odom_T_node =
           node_vertex[observation.node] == keyframe_id ? odom_T_keyframe : nodes_[observation.node].odom_T_body;
-      DG_RETURN_IF_ERROR(addGateVertex(graph, gate_vertex, params_.landmark,
-                                       gateFromNode(odom_T_node, observation.measurement)));
+      DG_RETURN_IF_ERROR(problem_.addGate(gate_vertex, params_.landmark, gateFromNode(odom_T_node, observation.measurement)));
       gate_ids.push_back(gate);
       gate_vertices.push_back(gate_vertex);
     }
-    Result<EdgeBase*> edge =
-        addGateEdge(graph, node_vertex[observation.node], gate_vertex, observation.measurement, kernel_);
-    if (!edge.ok()) return edge.status();
+    DG_RETURN_IF_ERROR(problem_.addGateEdge(node_vertex[observation.node], gate_vertex, observation.measurement, kernel_));
   }
-  result.nodes = static_cast<int>(graph.numVertices() - ids.gate.size());
-  result.edges = static_cast<int>(graph.numEdges());
+  result.nodes = static_cast<int>(problem_.vertices().size() - ids.gate.size());
+  result.edges = static_cast<int>(problem_.edges().size());
   return Status();
 }
 
@@ -174,9 +165,12 @@ Status optimizationFailure(const SolverSummary& summary) {
 
 }  // namespace
 
-Status TemporaryGraph::optimizeWithGraph(Graph& graph, const std::vector<int>& gate_vertices,
+Status TemporaryGraph::optimizeWithGraph(const std::vector<int>& gate_vertices,
                                          std::vector<Result<Eigen::MatrixXd>>& covariances,
+                                         GatePoses& gate_estimates,
                                          DistillationResult& result) const {
+  Graph graph;
+  DG_RETURN_IF_ERROR(problem_.copyTo(graph, kernel_));
   // Eigen in the graph's own order unless CHOLMOD is asked for: the ids (assignVertexIds) already make
   // a good elimination order, which saves AMD's analysis, and each gate's marginal solve only touches
   // the factor from that gate's rows on (EigenOrdering::kNatural, solveColumnsAtRows).
@@ -188,19 +182,29 @@ Status TemporaryGraph::optimizeWithGraph(Graph& graph, const std::vector<int>& g
   if (!summary.usable()) return optimizationFailure(summary);
   MarginalCovariance marginals;
   DG_RETURN_IF_ERROR(marginals.compute(optimizer, graph));
-  for (int vertex : gate_vertices) covariances.push_back(marginals.block(vertex));
+  for (int vertex : gate_vertices) {
+    covariances.push_back(marginals.block(vertex));
+    Eigen::Isometry3d odom_T_gate = Eigen::Isometry3d::Identity();
+    if (const auto* pose = graph.vertexAs<VertexSE3>(vertex)) odom_T_gate = pose->estimate();
+    if (const auto* point = graph.vertexAs<VertexPointXYZ>(vertex)) odom_T_gate.translation() = point->estimate();
+    gate_estimates.push_back(odom_T_gate);
+  }
   return Status();
 }
 
-Status TemporaryGraph::optimizeWithBlocks(Graph& graph, const std::vector<int>& gate_vertices,
+Status TemporaryGraph::optimizeWithBlocks(const std::vector<int>& gate_vertices,
                                           std::vector<Result<Eigen::MatrixXd>>& covariances,
+                                          GatePoses& gate_estimates,
                                           DistillationResult& result) {
-  DG_RETURN_IF_ERROR(solver_.setGraph(graph));
+  DG_RETURN_IF_ERROR(solver_.setProblem(problem_.vertices(), problem_.edges()));
   const SolverSummary summary = solver_.optimize(lmParams());
   result.iterations = summary.iterations;
   if (!summary.usable()) return optimizationFailure(summary);
   DG_RETURN_IF_ERROR(solver_.computeMarginals());
-  for (int vertex : gate_vertices) covariances.push_back(solver_.marginal(vertex));
+  for (int vertex : gate_vertices) {
+    covariances.push_back(solver_.marginal(vertex));
+    gate_estimates.push_back(problem_.gateEstimate(vertex));
+  }
   return Status();
 }
 
@@ -209,15 +213,15 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
   DistillationResult result;
   if (nodes_.empty()) return result;
   const double start_ms = nowMs();
-  Graph graph;
   std::vector<int> gate_ids, gate_vertices;
   std::vector<Result<Eigen::MatrixXd>> covariances;
-  Status built = buildGraph(graph, t_keyframe, odom_T_keyframe, history, gate_ids, gate_vertices, result);
+  GatePoses gate_estimates;  // odom_T_gate (a point: its translation)
+  Status built = buildProblem(t_keyframe, odom_T_keyframe, history, gate_ids, gate_vertices, result);
   const bool blocks =
       params_.temp_solver == TemporarySolverKind::kBlock && params_.linear_solver != LinearSolverKind::kCholmod;
   if (built.ok()) {
-    built = blocks ? optimizeWithBlocks(graph, gate_vertices, covariances, result)
-                   : optimizeWithGraph(graph, gate_vertices, covariances, result);
+    built = blocks ? optimizeWithBlocks(gate_vertices, covariances, gate_estimates, result)
+                   : optimizeWithGraph(gate_vertices, covariances, gate_estimates, result);
   }
   if (!built.ok()) {
     result.skipped_gates = static_cast<int>(distinctGates().size());
@@ -228,7 +232,6 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
   }
   const Eigen::Isometry3d keyframe_T_odom = odom_T_keyframe.inverse();
   for (size_t g = 0; g < gate_ids.size(); ++g) {
-    const int vertex_id = gate_vertices[g];
     GateEdgeMeasurement distilled;
     distilled.gate_id = gate_ids[g];
     distilled.model = params_.landmark;
@@ -240,12 +243,12 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
     Status usable = covariance.ok() ? Status() : covariance.status();
     const std::string what = "distilled covariance of gate " + std::to_string(gate_ids[g]);
     if (usable.ok() && params_.landmark == LandmarkModel::kPose) {
-      distilled.node_T_gate = keyframe_T_odom * graph.vertexAs<VertexSE3>(vertex_id)->estimate();
+      distilled.node_T_gate = keyframe_T_odom * gate_estimates[g];
       Result<Eigen::MatrixXd> information = informationFromCovariance(*covariance, what);
       usable = information.ok() ? Status() : information.status();
       if (usable.ok()) distilled.pose_information = Matrix6d(*information);
     } else if (usable.ok()) {
-      distilled.p_node = keyframe_T_odom * graph.vertexAs<VertexPointXYZ>(vertex_id)->estimate();
+      distilled.p_node = keyframe_T_odom * gate_estimates[g].translation();
       distilled.node_T_gate.translation() = distilled.p_node;
       // The point's covariance is in odometry axes; the edge's error is in the keyframe's axes.
       const Eigen::Matrix3d rotation = keyframe_T_odom.linear();

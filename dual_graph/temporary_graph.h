@@ -9,6 +9,7 @@
 #include "dual_graph/gate_edge.h"
 #include "dual_graph/localizer_params.h"
 #include "dual_graph/odometry_history.h"
+#include "dual_graph/temporary_problem.h"
 #include "dual_graph/temporary_solver.h"
 
 namespace dualgraph {
@@ -77,19 +78,20 @@ class TemporaryGraph {
   /// Nodes in time order, each gate right after the last node that observes it (so at most the gates
   /// still in view are coupled to a node while the chain is eliminated), then the keyframe.
   VertexIds assignVertexIds(double t_keyframe) const;
-  /// Builds the graph (nodes, fixed keyframe, gates, odometry and detection edges); fills `result`'s
-  /// sizes; `gate_ids` in order of first observation, `gate_vertices` their vertices.
-  Status buildGraph(Graph& graph, double t_keyframe, const Eigen::Isometry3d& odom_T_keyframe,
-                    const OdometryHistory& history, std::vector<int>& gate_ids, std::vector<int>& gate_vertices,
-                    DistillationResult& result) const;
+  /// Builds the graph into `problem_` (nodes, fixed keyframe, gates, odometry and detection edges); fills
+  /// `result`'s sizes; `gate_ids` in order of first observation, `gate_vertices` their vertices.
+  Status buildProblem(double t_keyframe, const Eigen::Isometry3d& odom_T_keyframe, const OdometryHistory& history,
+                      std::vector<int>& gate_ids, std::vector<int>& gate_vertices, DistillationResult& result);
   OptimizerParams lmParams() const;
-  /// Optimises `graph` and appends each gate vertex's marginal covariance (or why it has none) to
-  /// `covariances`: with the generic Optimizer and MarginalCovariance (temp_solver: graph, or CHOLMOD) …
-  Status optimizeWithGraph(Graph& graph, const std::vector<int>& gate_vertices,
-                           std::vector<Result<Eigen::MatrixXd>>& covariances, DistillationResult& result) const;
-  /// … or with the block solver (temp_solver: block), which keeps its buffers between keyframes.
-  Status optimizeWithBlocks(Graph& graph, const std::vector<int>& gate_vertices,
-                            std::vector<Result<Eigen::MatrixXd>>& covariances, DistillationResult& result);
+  using GatePoses = std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>>;
+  /// Optimises `problem_` and appends each gate vertex's marginal covariance (or why it has none) to
+  /// `covariances` and its optimised estimate (odom_T_gate; a point's translation) to `gate_estimates`:
+  /// with the generic Optimizer and MarginalCovariance on a copy as a Graph (temp_solver: graph, or CHOLMOD) …
+  Status optimizeWithGraph(const std::vector<int>& gate_vertices, std::vector<Result<Eigen::MatrixXd>>& covariances,
+                           GatePoses& gate_estimates, DistillationResult& result) const;
+  /// … or with the block solver (temp_solver: block) on `problem_` itself.
+  Status optimizeWithBlocks(const std::vector<int>& gate_vertices, std::vector<Result<Eigen::MatrixXd>>& covariances,
+                            GatePoses& gate_estimates, DistillationResult& result);
   /// Gate ids observed in the interval, in order of first observation.
   std::vector<int> distinctGates() const;
 
@@ -97,7 +99,8 @@ class TemporaryGraph {
   std::shared_ptr<const RobustKernel> kernel_;
   std::vector<Node, Eigen::aligned_allocator<Node>> nodes_;
   std::vector<NodeObservation, Eigen::aligned_allocator<NodeObservation>> observations_;
-  TemporarySolver solver_;  ///< work buffers of the block solver, reused between keyframes
+  TemporaryProblem problem_;  ///< the vertices and edges of the graph being distilled, reused between keyframes
+  TemporarySolver solver_;    ///< work buffers of the block solver, reused between keyframes
 };
 
 /// The per-metre model and input-covariance choice of `params`.

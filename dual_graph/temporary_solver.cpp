@@ -9,7 +9,17 @@
 
 namespace dualgraph {
 Status TemporarySolver::setGraph(Graph& graph) {
-  graph_ = &graph;
+  std::vector<VertexBase*> vertices;
+  std::vector<EdgeBase*> edges;
+  vertices.reserve(graph.numVertices());
+  edges.reserve(graph.numEdges());
+  for (const auto& [id, vertex] : graph.vertices()) vertices.push_back(vertex.get());
+  for (const auto& edge : graph.edges()) edges.push_back(edge.get());
+  return setProblem(vertices, edges);
+}
+
+Status TemporarySolver::setProblem(const std::vector<VertexBase*>& vertices, const std::vector<EdgeBase*>& edges) {
+  has_problem_ = false;
   marginals_ready_ = false;
   errors_current_ = false;
   active_.clear();
@@ -20,37 +30,43 @@ Status TemporarySolver::setGraph(Graph& graph) {
   pair_begin_.assign(1, 0);
   pair_index_.clear();
   pattern_.clear();
-  const int max_id = graph.vertices().empty() ? -1 : graph.vertices().rbegin()->first;
-  if (!graph.vertices().empty() && graph.vertices().begin()->first < 0) {
-    return Status(StatusCode::kFailedPrecondition, "temporary solver: negative vertex id");
+  int max_id = -1;
+  for (const VertexBase* v : vertices) {
+    if (v == nullptr) continue;
+    if (v->id() < 0) return Status(StatusCode::kFailedPrecondition, "temporary solver: negative vertex id");
+    if (v->id() <= max_id) return Status(StatusCode::kFailedPrecondition, "temporary solver: vertex ids out of order");
+    max_id = v->id();
   }
   block_by_id_.assign(max_id + 1, -1);
-  for (const auto& edge : graph.edges()) {
+  for (const EdgeBase* edge : edges) {
     if (edge->errorDim() > kB || edge->numVertices() > static_cast<size_t>(kMaxSlots)) {
       return Status(StatusCode::kInvalidArgument, "temporary solver: " + describeEdge(*edge) + " is larger than 6×6 blocks");
     }
     for (const VertexBase* v : edge->vertices()) {
       if (v == nullptr) return Status(StatusCode::kFailedPrecondition, "temporary solver: edge with an empty vertex slot");
+      if (v->id() < 0 || v->id() > max_id) {
+        return Status(StatusCode::kFailedPrecondition, "temporary solver: " + describeEdge(*edge) + " refers to a vertex not given");
+      }
       if (!v->fixed()) block_by_id_[v->id()] = 0;  // attached and free
     }
   }
-  for (const auto& [id, vertex] : graph.vertices()) {
-    if (block_by_id_[id] < 0) continue;
+  for (VertexBase* vertex : vertices) {
+    if (vertex == nullptr || block_by_id_[vertex->id()] < 0) continue;
     if (vertex->tangentDim() > kB) {
-      return Status(StatusCode::kInvalidArgument, "temporary solver: vertex " + std::to_string(id) + " has more than 6 dimensions");
+      return Status(StatusCode::kInvalidArgument, "temporary solver: vertex " + std::to_string(vertex->id()) + " has more than 6 dimensions");
     }
-    block_by_id_[id] = static_cast<int>(active_.size());
-    active_.push_back(vertex.get());
+    block_by_id_[vertex->id()] = static_cast<int>(active_.size());
+    active_.push_back(vertex);
     block_dim_.push_back(vertex->tangentDim());
   }
-  for (const auto& edge : graph.edges()) {
+  for (EdgeBase* edge : edges) {
     const size_t first = edge_block_.size();
     for (const VertexBase* v : edge->vertices()) edge_block_.push_back(v->fixed() ? -1 : block_by_id_[v->id()]);
     if (std::all_of(edge_block_.begin() + first, edge_block_.end(), [](int b) { return b < 0; })) {
       edge_block_.resize(first);
       continue;
     }
-    active_edges_.push_back(edge.get());
+    active_edges_.push_back(edge);
     edge_begin_.push_back(static_cast<int>(edge_block_.size()));
     for (size_t a = first; a < edge_block_.size(); ++a) {
       for (size_t b = a + 1; b < edge_block_.size(); ++b) {
@@ -77,12 +93,14 @@ Status TemporarySolver::setGraph(Graph& graph) {
   rhs_.setZero(kB * num_blocks);
   damping_.setZero(kB * num_blocks);
   step_.setZero(kB * num_blocks);
+  edges_.assign(edges.begin(), edges.end());
+  has_problem_ = true;
   return Status();
 }
 
 double TemporarySolver::evaluateChi2(std::string* first_bad) {
   double sum = 0.0;
-  for (const auto& edge : graph_->edges()) {
+  for (EdgeBase* edge : edges_) {
     edge->computeError();
     sum += optimizerChi2(*edge, first_bad);
   }
@@ -146,7 +164,7 @@ SolverSummary TemporarySolver::optimize(const OptimizerParams& params) {
   SolverSummary summary;
   const double start_ms = nowMs();
   summary.linear_solver = "block Cholesky (6x6)";
-  if (graph_ == nullptr) {
+  if (!has_problem_) {
     summary.termination = TerminationReason::kLinearSolverFailure;
     summary.message = "temporary solver: setGraph was not called";
     return summary;
@@ -178,7 +196,7 @@ SolverSummary TemporarySolver::optimize(const OptimizerParams& params) {
 
 Status TemporarySolver::computeMarginals() {
   marginals_ready_ = false;
-  if (graph_ == nullptr) return Status(StatusCode::kFailedPrecondition, "temporary solver: setGraph was not called");
+  if (!has_problem_) return Status(StatusCode::kFailedPrecondition, "temporary solver: setGraph was not called");
   if (active_.empty()) return Status(StatusCode::kFailedPrecondition, "no free vertex in the system");
   if (!errors_current_) evaluateChi2(nullptr);
   errors_current_ = false;

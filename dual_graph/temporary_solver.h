@@ -35,6 +35,11 @@ class TemporarySolver {
   /// Builds the block structure of `graph` (kept by pointer until the next call; its structure must not
   /// change meanwhile). kFailedPrecondition for an edge with an empty slot or a negative vertex id.
   Status setGraph(Graph& graph);
+  /// The same for a graph given as its vertices in strictly increasing id order (null entries are
+  /// skipped; every vertex an edge refers to must be among them) and its edges: the vertices and edges
+  /// are kept by pointer until the next call (TemporaryProblem reuses them between keyframes).
+  /// kFailedPrecondition also for ids out of order.
+  Status setProblem(const std::vector<VertexBase*>& vertices, const std::vector<EdgeBase*>& edges);
   /// LM from the current estimate; the estimate is left at the last accepted state.
   SolverSummary optimize(const OptimizerParams& params);
   /// Linearises at the current estimate and computes the selected inverse of the undamped H; then
@@ -79,7 +84,8 @@ class TemporarySolver {
   void lmMarkErrorsStale() { errors_stale_ = true; }
   void lmRelinearize(SolverSummary& /*summary*/) { linearizeAndAssemble(); }
 
-  Graph* graph_ = nullptr;
+  bool has_problem_ = false;
+  std::vector<EdgeBase*> edges_;        ///< every edge, in the order given (χ² sums over all)
   std::vector<VertexBase*> active_;     ///< per block
   std::vector<int> block_dim_;          ///< per block: tangent dimension (≤ 6)
   std::vector<int> block_by_id_;        ///< vertex id → block, -1 when not in the system

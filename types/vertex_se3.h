@@ -23,6 +23,13 @@ class VertexSE3 final : public BaseVertex<6, Eigen::Isometry3d> {
 
   explicit VertexSE3(int id = -1) : BaseVertex(id) { estimate_.setIdentity(); }
 
+  /// Sets the estimate and restarts the count towards the next re-orthonormalisation, leaving the vertex
+  /// as a new one with that estimate would be (for vertices reused between graphs).
+  void reset(const Eigen::Isometry3d& world_T_body) {
+    estimate_ = world_T_body;
+    increments_since_orthonormalise_ = 0;
+  }
+
   Status read(TokenReader& in) override;
   void write(std::ostream& out) const override;
 
