@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "solvers/block_cholesky.h"
 
+#include "solvers/block_kernels.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -40,15 +42,18 @@ Status choleskyInPlace(Block& a, int column) {
 }
 
 /// L⁻¹ of a lower-triangular 6×6 block with a positive diagonal, by columns (Eigen's triangular solve
-/// with a matrix right-hand side goes through its dynamic-size kernel).
+/// with a matrix right-hand side goes through its dynamic-size kernel). The six reciprocals of the
+/// diagonal are computed first and multiplied, so no division sits on a column's dependency chain.
 void invertLower(const Block& l, Block& inverse) {
+  double reciprocal[6];
+  for (int c = 0; c < 6; ++c) reciprocal[c] = 1.0 / l(c, c);
   inverse.setZero();
   for (int c = 0; c < 6; ++c) {
-    inverse(c, c) = 1.0 / l(c, c);
+    inverse(c, c) = reciprocal[c];
     for (int i = c + 1; i < 6; ++i) {
       double s = 0.0;
       for (int k = c; k < i; ++k) s += l(i, k) * inverse(k, c);
-      inverse(i, c) = -s / l(i, i);
+      inverse(i, c) = -s * reciprocal[i];
     }
   }
 }
@@ -147,12 +152,12 @@ Status BlockCholesky::factorize(const Block* h, const double* diagonal_add) {
     invertLower(diagonal, inverse);
     const int first = col_begin_[j] + 1;
     const int end = col_begin_[j + 1];
-    const Block inverse_transposed = inverse.transpose();
-    for (int p = first; p < end; ++p) factor_[p] = (factor_[p] * inverse_transposed).eval();
+    for (int p = first; p < end; ++p) block_kernels::multiplyTransposedLowerInPlace(factor_[p], inverse);
     const int* target = target_.data() + target_begin_[j];
     for (int a = first; a < end; ++a) {
-      // The full 6×6 product also for the diagonal target (b == a): a lower-triangle-only loop measured slower.
-      for (int b = first; b <= a; ++b) factor_[*target++].noalias() -= factor_[a] * factor_[b].transpose();
+      for (int b = first; b < a; ++b) block_kernels::subtractProductTransposed(factor_[*target++], factor_[a], factor_[b]);
+      // A diagonal block of a later column: choleskyInPlace reads its lower triangle only.
+      block_kernels::subtractGramLower(factor_[*target++], factor_[a]);
     }
   }
   factorized_ = true;
@@ -187,22 +192,23 @@ Status BlockCholesky::selectedInverse() {
     const int first = col_begin_[j] + 1;
     const int m = col_begin_[j + 1] - first;
     const Block& inverse = diagonal_inverse_[j];
-    for (int i = 0; i < m; ++i) work_[i].noalias() = factor_[first + i] * inverse;
+    for (int i = 0; i < m; ++i) block_kernels::multiplyLower(work_[i], factor_[first + i], inverse);
     const int* target = target_.data() + target_begin_[j];  // (a, b), a ≥ b: target[a(a+1)/2 + b]
     for (int a = 0; a < m; ++a) {
-      Block sum = Block::Zero();
+      Block& sigma_aj = sigma_[first + a];
+      sigma_aj.setZero();
       for (int i = 0; i < m; ++i) {
         if (i <= a) {
-          sum.noalias() += sigma_[target[a * (a + 1) / 2 + i]] * work_[i];
+          block_kernels::subtractProduct(sigma_aj, sigma_[target[a * (a + 1) / 2 + i]], work_[i]);
         } else {
-          sum.noalias() += sigma_[target[i * (i + 1) / 2 + a]].transpose() * work_[i];
+          // Σ(row a, row i) = Σ(row i, row a)ᵀ, the stored block.
+          block_kernels::subtractTransposedProduct(sigma_aj, sigma_[target[i * (i + 1) / 2 + a]], work_[i]);
         }
       }
-      sigma_[first + a] = -sum;
     }
     Block diagonal;
     diagonal.noalias() = inverse.transpose() * inverse;
-    for (int a = 0; a < m; ++a) diagonal.noalias() -= work_[a].transpose() * sigma_[first + a];
+    for (int a = 0; a < m; ++a) block_kernels::subtractTransposedProduct(diagonal, work_[a], sigma_[first + a]);
     sigma_[col_begin_[j]] = 0.5 * (diagonal + diagonal.transpose());
   }
   return Status();

@@ -18,7 +18,7 @@ namespace dualgraph {
 /// column by column, lower triangle only: column j holds its diagonal block (full, symmetric) and then
 /// the blocks (i, j), i > j, of the filled pattern of L in increasing i. `analyse` computes that
 /// pattern once (fill from the elimination tree) together with the position of every update, so the
-/// numeric phases do fixed-size 6×6 products only: per column j with off-diagonal rows S_j,
+/// numeric phases do 6×6 block products only (solvers/block_kernels.h): per column j with off-diagonal rows S_j,
 ///   L_jj = chol(H_jj − …),  L_ij = H_ij L_jj⁻ᵀ,  H_ik −= L_ij L_kjᵀ for i ≥ k in S_j;
 /// and the selected inverse Σ = H⁻¹ on the same pattern (Takahashi's recursion, last column first),
 ///   W_i = L_ij L_jj⁻¹,  Σ_kj = −Σ_{i∈S_j} Σ_ki W_i,  Σ_jj = L_jj⁻ᵀ L_jj⁻¹ − Σ_{i∈S_j} W_iᵀ Σ_ij.
@@ -45,8 +45,8 @@ class BlockCholesky {
   int diagonalIndex(int j) const { return col_begin_[j]; }
 
   /// Factorises H + diag(`diagonal_add`) (`h`: numStoredBlocks() blocks in the storage layout, fill blocks
-  /// zero, diagonal blocks symmetric; `diagonal_add`: 6·numBlocks() scalars or null for none). H is not
-  /// modified. On failure the factor is unusable until the next successful call.
+  /// zero; of the diagonal blocks only the lower triangle is read; `diagonal_add`: 6·numBlocks() scalars or
+  /// null for none). H is not modified. On failure the factor is unusable until the next successful call.
   Status factorize(const Block* h, const double* diagonal_add = nullptr);
   /// x = H⁻¹ b (6·numBlocks() scalars each; may alias).
   Status solve(const double* b, double* x) const;
