@@ -14,13 +14,13 @@ namespace dualgraph::block_kernels {
 /// reload operands and broadcast every right-hand coefficient separately; these kernels keep two result
 /// columns (six packets) in registers, skip the exact zeros of triangular factors, and compute only the
 /// lower half of the symmetric update of a diagonal block. Measured on the temporary graph's pattern
-/// (61 blocks, 344 stored): factorisation 50 → 41 µs, selected inverse 62 → 58 µs (bench/README.md).
+/// (61 blocks, 344 stored): factorisation 50 → 38 µs, selected inverse 62 → 55 µs (bench/README.md).
 ///
 /// Blocks are column-major `Eigen::Matrix<double, 6, 6>` (16-byte aligned, as Eigen stores them). The
-/// A·B and A·Bᵀ kernels sum their k-terms in increasing k into a register and then add it to (or subtract
-/// it from) C once, as Eigen's `C.noalias() −= A * B` does: without FMA the results are Eigen's bit for
-/// bit, up to skipped exact zeros. No kernel reads entries of C it does not write. Outputs must not
-/// alias inputs unless stated.
+/// A·B and A·Bᵀ kernels add or subtract their k-terms one by one into C's packets, in increasing k (Eigen
+/// sums the terms first and then adds the sum: the last bits may differ); Aᵀ·B sums each dot product's even
+/// and odd terms separately. No kernel reads entries of C it does not write. Outputs must not alias inputs
+/// unless stated.
 using Block = Eigen::Matrix<double, 6, 6>;
 
 namespace detail {
@@ -52,42 +52,35 @@ inline Packet unpackHigh(Packet a, Packet b) { return {{a.v[1], b.v[1]}}; }
 enum Op { kAssign, kAdd, kSubtract };
 
 /// Rows [2·P0, 6) of columns j and j + 1 of C =, += or −= Σ_{k ∈ [K0, K1)} A(:, k) · [s(k, j), s(k, j + 1)],
-/// where `S` maps (k, column) to the right-hand coefficient. Sums in increasing k, then one store. Every
-/// load of A happens before the first store to C, so C may be A when the pair's columns are not read by
-/// a later call.
+/// where `S` maps (k, column) to the right-hand coefficient. The six packets stay in registers (started
+/// from C, or from the first term for =) and each term is added or subtracted in increasing k; one store.
+/// Every load of A happens before the first store to C, so C may be A when the pair's columns are not read
+/// by a later call.
 template <int P0, int K0, int K1, Op kOp, typename S>
 inline void columnPair(double* c, const double* a, int j, S s) {
   static_assert(0 <= P0 && P0 < 3 && 0 <= K0 && K0 < K1 && K1 <= 6, "6x6 block");
   Packet sum0[3], sum1[3];
-  {
-    const Packet b0 = broadcast(s(K0, j)), b1 = broadcast(s(K0, j + 1));
-    for (int p = P0; p < 3; ++p) {
+  for (int p = P0; p < 3; ++p) {
+    if (kOp == kAssign) {
       const Packet x = load(a + 6 * K0 + 2 * p);
-      sum0[p] = mul(x, b0);
-      sum1[p] = mul(x, b1);
+      sum0[p] = mul(x, broadcast(s(K0, j)));
+      sum1[p] = mul(x, broadcast(s(K0, j + 1)));
+    } else {
+      sum0[p] = load(c + 6 * j + 2 * p);
+      sum1[p] = load(c + 6 * j + 6 + 2 * p);
     }
   }
-  for (int k = K0 + 1; k < K1; ++k) {
+  for (int k = kOp == kAssign ? K0 + 1 : K0; k < K1; ++k) {
     const Packet b0 = broadcast(s(k, j)), b1 = broadcast(s(k, j + 1));
     for (int p = P0; p < 3; ++p) {
       const Packet x = load(a + 6 * k + 2 * p);
-      sum0[p] = add(sum0[p], mul(x, b0));
-      sum1[p] = add(sum1[p], mul(x, b1));
+      sum0[p] = kOp == kSubtract ? sub(sum0[p], mul(x, b0)) : add(sum0[p], mul(x, b0));
+      sum1[p] = kOp == kSubtract ? sub(sum1[p], mul(x, b1)) : add(sum1[p], mul(x, b1));
     }
   }
   for (int p = P0; p < 3; ++p) {
-    double* c0 = c + 6 * j + 2 * p;
-    double* c1 = c0 + 6;
-    if (kOp == kAssign) {
-      store(c0, sum0[p]);
-      store(c1, sum1[p]);
-    } else if (kOp == kAdd) {
-      store(c0, add(load(c0), sum0[p]));
-      store(c1, add(load(c1), sum1[p]));
-    } else {
-      store(c0, sub(load(c0), sum0[p]));
-      store(c1, sub(load(c1), sum1[p]));
-    }
+    store(c + 6 * j + 2 * p, sum0[p]);
+    store(c + 6 * j + 6 + 2 * p, sum1[p]);
   }
 }
 

@@ -24,7 +24,7 @@ class BlockKernels : public ::testing::Test {
     l.triangularView<Eigen::StrictlyUpper>().setZero();
     return l;
   }
-  /// Same to round-off (the kernels sum the same terms as Eigen; only Aᵀ·B in another order).
+  /// Same to round-off (the kernels sum the same terms as Eigen, in another order).
   static void expectNear(const Block& actual, const Block& expected) {
     EXPECT_LE((actual - expected).lpNorm<Eigen::Infinity>(), 1e-13 * (1.0 + expected.lpNorm<Eigen::Infinity>()))
         << "actual\n" << actual << "\nexpected\n" << expected;
