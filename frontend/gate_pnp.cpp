@@ -55,31 +55,6 @@ bool jacobian(const Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, co
 
 double rms(const Vector8d& r) { return std::sqrt(r.squaredNorm() / 4.0); }
 
-/// Gauss–Newton on the translation only (the rotation kept): the profile of the pixel error at a
-/// given orientation. Returns the RMS [px], or −1 when a corner falls behind the camera.
-double refineTranslation(Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, const GateCornerPixels& pixels,
-                         const CameraModel& camera, int iterations) {
-  Vector8d r;
-  if (!residuals(camera_T_gate, p_gate, pixels, camera, r)) return -1.0;
-  for (int it = 0; it < iterations; ++it) {
-    Matrix86d J;
-    if (!jacobian(camera_T_gate, p_gate, pixels, camera, J)) break;
-    const Eigen::Matrix<double, 8, 3> J_t = J.leftCols<3>();
-    Vector6d step = Vector6d::Zero();
-    step.head<3>() = -(J_t.transpose() * J_t).ldlt().solve(J_t.transpose() * r);
-    const Eigen::Isometry3d candidate = se3BoxPlus(camera_T_gate, step);
-    Vector8d r_candidate;
-    if (!step.allFinite() || !residuals(candidate, p_gate, pixels, camera, r_candidate) ||
-        r_candidate.squaredNorm() > r.squaredNorm()) {
-      break;
-    }
-    camera_T_gate = candidate;
-    r = r_candidate;
-    if (step.norm() < 1e-12) break;
-  }
-  return rms(r);
-}
-
 /// The gate turned so that its normal is reflected about the line of sight (camera → gate centre):
 /// the other tilt that a small or far square's image hardly tells apart from this one.
 Eigen::Isometry3d mirroredTilt(const Eigen::Isometry3d& camera_T_gate) {
@@ -91,16 +66,23 @@ Eigen::Isometry3d mirroredTilt(const Eigen::Isometry3d& camera_T_gate) {
   return result;
 }
 
-/// Gauss–Newton on the pixel error from `camera_T_gate` (halving steps that do not decrease it).
-/// Returns the RMS [px], or −1 when a corner falls behind the camera.
+/// Gauss–Newton on the pixel error from `camera_T_gate` (halving steps that do not decrease it); with
+/// `translation_only` the rotation is kept (the error's profile at that orientation). Returns the RMS
+/// [px], or −1 when a corner falls behind the camera.
 double refine(Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, const GateCornerPixels& pixels,
-              const CameraModel& camera, int iterations) {
+              const CameraModel& camera, int iterations, bool translation_only = false) {
   Vector8d r;
   if (!residuals(camera_T_gate, p_gate, pixels, camera, r)) return -1.0;
   for (int it = 0; it < iterations; ++it) {
     Matrix86d J;
     if (!jacobian(camera_T_gate, p_gate, pixels, camera, J)) break;
-    const Vector6d step = -(J.transpose() * J).ldlt().solve(J.transpose() * r);
+    Vector6d step = Vector6d::Zero();
+    if (translation_only) {
+      const Eigen::Matrix<double, 8, 3> J_t = J.leftCols<3>();
+      step.head<3>() = -(J_t.transpose() * J_t).ldlt().solve(J_t.transpose() * r);
+    } else {
+      step = -(J.transpose() * J).ldlt().solve(J.transpose() * r);
+    }
     if (!step.allFinite()) break;
     bool improved = false;
     for (double scale = 1.0; scale > 1e-3 && !improved; scale *= 0.5) {
@@ -257,7 +239,7 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
   }
   if (alternative < 0 && params.mirrored_tilt_alternative) {  // IPPE and SQPnP found one basin: the other tilt, with its translation re-fitted
     Eigen::Isometry3d mirror = mirroredTilt(solution.camera_T_gate);
-    const double error = refineTranslation(mirror, p_gate, corners, camera, params.max_refinement_iterations);
+    const double error = refine(mirror, p_gate, corners, camera, params.max_refinement_iterations, true);
     if (error >= 0.0 && so3Log(solution.camera_T_gate.linear().transpose() * mirror.linear()).norm() > kPi / 180.0) {
       candidates.push_back(mirror);
       candidate_rms.push_back(error);
