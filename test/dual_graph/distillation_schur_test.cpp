@@ -126,7 +126,7 @@ TEST(DistillationSchur, OdometryNoiseBetweenObservationAndKeyframeLowersTheInfor
   const Matrix6d observation_covariance = randomCovariance<6>(0.01);
   for (const double odometry_scale : {1e-4, 1e-2, 1.0}) {
     const Matrix6d odometry_covariance = randomCovariance<6>(odometry_scale);
-    const OdometryHistory history = makeHistory({node, node * increment}, {Matrix6d(), odometry_covariance});
+    const OdometryHistory history = makeHistory({node, node * increment}, {Matrix6d::Zero(), odometry_covariance});
     TemporaryGraph temporary(exactParams(LandmarkModel::kPose), nullptr);
     ASSERT_TRUE(temporary.addObservation(GateObservation::pose(0.0, 5, body_T_gate, observation_covariance), node, history).ok());
     const DistillationResult result = temporary.distil(1.0, node * increment, history);

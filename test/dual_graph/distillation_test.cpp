@@ -20,7 +20,7 @@ using namespace dualgraph::testing;
 TEST(Distillation, NIdenticalObservationsFromTheFixedKeyframeGiveNTimesTheirInformation) {
   const LocalizerParams params = exactParams(LandmarkModel::kPose);
   const Eigen::Isometry3d odom_T_keyframe = randomPose(3.0);
-  const OdometryHistory history = makeHistory({randomPose(3.0), odom_T_keyframe}, {Matrix6d(), randomCovariance<6>(0.01)});
+  const OdometryHistory history = makeHistory({randomPose(3.0), odom_T_keyframe}, {Matrix6d::Zero(), randomCovariance<6>(0.01)});
   const Eigen::Isometry3d body_T_gate = randomPose(4.0);
   const Matrix6d covariance = randomCovariance<6>(0.02);
   for (const int n : {1, 2, 5, 17}) {
@@ -41,7 +41,7 @@ TEST(Distillation, NIdenticalObservationsFromTheFixedKeyframeGiveNTimesTheirInfo
 TEST(Distillation, NNoisyPointObservationsGiveNTimesTheirInformationAndTheirMean) {
   const LocalizerParams params = exactParams(LandmarkModel::kPoint);
   const Eigen::Isometry3d odom_T_keyframe = randomPose(3.0);
-  const OdometryHistory history = makeHistory({randomPose(1.0), odom_T_keyframe}, {Matrix6d(), randomCovariance<6>(0.01)});
+  const OdometryHistory history = makeHistory({randomPose(1.0), odom_T_keyframe}, {Matrix6d::Zero(), randomCovariance<6>(0.01)});
   const Eigen::Matrix3d covariance = randomCovariance<3>(0.05);
   TemporaryGraph temporary(params, nullptr);
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
