@@ -237,7 +237,8 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
       alternative = static_cast<int>(k);
     }
   }
-  if (alternative < 0 && params.mirrored_tilt_alternative) {  // IPPE and SQPnP found one basin: the other tilt, with its translation re-fitted
+  // IPPE and SQPnP found one basin: on request, the other tilt with its translation re-fitted.
+  if (alternative < 0 && params.mirrored_tilt_alternative) {
     Eigen::Isometry3d mirror = mirroredTilt(solution.camera_T_gate);
     const double error = refine(mirror, p_gate, corners, camera, params.max_refinement_iterations, true);
     if (error >= 0.0 && so3Log(solution.camera_T_gate.linear().transpose() * mirror.linear()).norm() > kPi / 180.0) {

@@ -70,13 +70,14 @@ struct GatePnpParams {
 /// same Σ is the covariance of body_T_gate, as GateObservation expects.
 ///
 /// Ambiguity: near-frontal views of a small square have two poses (mirrored tilts) explaining the
-/// pixels almost equally. The alternative is the best other refined candidate that differs by more than
-/// 1° in rotation or, when IPPE's and SQPnP's candidates all end in one basin and
+/// pixels almost equally. The alternative is the best other refined candidate that differs by more
+/// than 1° in rotation or, when IPPE's and SQPnP's candidates all end in one basin and
 /// `mirrored_tilt_alternative` is set, the returned pose with its normal reflected about the line of
-/// sight and its translation re-fitted (the error's profile at the mirrored tilt); it is kept in `alternative_*`, and `ambiguous` is set when it is also within
-/// max_reprojection_rms. The returned pose is still the lower-RMS one. Σ is the second moment of the
-/// two-mode posterior about the returned pose, w₁Σ₁ + w₂(Σ₂ + δδᵀ), δ the alternative's offset, weights
-/// ∝ exp(−SSR/2σ²)·√det Σ (each mode's Laplace mass), so it says how little the tilt is known.
+/// sight and its translation re-fitted (the error's profile at the mirrored tilt). It is kept in
+/// `alternative_*`, and `ambiguous` is set when it is also within max_reprojection_rms. The returned
+/// pose is still the lower-RMS one. Σ is the second moment of the two-mode posterior about the
+/// returned pose, w₁Σ₁ + w₂(Σ₂ + δδᵀ), δ the alternative's offset, weights ∝ exp(−SSR/2σ²)·√det Σ
+/// (each mode's Laplace mass), so it says how little the tilt is known.
 /// Consistency on the simulated RATM ellipse (σ = 1 px, first 1000 views, test/frontend/
 /// simulator_sensors_test.cpp; band 5.79–6.22): mean NEES 7.18 by default (6.29 below 6 m, 7.8 beyond
 /// 10 m); 6.33 with `mirrored_tilt_alternative` (6.21 beyond 10 m, 6.68 at 6–10 m, where the tilt is
