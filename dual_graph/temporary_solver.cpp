@@ -61,7 +61,13 @@ Status TemporarySolver::setProblem(const std::vector<VertexBase*>& vertices, con
   }
   for (EdgeBase* edge : edges) {
     const size_t first = edge_block_.size();
-    for (const VertexBase* v : edge->vertices()) edge_block_.push_back(v->fixed() ? -1 : block_by_id_[v->id()]);
+    for (const VertexBase* v : edge->vertices()) {
+      const int block = v->fixed() ? -1 : block_by_id_[v->id()];
+      if (block >= 0 && active_[block] != v) {  // an id in range whose vertex was not given (or another object)
+        return Status(StatusCode::kFailedPrecondition, "temporary solver: " + describeEdge(*edge) + " refers to a vertex not given");
+      }
+      edge_block_.push_back(block);
+    }
     if (std::all_of(edge_block_.begin() + first, edge_block_.end(), [](int b) { return b < 0; })) {
       edge_block_.resize(first);
       continue;

@@ -257,5 +257,30 @@ TEST(TemporarySolver, FaultsAreTerminationsAndStatuses) {
   EXPECT_EQ(solver.optimize(OptimizerParams{}).termination, TerminationReason::kNothingToOptimize);
 }
 
+// setProblem's preconditions: vertices in increasing id, and every vertex an edge uses among them
+// (also when its id is below the largest one given).
+TEST(TemporarySolver, SetProblemRejectsVerticesOutOfOrderOrNotGiven) {
+  Graph graph;
+  buildChain(graph, 4);
+  std::vector<VertexBase*> vertices;
+  std::vector<EdgeBase*> edges;
+  for (const auto& [id, vertex] : graph.vertices()) vertices.push_back(vertex.get());
+  for (const auto& edge : graph.edges()) edges.push_back(edge.get());
+  TemporarySolver solver;
+  ASSERT_TRUE(solver.setProblem(vertices, edges).ok());
+  std::vector<VertexBase*> swapped = vertices;
+  std::swap(swapped[1], swapped[2]);
+  EXPECT_EQ(solver.setProblem(swapped, edges).code(), StatusCode::kFailedPrecondition);
+  std::vector<VertexBase*> missing_inside = vertices;
+  ASSERT_FALSE(missing_inside[1]->fixed());
+  missing_inside[1] = nullptr;  // an edge uses it, its id is below the largest given
+  const Status inside = solver.setProblem(missing_inside, edges);
+  EXPECT_EQ(inside.code(), StatusCode::kFailedPrecondition);
+  EXPECT_NE(inside.message().find("not given"), std::string::npos) << inside.message();
+  std::vector<VertexBase*> missing_last(vertices.begin(), vertices.end() - 1);
+  EXPECT_EQ(solver.setProblem(missing_last, edges).code(), StatusCode::kFailedPrecondition);
+  EXPECT_EQ(solver.optimize(OptimizerParams{}).termination, TerminationReason::kLinearSolverFailure);  // none kept
+}
+
 }  // namespace
 }  // namespace dualgraph
