@@ -63,7 +63,7 @@ Status TemporarySolver::setProblem(const std::vector<VertexBase*>& vertices, con
     const size_t first = edge_block_.size();
     for (const VertexBase* v : edge->vertices()) {
       const int block = v->fixed() ? -1 : block_by_id_[v->id()];
-      if (block >= 0 && active_[block] != v) {  // an id in range whose vertex was not given (or another object)
+      if (block >= 0 && (block >= static_cast<int>(active_.size()) || active_[block] != v)) {  // an id in range whose vertex was not given (or another object)
         return Status(StatusCode::kFailedPrecondition, "temporary solver: " + describeEdge(*edge) + " refers to a vertex not given");
       }
       edge_block_.push_back(block);

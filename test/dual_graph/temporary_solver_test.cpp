@@ -277,6 +277,11 @@ TEST(TemporarySolver, SetProblemRejectsVerticesOutOfOrderOrNotGiven) {
   const Status inside = solver.setProblem(missing_inside, edges);
   EXPECT_EQ(inside.code(), StatusCode::kFailedPrecondition);
   EXPECT_NE(inside.message().find("not given"), std::string::npos) << inside.message();
+  // Only a fixed vertex given (no block at all) while the edges use free ones below its id.
+  std::vector<VertexBase*> only_fixed(vertices.size(), nullptr);
+  only_fixed.back() = vertices.back();
+  ASSERT_TRUE(only_fixed.back()->fixed());
+  EXPECT_EQ(solver.setProblem(only_fixed, edges).code(), StatusCode::kFailedPrecondition);
   std::vector<VertexBase*> missing_last(vertices.begin(), vertices.end() - 1);
   EXPECT_EQ(solver.setProblem(missing_last, edges).code(), StatusCode::kFailedPrecondition);
   EXPECT_EQ(solver.optimize(OptimizerParams{}).termination, TerminationReason::kLinearSolverFailure);  // none kept
