@@ -184,10 +184,7 @@ Status TemporaryGraph::optimizeWithGraph(const std::vector<int>& gate_vertices,
   DG_RETURN_IF_ERROR(marginals.compute(optimizer, graph));
   for (int vertex : gate_vertices) {
     covariances.push_back(marginals.block(vertex));
-    Eigen::Isometry3d odom_T_gate = Eigen::Isometry3d::Identity();
-    if (const auto* pose = graph.vertexAs<VertexSE3>(vertex)) odom_T_gate = pose->estimate();
-    if (const auto* point = graph.vertexAs<VertexPointXYZ>(vertex)) odom_T_gate.translation() = point->estimate();
-    gate_estimates.push_back(odom_T_gate);
+    gate_estimates.push_back(gatePoseOf(graph.vertex(vertex)));
   }
   return Status();
 }

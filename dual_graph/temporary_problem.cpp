@@ -95,13 +95,14 @@ Status TemporaryProblem::addGateEdge(int node, int gate, const GateEdgeMeasureme
   return Status();
 }
 
-Eigen::Isometry3d TemporaryProblem::gateEstimate(int id) const {
+Eigen::Isometry3d gatePoseOf(const VertexBase* vertex) {
   Eigen::Isometry3d odom_T_gate = Eigen::Isometry3d::Identity();
-  const VertexBase* vertex = vertexAt(id);
   if (const auto* pose = dynamic_cast<const VertexSE3*>(vertex)) return pose->estimate();
   if (const auto* point = dynamic_cast<const VertexPointXYZ*>(vertex)) odom_T_gate.translation() = point->estimate();
   return odom_T_gate;
 }
+
+Eigen::Isometry3d TemporaryProblem::gateEstimate(int id) const { return gatePoseOf(vertexAt(id)); }
 
 Status TemporaryProblem::copyTo(Graph& graph, const std::shared_ptr<const RobustKernel>& kernel) const {
   for (const VertexBase* vertex : vertices_) {

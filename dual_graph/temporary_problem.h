@@ -14,6 +14,10 @@
 
 namespace dualgraph {
 
+/// A gate vertex's estimate as an odom_T_gate: a VertexSE3's pose, a VertexPointXYZ's position with the
+/// identity rotation; the identity for anything else (null included).
+Eigen::Isometry3d gatePoseOf(const VertexBase* vertex);
+
 /// The vertices and edges of one temporary graph (TemporaryGraph::distil), kept between keyframes: `clear`
 /// marks every object unused and the `add*` calls hand them out again, so a distillation builds its graph
 /// without allocating once the largest interval has been seen (a `Graph` allocates every vertex, edge and
