@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // main() of the benchmark executables: says which peers were built in (Ceres or not) and which BLAS
-// the process loaded (CHOLMOD's supernodal factorisation runs in it), on stdout and in the JSON
-// context, then runs Google Benchmark as BENCHMARK_MAIN would.
+// the process loaded (CHOLMOD's supernodal factorisation runs in it) and which 6×6 block kernels the
+// temporary graph's solver uses, on stdout and in the JSON context, then runs Google Benchmark as
+// BENCHMARK_MAIN would.
 #include <benchmark/benchmark.h>
 #include <dlfcn.h>
 #include <link.h>
@@ -9,6 +10,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+
+#include "solvers/block_kernels_avx2.h"
 
 #ifdef DUALGRAPH_BENCH_HAVE_CERES
 #include <ceres/version.h>
@@ -52,11 +55,15 @@ int main(int argc, char** argv) {
   const std::string build = "WITHOUT NDEBUG: numbers are not representative";
 #endif
   const std::string blas = blasDescription();
-  std::printf("dualgraph benchmarks: build %s\npeers: %s\nBLAS: %s\n", build.c_str(), ceres.c_str(), blas.c_str());
+  const std::string kernels = dualgraph::block_kernels_avx2::enabled() ? "AVX2 + FMA (chosen at run time)"
+                                                                        : "baseline SSE2 (this CPU has no AVX2 + FMA)";
+  std::printf("dualgraph benchmarks: build %s\npeers: %s\nBLAS: %s\n6x6 block kernels: %s\n", build.c_str(), ceres.c_str(),
+              blas.c_str(), kernels.c_str());
   std::fflush(stdout);
   benchmark::AddCustomContext("dualgraph_build", build);
   benchmark::AddCustomContext("peer_ceres", ceres);
   benchmark::AddCustomContext("blas", blas);
+  benchmark::AddCustomContext("block_kernels", kernels);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

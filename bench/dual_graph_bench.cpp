@@ -11,6 +11,7 @@
 #include "bench/bench_data.h"
 #include "bench/race_fixture.h"
 #include "bench/temporary_fixture.h"
+#include "solvers/block_kernels_avx2.h"
 #include "solvers/linear_solver_factory.h"
 #include "solvers/marginal_covariance.h"
 
@@ -18,7 +19,8 @@ namespace dualgraph {
 namespace {
 
 /// TemporaryGraph::distil on a recorded interval (args: gates, poses, gates seen per pose, solver 0 = block
-/// (the default), 1 = graph (the generic Optimizer, the former path)): the graph is built, optimised and
+/// (the default), 1 = graph (the generic Optimizer, the former path), avx2 1 = the block kernels chosen at
+/// run time (AVX2 + FMA when the CPU has them, the default), 0 = the baseline SSE2 ones forced): the graph is built, optimised and
 /// its gates' marginals inverted into edges. One TemporaryGraph is reused, as in the Localizer (its block
 /// solver keeps its buffers): the observations are recorded again before each call, outside the timing
 /// (distil clears them). Manual time around distil alone.
@@ -28,6 +30,10 @@ void BM_TemporaryGraph_Distil(benchmark::State& state) {
   scenario.params.temp_solver = state.range(3) == 0 ? TemporarySolverKind::kBlock : TemporarySolverKind::kGraph;
   TemporaryGraph temporary(scenario.params, scenario.kernel);
   DistillationResult result;
+  const bool avx2 = block_kernels_avx2::setEnabled(state.range(4) != 0);
+  struct RestoreKernels {
+    ~RestoreKernels() { block_kernels_avx2::setEnabled(true); }
+  } restore;
   for (auto _ : state) {
     if (Status s = bench::recordInto(temporary, scenario); !s.ok()) return state.SkipWithError(s.message().c_str());
     const auto start = std::chrono::steady_clock::now();
@@ -40,11 +46,13 @@ void BM_TemporaryGraph_Distil(benchmark::State& state) {
   state.counters["nodes"] = result.nodes;
   state.counters["edges"] = result.edges;
   state.counters["lm_iterations"] = result.iterations;
+  state.counters["avx2"] = avx2 ? 1 : 0;
 }
 BENCHMARK(BM_TemporaryGraph_Distil)
-    ->ArgNames({"gates", "poses", "per_pose", "graph"})
-    ->ArgsProduct({{4}, {20}, {4}, {0, 1}})
-    ->ArgsProduct({{11}, {50}, {4, 11}, {0, 1}})
+    ->ArgNames({"gates", "poses", "per_pose", "graph", "avx2"})
+    ->ArgsProduct({{4}, {20}, {4}, {0, 1}, {1}})
+    ->ArgsProduct({{11}, {50}, {4, 11}, {0, 1}, {1}})
+    ->ArgsProduct({{11}, {50}, {4}, {0}, {0}})
     ->UseManualTime()
     ->Unit(benchmark::kMicrosecond);
 

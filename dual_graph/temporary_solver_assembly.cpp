@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // TemporarySolver's assembly: one edge's Jᵀ W J blocks and Jᵀ W e straight into the 6×6 block storage.
 #include "dual_graph/temporary_solver.h"
+#include "solvers/block_kernels_avx2.h"
 
 namespace dualgraph {
 namespace {
@@ -57,6 +58,26 @@ void TemporarySolver::assembleEdge(size_t k) {
   const int* pair = pair_index_.data() + pair_begin_[k];
   bool uniform = m == kB;
   for (int a = 0; a < slots && uniform; ++a) uniform = blocks[a] < 0 || block_dim_[blocks[a]] == kB;
+  if (uniform && block_kernels_avx2::enabled()) {  // SE(3) edges, AVX2 + FMA: whole 6×6 products, no masks
+    alignas(32) double w_information[36];
+    const double* information = edge.informationData();
+    for (int i = 0; i < 36; ++i) w_information[i] = weight * information[i];
+    alignas(32) double weighted[kMaxSlots][36];  // G_a = w Ω J_a
+    for (int a = 0; a < slots; ++a) {
+      if (blocks[a] < 0) continue;
+      block_kernels_avx2::multiply(weighted[a], w_information, edge.jacobianData(a));
+      block_kernels_avx2::subtractTransposedTimesVector(rhs_.data() + kB * blocks[a], weighted[a], edge.errorData());
+    }
+    for (int a = 0; a < slots; ++a) {
+      if (blocks[a] < 0) continue;
+      for (int b = a; b < slots; ++b) {
+        if (blocks[b] < 0) continue;
+        const bool lower = blocks[a] >= blocks[b];  // stored block (row, col) = J_rowᵀ G_col
+        block_kernels_avx2::addTransposedProduct(h_[*pair++].data(), edge.jacobianData(lower ? a : b), weighted[lower ? b : a]);
+      }
+    }
+    return;
+  }
   if (uniform) {  // SE(3) edges: fixed-size products only
     const Matrix6 w_information = weight * ConstMap6(edge.informationData());
     const Eigen::Map<const Vector6> error(edge.errorData());

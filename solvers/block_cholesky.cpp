@@ -2,16 +2,57 @@
 #include "solvers/block_cholesky.h"
 
 #include "solvers/block_kernels.h"
+#include "solvers/block_kernels_avx2.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
 
 namespace dualgraph {
+
+// The run-time choice of the AVX2 kernels lives here, in baseline code: nothing compiled with -mavx2
+// may run before the CPU has been checked.
+namespace block_kernels_avx2 {
+extern const bool kCompiledWithAvx2;  // block_kernels_avx2.cpp
+namespace {
+bool available() {
+#if (defined(__x86_64__) || defined(__i386__)) && (defined(__GNUC__) || defined(__clang__))
+  // libgcc / compiler-rt report AVX2 only when the OS saves the YMM registers (XGETBV).
+  static const bool supported = kCompiledWithAvx2 && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return supported;
+#else
+  return false;
+#endif
+}
+std::atomic<bool>& switchedOn() {
+  static std::atomic<bool> on{true};
+  return on;
+}
+}  // namespace
+
+bool enabled() { return available() && switchedOn().load(std::memory_order_relaxed); }
+bool setEnabled(bool on) {
+  switchedOn().store(on, std::memory_order_relaxed);
+  return enabled();
+}
+}  // namespace block_kernels_avx2
+
 namespace {
 
 using Block = BlockCholesky::Block;
 using Vector6 = Eigen::Matrix<double, 6, 1>;
+static_assert(sizeof(Block) == 36 * sizeof(double), "6x6 blocks are stored back to back, 36 doubles each");
+
+/// The status of a factorisation that met pivot `d` (not finite, or ≤ 0) at scalar row `row`.
+Status pivotFailure(int row, double d) {
+  if (!std::isfinite(d)) {
+    return Status(StatusCode::kNumericalError,
+                  "block Cholesky: non-finite pivot at row " + std::to_string(row) + " (NaN/Inf in the matrix)");
+  }
+  return Status(StatusCode::kNotPositiveDefinite, "block Cholesky: matrix is not positive definite (pivot " +
+                                                       std::to_string(d) + " at row " + std::to_string(row) + ")");
+}
 
 /// In-place Cholesky of a symmetric 6×6 block (lower triangle read, strict upper zeroed). `column` names
 /// the block column in messages.
@@ -19,15 +60,7 @@ Status choleskyInPlace(Block& a, int column) {
   for (int k = 0; k < 6; ++k) {
     double d = a(k, k);
     for (int m = 0; m < k; ++m) d -= a(k, m) * a(k, m);
-    if (!std::isfinite(d)) {
-      return Status(StatusCode::kNumericalError, "block Cholesky: non-finite pivot at row " +
-                                                      std::to_string(6 * column + k) + " (NaN/Inf in the matrix)");
-    }
-    if (!(d > 0.0)) {
-      return Status(StatusCode::kNotPositiveDefinite, "block Cholesky: matrix is not positive definite (pivot " +
-                                                           std::to_string(d) + " at row " +
-                                                           std::to_string(6 * column + k) + ")");
-    }
+    if (!std::isfinite(d) || !(d > 0.0)) return pivotFailure(6 * column + k, d);
     const double l = std::sqrt(d);
     a(k, k) = l;
     const double inverse = 1.0 / l;
@@ -145,6 +178,15 @@ Status BlockCholesky::factorize(const Block* h, const double* diagonal_add) {
       factor_[col_begin_[j]].diagonal() += Eigen::Map<const Vector6>(diagonal_add + 6 * j);
     }
   }
+  if (block_kernels_avx2::enabled()) {
+    block_kernels_avx2::PivotFailure failure;
+    if (!block_kernels_avx2::factorizeColumns(factor_.data()->data(), diagonal_inverse_.data()->data(), col_begin_.data(),
+                                              target_.data(), target_begin_.data(), num_blocks_, failure)) {
+      return pivotFailure(failure.row, failure.pivot);
+    }
+    factorized_ = true;
+    return Status();
+  }
   for (int j = 0; j < num_blocks_; ++j) {
     Block& diagonal = factor_[col_begin_[j]];
     DG_RETURN_IF_ERROR(choleskyInPlace(diagonal, j));
@@ -187,6 +229,12 @@ Status BlockCholesky::solve(const double* b, double* x) const {
 Status BlockCholesky::selectedInverse() {
   if (!factorized_) {
     return Status(StatusCode::kFailedPrecondition, "block Cholesky: selected inverse before a successful factorize");
+  }
+  if (block_kernels_avx2::enabled()) {
+    block_kernels_avx2::selectedInverseColumns(factor_.data()->data(), diagonal_inverse_.data()->data(),
+                                               sigma_.data()->data(), work_.empty() ? nullptr : work_.data()->data(),
+                                               col_begin_.data(), target_.data(), target_begin_.data(), num_blocks_);
+    return Status();
   }
   for (int j = num_blocks_ - 1; j >= 0; --j) {
     const int first = col_begin_[j] + 1;

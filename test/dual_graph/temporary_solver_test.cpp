@@ -2,7 +2,8 @@
 // The block solver (temp_solver: block, the default) against the generic Optimizer path (temp_solver:
 // graph), its oracle: the same distilled edges on seeded keyframe intervals with pose and point gates,
 // the Localizer's robust kernel, an outlier, a gate seen only at the keyframe instant and one seen by one
-// node only; and the same skipped count when a gate's marginal is not positive definite.
+// node only; and the same skipped count when a gate's marginal is not positive definite. The block solver
+// with the AVX2 + FMA kernels against itself with the baseline ones.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -13,6 +14,7 @@
 #include "dual_graph/graph_edges.h"
 #include "dual_graph/temporary_graph.h"
 #include "dual_graph/temporary_solver.h"
+#include "solvers/block_kernels_avx2.h"
 #include "solvers/eigen_solver.h"
 #include "solvers/marginal_covariance.h"
 #include "test/dual_graph/distillation_fixtures.h"
@@ -115,7 +117,7 @@ class TemporarySolverAgreement : public ::testing::TestWithParam<std::tuple<Land
 
 TEST_P(TemporarySolverAgreement, BlockAndGraphGiveTheSameDistilledEdges) {
   const auto [model, seed] = GetParam();
-  LocalizerParams params;  // the Localizer's defaults: huber:3, diagonal damping, 1e-6 stop
+  LocalizerParams params;  // the Localizer's defaults: huber:3, diagonal damping, 1e-4 stop
   params.landmark = model;
   const Interval interval = makeInterval(40, 6, seed);
   const DistillationResult block = distil(interval, params, TemporarySolverKind::kBlock);
@@ -135,6 +137,20 @@ TEST_P(TemporarySolverAgreement, SameEdgesWithG2oDampingAndTukey) {
   const Interval interval = makeInterval(30, 5, seed + 100);
   expectSameDistillation(distil(interval, params, TemporarySolverKind::kBlock),
                          distil(interval, params, TemporarySolverKind::kGraph), model);
+}
+
+TEST_P(TemporarySolverAgreement, BaselineAndAvx2KernelsGiveTheSameDistilledEdges) {
+  const auto [model, seed] = GetParam();
+  if (!block_kernels_avx2::setEnabled(true)) GTEST_SKIP() << "this CPU has no AVX2 + FMA";
+  LocalizerParams params;
+  params.landmark = model;
+  const Interval interval = makeInterval(40, 6, seed + 200);
+  const DistillationResult avx2 = distil(interval, params, TemporarySolverKind::kBlock);
+  block_kernels_avx2::setEnabled(false);
+  const DistillationResult baseline = distil(interval, params, TemporarySolverKind::kBlock);
+  block_kernels_avx2::setEnabled(true);
+  EXPECT_EQ(baseline.skipped_gates, 0) << baseline.skip_reason;
+  expectSameDistillation(avx2, baseline, model);
 }
 
 INSTANTIATE_TEST_SUITE_P(PoseAndPoint, TemporarySolverAgreement,

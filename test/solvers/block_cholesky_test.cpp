@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
-// BlockCholesky against dense Eigen (LLT, inverse) on seeded random SPD block-sparse matrices.
+// BlockCholesky against dense Eigen (LLT, inverse) on seeded random SPD block-sparse matrices, once with the
+// baseline (SSE2) kernels and once with the AVX2 + FMA ones (skipped, saying so, on a CPU without them).
 #include "solvers/block_cholesky.h"
+#include "solvers/block_kernels_avx2.h"
 
 #include <gtest/gtest.h>
 
@@ -9,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -98,14 +101,25 @@ void expectMatchesDense(const Problem& problem, int blocks, bool check_inverse =
   }
 }
 
-TEST(BlockCholesky, ChainMatchesDenseSolveAndInverse) {
+/// Every test runs with both kernel sets (the parameter: AVX2 + FMA on).
+class BlockCholeskyKernels : public ::testing::TestWithParam<bool> {
+ protected:
+  void SetUp() override {
+    if (block_kernels_avx2::setEnabled(GetParam()) != GetParam()) GTEST_SKIP() << "this CPU has no AVX2 + FMA";
+  }
+  void TearDown() override { block_kernels_avx2::setEnabled(true); }
+};
+INSTANTIATE_TEST_SUITE_P(Kernels, BlockCholeskyKernels, ::testing::Values(false, true),
+                         [](const ::testing::TestParamInfo<bool>& info) { return info.param ? "Avx2" : "Baseline"; });
+
+TEST_P(BlockCholeskyKernels, ChainMatchesDenseSolveAndInverse) {
   std::mt19937 rng(1);
   Pairs pairs;
   for (int k = 0; k + 1 < 12; ++k) pairs.emplace_back(k + 1, k);  // either order is accepted
   expectMatchesDense(randomProblem(12, pairs, rng), 12);
 }
 
-TEST(BlockCholesky, ArrowMatchesDenseSolveAndInverse) {
+TEST_P(BlockCholeskyKernels, ArrowMatchesDenseSolveAndInverse) {
   std::mt19937 rng(2);
   Pairs pairs;
   for (int k = 0; k < 9; ++k) pairs.emplace_back(k, 9);  // every block coupled to the last: fill-free arrow
@@ -113,14 +127,14 @@ TEST(BlockCholesky, ArrowMatchesDenseSolveAndInverse) {
   expectMatchesDense(randomProblem(10, pairs, rng), 10);
 }
 
-TEST(BlockCholesky, ChainWithGatesMatchesDenseSolveAndInverse) {
+TEST_P(BlockCholeskyKernels, ChainWithGatesMatchesDenseSolveAndInverse) {
   std::mt19937 rng(3);
   int blocks = 0;
   const Pairs pairs = chainWithGates(20, 5, 3, blocks);
   expectMatchesDense(randomProblem(blocks, pairs, rng), blocks);
 }
 
-TEST(BlockCholesky, PaddedBlocksLeaveTheRealPartExact) {
+TEST_P(BlockCholeskyKernels, PaddedBlocksLeaveTheRealPartExact) {
   std::mt19937 rng(4);
   int blocks = 0;
   const Pairs pairs = chainWithGates(8, 4, 2, blocks);
@@ -149,7 +163,7 @@ TEST(BlockCholesky, PaddedBlocksLeaveTheRealPartExact) {
   EXPECT_EQ(padding, Eigen::Matrix3d::Identity());
 }
 
-TEST(BlockCholesky, DiagonalAdditionIsFactorisedWithoutChangingTheInput) {
+TEST_P(BlockCholeskyKernels, DiagonalAdditionIsFactorisedWithoutChangingTheInput) {
   std::mt19937 rng(5);
   int blocks = 0;
   const Pairs pairs = chainWithGates(10, 3, 2, blocks);
@@ -170,7 +184,7 @@ TEST(BlockCholesky, DiagonalAdditionIsFactorisedWithoutChangingTheInput) {
   for (size_t k = 0; k < h.size(); ++k) EXPECT_EQ(h[k], h_before[k]) << "stored block " << k;
 }
 
-TEST(BlockCholesky, NotPositiveDefiniteIsAStatus) {
+TEST_P(BlockCholeskyKernels, NotPositiveDefiniteIsAStatus) {
   std::mt19937 rng(6);
   Pairs pairs = {{0, 1}, {1, 2}};
   Problem problem = randomProblem(3, pairs, rng);
@@ -186,7 +200,7 @@ TEST(BlockCholesky, NotPositiveDefiniteIsAStatus) {
   EXPECT_EQ(solver.selectedInverse().code(), StatusCode::kFailedPrecondition);
 }
 
-TEST(BlockCholesky, SingularMatrixIsNotPositiveDefinite) {
+TEST_P(BlockCholeskyKernels, SingularMatrixIsNotPositiveDefinite) {
   BlockCholesky solver;
   ASSERT_TRUE(solver.analyse(2, {{0, 1}}).ok());
   BlockCholesky::BlockVector h(solver.numStoredBlocks(), Block::Zero());
@@ -194,7 +208,7 @@ TEST(BlockCholesky, SingularMatrixIsNotPositiveDefinite) {
   EXPECT_EQ(solver.factorize(h.data()).code(), StatusCode::kNotPositiveDefinite);
 }
 
-TEST(BlockCholesky, NanInputIsANumericalError) {
+TEST_P(BlockCholeskyKernels, NanInputIsANumericalError) {
   std::mt19937 rng(8);
   Pairs pairs = {{0, 1}, {1, 2}, {0, 2}};
   Problem problem = randomProblem(3, pairs, rng);
@@ -205,7 +219,7 @@ TEST(BlockCholesky, NanInputIsANumericalError) {
   EXPECT_EQ(status.code(), StatusCode::kNumericalError) << status.message();
 }
 
-TEST(BlockCholesky, BadPatternIsInvalidArgument) {
+TEST_P(BlockCholeskyKernels, BadPatternIsInvalidArgument) {
   BlockCholesky solver;
   EXPECT_EQ(solver.analyse(3, {{0, 3}}).code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(solver.analyse(3, {{1, 1}}).code(), StatusCode::kInvalidArgument);
@@ -213,7 +227,7 @@ TEST(BlockCholesky, BadPatternIsInvalidArgument) {
   EXPECT_EQ(solver.analyse(-1, {}).code(), StatusCode::kInvalidArgument);
 }
 
-TEST(BlockCholesky, FillIsInThePatternAndOnlyThere) {
+TEST_P(BlockCholeskyKernels, FillIsInThePatternAndOnlyThere) {
   // Star on block 0 (first): eliminating it couples every other block — full fill below.
   BlockCholesky solver;
   ASSERT_TRUE(solver.analyse(4, {{0, 1}, {0, 2}, {0, 3}}).ok());
@@ -225,6 +239,44 @@ TEST(BlockCholesky, FillIsInThePatternAndOnlyThere) {
   EXPECT_EQ(solver.numStoredBlocks(), 7);
   EXPECT_EQ(solver.blockIndex(2, 1), -1);
   EXPECT_EQ(solver.blockIndex(1, 2), -1);  // upper triangle is never stored
+}
+
+TEST(BlockCholeskyKernelSets, AgreeOnFactorSolveInverseAndFailures) {
+  if (!block_kernels_avx2::setEnabled(true)) GTEST_SKIP() << "this CPU has no AVX2 + FMA";
+  std::mt19937 rng(21);
+  int blocks = 0;
+  const Pairs pairs = chainWithGates(30, 8, 3, blocks);
+  const Problem problem = randomProblem(blocks, pairs, rng);
+  Eigen::VectorXd b(6 * blocks);
+  for (int i = 0; i < b.size(); ++i) b[i] = std::normal_distribution<double>()(rng);
+  BlockCholesky solvers[2];
+  Eigen::VectorXd x[2];
+  for (int avx2 = 0; avx2 < 2; ++avx2) {
+    block_kernels_avx2::setEnabled(avx2 == 1);
+    ASSERT_TRUE(solvers[avx2].analyse(blocks, pairs).ok());
+    ASSERT_TRUE(solvers[avx2].factorize(toBlocks(solvers[avx2], problem.dense).data()).ok());
+    x[avx2].resize(b.size());
+    ASSERT_TRUE(solvers[avx2].solve(b.data(), x[avx2].data()).ok());
+    ASSERT_TRUE(solvers[avx2].selectedInverse().ok());
+  }
+  block_kernels_avx2::setEnabled(true);
+  EXPECT_LE((x[0] - x[1]).lpNorm<Eigen::Infinity>(), 1e-10 * x[0].lpNorm<Eigen::Infinity>());
+  for (int j = 0; j < blocks; ++j) {
+    const Block& s0 = solvers[0].inverseDiagonal(j);
+    EXPECT_LE((s0 - solvers[1].inverseDiagonal(j)).lpNorm<Eigen::Infinity>(), 1e-10 * s0.lpNorm<Eigen::Infinity>()) << j;
+  }
+  // The same failure, at the same row, from both.
+  Problem indefinite = problem;
+  indefinite.dense.block<6, 6>(6 * 7, 6 * 7) -= 1e4 * Eigen::MatrixXd::Identity(6, 6);
+  std::string messages[2];
+  for (int avx2 = 0; avx2 < 2; ++avx2) {
+    block_kernels_avx2::setEnabled(avx2 == 1);
+    const Status status = solvers[avx2].factorize(toBlocks(solvers[avx2], indefinite.dense).data());
+    EXPECT_EQ(status.code(), StatusCode::kNotPositiveDefinite) << status.message();
+    messages[avx2] = status.message().substr(status.message().find(" at row "));
+  }
+  block_kernels_avx2::setEnabled(true);
+  EXPECT_EQ(messages[0], messages[1]);
 }
 
 }  // namespace

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+namespace dualgraph::block_kernels_avx2 {
+
+/// The 6×6 block loops of BlockCholesky and the SE(3) edge assembly of the temporary graph's solver in
+/// AVX2 + FMA (four doubles per instruction, fused multiply-add), chosen at run time: the library keeps
+/// the baseline x86-64 flags (SSE2, solvers/block_kernels.h) so that it runs on any x86-64 CPU, and this
+/// one translation unit is compiled with -mavx2 -mfma and only called when the CPU and the OS support
+/// both (`enabled()`). It includes no Eigen and no standard-library header, so no inline function compiled
+/// for AVX2 can be shared with (and picked by the linker for) the baseline code.
+///
+/// Blocks are 6×6 column-major arrays of 36 doubles (`Eigen::Matrix<double, 6, 6>`'s storage; any 8-byte
+/// alignment), stored one after another. The arithmetic is that of the baseline kernels; the order of
+/// the terms differs, so results agree to round-off, not bit for bit.
+
+/// True when these kernels are compiled in (x86-64 with GCC or Clang) and the CPU and OS run AVX2 + FMA,
+/// and they have not been switched off by `setEnabled(false)`.
+bool enabled();
+/// For tests and benchmarks: use (true, when available) or bypass (false) these kernels process-wide.
+/// Returns `enabled()` afterwards. Not to be called while a factorisation runs in another thread.
+bool setEnabled(bool on);
+
+/// A pivot that ended a factorisation: block row 6·column + k, its value (≤ 0 or not finite).
+struct PivotFailure {
+  int row = -1;
+  double pivot = 0.0;
+};
+
+/// BlockCholesky::factorize's column loop on `factor` (H + damping already copied in): per column the
+/// diagonal block's Cholesky and L_jj⁻¹ (`diagonal_inverse`, one block per column), L_ij = H_ij L_jj⁻ᵀ
+/// and the updates H_ab −= L_a L_bᵀ at `target` (BlockCholesky's analyse arrays). Returns false with
+/// `failure` set at the first pivot that is not positive and finite.
+bool factorizeColumns(double* factor, double* diagonal_inverse, const int* col_begin, const int* target,
+                      const int* target_begin, int num_blocks, PivotFailure& failure);
+
+/// BlockCholesky::selectedInverse's recursion (Takahashi), last column first, into `sigma` (same layout
+/// as `factor`); `work` holds at least the largest column's off-diagonal block count.
+void selectedInverseColumns(const double* factor, const double* diagonal_inverse, double* sigma, double* work,
+                            const int* col_begin, const int* target, const int* target_begin, int num_blocks);
+
+/// g = w · j (6×6 each; g must not alias w or j).
+void multiply(double* g, const double* w, const double* j);
+/// h += jᵀ · g (6×6 each; h must not alias j or g).
+void addTransposedProduct(double* h, const double* j, const double* g);
+/// r −= gᵀ · e (g 6×6, e and r 6-vectors).
+void subtractTransposedTimesVector(double* r, const double* g, const double* e);
+
+}  // namespace dualgraph::block_kernels_avx2
