@@ -134,6 +134,10 @@ Status Localizer::processSingleObservation(const GateObservation& observation, c
   const Keyframe& attach_to = main_->keyframes().back();
   Matrix6d compensation = Matrix6d::Zero();
   const bool compensated = observation.t > attach_to.t;
+  if (compensated && !params_.single_all_detections) {
+    ++counters_.observations_between_nodes;
+    return Status();
+  }
   if (compensated) {
     Result<Matrix6d> covariance = history_.relativeCovariance(attach_to.t, observation.t, noiseModelOf(params_));
     if (!covariance.ok()) return covariance.status();

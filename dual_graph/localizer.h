@@ -52,6 +52,9 @@ struct LocalizerCounters {
   int observations_rejected = 0;       ///< invalid, unknown gate, out of order, too late, before odometry
   int observations_failed = 0;         ///< accepted but could not be attached when processed
   int observations_never_processed = 0;///< newer than the last odometry sample at `finish`
+  /// Single mode with `single_all_detections` false: detections after a node's instant that did not start
+  /// a node, which that baseline does not use (by its definition, not for a fault).
+  int observations_between_nodes = 0;
   std::string last_error;
 };
 
@@ -61,7 +64,8 @@ struct LocalizerCounters {
 /// since the last exceeds d_main/theta_main; the observations of the interval are collected in the
 /// temporary graph and distilled into one edge per gate from the new keyframe; the main graph is then
 /// optimised. Single mode: a node at a detection instant when the increment since the last node exceeds
-/// d_single/theta_single; every detection becomes an edge from its node (motion-compensated); the graph
+/// d_single/theta_single; every detection becomes an edge from its node (motion-compensated; or only those
+/// of the node's own instant, `single_all_detections` false); the graph
 /// is optimised at every node. Bad input is rejected with a Status and counted; the Localizer goes on.
 /// Not thread-safe.
 class Localizer {

@@ -45,6 +45,12 @@ struct LocalizerParams {
   double theta_temp = 0.1;    ///< [rad]
   double d_single = 2.0;      ///< single-graph nodes at detection instants (single mode) [m]
   double theta_single = 0.5;  ///< [rad]
+  /// Single mode: which detections become edges. true (the default, issue 3): every detection, attached to
+  /// the newest node with the VIO motion since the node's instant compensated (its covariance added), so
+  /// the single graph uses the same detections as the dual one. false (DESIGN.md §3's baseline and, by its
+  /// edge counts, the paper's: ≈ 4.8 edges per node at every d_single): only the detections of a node's own
+  /// instant; the others are counted (`LocalizerCounters::observations_between_nodes`), not used.
+  bool single_all_detections = true;
 
   // Odometry covariance: the input's per-sample relative covariance when every sample of an interval has
   // one (and `use_input_covariance`), otherwise σ·√d per metre travelled, d floored at `odom_min_distance`.

@@ -181,6 +181,7 @@ constexpr FieldSlot<bool> kBoolFields[] = {
     {"mapping", &LocalizerParams::mapping},
     {"use_input_covariance", &LocalizerParams::use_input_covariance},
     {"fix_map_gates", &LocalizerParams::fix_map_gates},
+    {"single_all_detections", &LocalizerParams::single_all_detections},
 };
 constexpr LocalizerMode kModes[] = {LocalizerMode::kDual, LocalizerMode::kSingle};
 constexpr LandmarkModel kLandmarks[] = {LandmarkModel::kPose, LandmarkModel::kPoint};

@@ -120,7 +120,8 @@ Result<RunMetrics> computeRunMetrics(const Sequence& sequence, const SequenceRun
   }
   m.detections = static_cast<int>(sequence.has_corners ? sequence.corners.size() : sequence.pose_detections.size());
   const LocalizerCounters& c = run.localizer_counters;
-  m.detections_used = c.observations_accepted - c.observations_failed - c.observations_never_processed;
+  m.detections_used =
+      c.observations_accepted - c.observations_failed - c.observations_never_processed - c.observations_between_nodes;
   m.detections_rejected = m.detections - m.detections_used;
   return m;
 }

@@ -54,7 +54,7 @@ void bindParams(py::module_& m) {
            "Raises InvalidArgumentError naming the first field out of its domain.");
 #define DG_FIELD(name) params.def_readwrite(#name, &LocalizerParams::name)
   DG_FIELD(mapping); DG_FIELD(d_main); DG_FIELD(theta_main); DG_FIELD(d_temp); DG_FIELD(theta_temp);
-  DG_FIELD(d_single); DG_FIELD(theta_single); DG_FIELD(use_input_covariance); DG_FIELD(odom_sigma_t);
+  DG_FIELD(d_single); DG_FIELD(theta_single); DG_FIELD(single_all_detections); DG_FIELD(use_input_covariance); DG_FIELD(odom_sigma_t);
   DG_FIELD(odom_sigma_r); DG_FIELD(odom_min_distance); DG_FIELD(map_sigma_t); DG_FIELD(map_sigma_r);
   DG_FIELD(fix_map_gates); DG_FIELD(initial_sigma_t); DG_FIELD(initial_sigma_r); DG_FIELD(main_max_iterations);
   DG_FIELD(main_time_budget_ms); DG_FIELD(main_relative_decrease_stop); DG_FIELD(main_window); DG_FIELD(temp_max_iterations);

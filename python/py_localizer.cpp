@@ -79,6 +79,7 @@ py::dict PyLocalizer::countersToDict(const LocalizerCounters& c) {
   out["observations_rejected"] = c.observations_rejected;
   out["observations_failed"] = c.observations_failed;
   out["observations_never_processed"] = c.observations_never_processed;
+  out["observations_between_nodes"] = c.observations_between_nodes;
   out["last_error"] = c.last_error;
   return out;
 }

@@ -21,7 +21,7 @@ const char* const kSource = "cfg.yaml";
 /// Every field name of LocalizerParams (the YAML keys).
 const std::vector<std::string> kFieldNames = {
     "mode", "landmark", "mapping", "d_main", "theta_main", "d_temp", "theta_temp", "d_single", "theta_single",
-    "use_input_covariance", "odom_sigma_t", "odom_sigma_r", "odom_min_distance", "map_sigma_t", "map_sigma_r",
+    "single_all_detections", "use_input_covariance", "odom_sigma_t", "odom_sigma_r", "odom_min_distance", "map_sigma_t", "map_sigma_r",
     "fix_map_gates", "initial_world_T_odom", "initial_sigma_t", "initial_sigma_r", "main_max_iterations",
     "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "temp_relative_decrease_stop", "linear_solver", "lm_damping", "temp_solver", "robust_kernel", "chi2_gate_pose",
     "chi2_gate_point"};
@@ -37,6 +37,7 @@ void expectSameParams(const LocalizerParams& a, const LocalizerParams& b, double
   EXPECT_EQ(a.theta_temp, b.theta_temp);
   EXPECT_EQ(a.d_single, b.d_single);
   EXPECT_EQ(a.theta_single, b.theta_single);
+  EXPECT_EQ(a.single_all_detections, b.single_all_detections);
   EXPECT_EQ(a.use_input_covariance, b.use_input_covariance);
   EXPECT_EQ(a.odom_sigma_t, b.odom_sigma_t);
   EXPECT_EQ(a.odom_sigma_r, b.odom_sigma_r);
@@ -72,6 +73,7 @@ d_temp: 0.2
 theta_temp: 0.05
 d_single: 1.5
 theta_single: 0.75
+single_all_detections: false
 use_input_covariance: false
 odom_sigma_t: 0.07
 odom_sigma_r: 0.02
@@ -100,6 +102,7 @@ LocalizerParams allOverriddenExpected() {
   LocalizerParams p;
   p.mode = LocalizerMode::kSingle, p.landmark = LandmarkModel::kPoint, p.mapping = true;
   p.d_main = 3.5, p.theta_main = 0.25, p.d_temp = 0.2, p.theta_temp = 0.05, p.d_single = 1.5, p.theta_single = 0.75;
+  p.single_all_detections = false;
   p.use_input_covariance = false, p.odom_sigma_t = 0.07, p.odom_sigma_r = 0.02, p.odom_min_distance = 0.1;
   p.map_sigma_t = 0.3, p.map_sigma_r = 0.04, p.fix_map_gates = true;
   p.initial_world_T_odom.linear() = quatFromXyzw(0, 0, std::sqrt(0.5), std::sqrt(0.5)).toRotationMatrix();

@@ -2,6 +2,9 @@
 // End to end on a synthetic race: drifting VIO and noisy gate detections on three laps of a circle.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <vector>
+
 #include "test/dual_graph/localizer_fixtures.h"
 #include "types/vertex_se3.h"
 
@@ -63,6 +66,37 @@ TEST(LocalizerRace, SingleGraphBaselineAlsoCorrectsTheDrift) {
   params.mode = LocalizerMode::kSingle;
   const Errors errors = runAndMeasure(params);
   EXPECT_LT(errors.corrected, 0.25 * errors.odometry);
+}
+
+TEST(LocalizerRace, SingleGraphWithNodeInstantDetectionsOnlyUsesThoseAndCountsTheRest) {
+  LocalizerParams params;
+  params.mode = LocalizerMode::kSingle;
+  params.single_all_detections = false;  // DESIGN.md §3's baseline
+  const SyntheticRace race = makeSyntheticRace({});
+  std::unique_ptr<Localizer> localizer = makeLocalizer(params, race.map);
+  ASSERT_TRUE(localizer);
+  const RunOutput out = runRace(*localizer, race);
+  int attached = 0;
+  for (const KeyframeStats& row : localizer->keyframeStats()) attached += row.observations;
+  const int between = localizer->counters().observations_between_nodes;
+  EXPECT_EQ(localizer->counters().observations_failed, 0) << localizer->counters().last_error;
+  // Every detection is either attached (its instant is a node's) or counted as between nodes.
+  EXPECT_EQ(attached + between, static_cast<int>(race.observations.size()));
+  std::vector<double> node_times;
+  for (const CorrectedPose& node : localizer->keyframeTrajectory()) node_times.push_back(node.t);
+  int at_node_instants = 0;
+  for (const GateObservation& observation : race.observations) {
+    at_node_instants += std::count(node_times.begin(), node_times.end(), observation.t) > 0 ? 1 : 0;
+  }
+  EXPECT_EQ(attached, at_node_instants);
+  EXPECT_GT(between, 3 * attached);  // 2 m between nodes, detections at 30 Hz
+  EXPECT_LT(positionRmse(out.corrected, race.world_T_body_truth), 0.5 * positionRmse(out.odometry, race.world_T_body_truth));
+  // The default attaches every detection.
+  params.single_all_detections = true;
+  std::unique_ptr<Localizer> all = makeLocalizer(params, race.map);
+  ASSERT_TRUE(all);
+  runRace(*all, race);
+  EXPECT_EQ(all->counters().observations_between_nodes, 0);
 }
 
 TEST(LocalizerRace, PointLandmarksCorrectTheDrift) {

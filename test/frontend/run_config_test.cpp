@@ -23,6 +23,7 @@ void expectSameLocalizer(const LocalizerParams& a, const LocalizerParams& b) {
   EXPECT_EQ(a.theta_temp, b.theta_temp);
   EXPECT_EQ(a.d_single, b.d_single);
   EXPECT_EQ(a.theta_single, b.theta_single);
+  EXPECT_EQ(a.single_all_detections, b.single_all_detections);
   EXPECT_EQ(a.use_input_covariance, b.use_input_covariance);
   EXPECT_EQ(a.odom_sigma_t, b.odom_sigma_t);
   EXPECT_EQ(a.odom_sigma_r, b.odom_sigma_r);

@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: MIT
+// `dualgraph ablation` as a user runs it, on one lap of the bundled ellipse: every configuration in Tables I
+// and II and in runs.csv, and the two single-graph baselines using what they should — the paper's (each
+// node's own detections) fewer edges than the one with every detection, on the same nodes.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test/testing/command_line.h"
+#include "test/testing/shared_data.h"
+
+namespace dualgraph {
+namespace {
+
+std::string readAll(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(AblationCli, OneLapWritesEveryConfigurationAndBothSingleBaselines) {
+  const std::string out = testing::tempDir() + "/ablation_one_lap";
+  const testing::CommandRun run = testing::runDualgraph("ablation --tracks " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") +
+                                                        " --seeds 1 --laps 1 --quiet --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::vector<std::string> configurations = {"Dual 2.0/0.5", "Dual 2.0/0.1", "Dual 0.5/0.1",
+                                                   "Single 2.0",   "Single 0.5",   "Single 0.1",
+                                                   "Single 2.0 all", "Single 0.5 all", "Single 0.1 all"};
+  const std::string tables = readAll(out + "/tables.md");
+  for (const std::string& c : configurations) {
+    EXPECT_NE(tables.find("| " + c + " | "), std::string::npos) << c << " not in Table I\n" << tables;
+    EXPECT_NE(tables.find("| ratm_ellipse | " + c + " | "), std::string::npos) << c << " not in Table II";
+  }
+  // runs.csv: track,seed,configuration,ate_m,...,keyframes,nodes,edges,...
+  std::ifstream csv(out + "/runs.csv");
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  std::vector<std::string> header;
+  for (std::stringstream fields(line); std::getline(fields, line, ',');) header.push_back(line);
+  const auto column = [&](const std::string& name) {
+    for (size_t i = 0; i < header.size(); ++i) {
+      if (header[i] == name) return i;
+    }
+    ADD_FAILURE() << "no column " << name;
+    return size_t{0};
+  };
+  const size_t configuration = column("configuration"), nodes = column("nodes"), edges = column("edges");
+  std::map<std::string, std::pair<int, int>> size;  // configuration → (nodes, edges)
+  while (std::getline(csv, line)) {
+    std::vector<std::string> fields;
+    for (std::stringstream row(line); std::getline(row, line, ',');) fields.push_back(line);
+    ASSERT_EQ(fields.size(), header.size());
+    size[fields[configuration]] = {std::stoi(fields[nodes]), std::stoi(fields[edges])};
+  }
+  EXPECT_EQ(size.size(), configurations.size());
+  for (const char* d : {"2.0", "0.5", "0.1"}) {
+    const auto paper = size[std::string("Single ") + d];
+    const auto all = size[std::string("Single ") + d + " all"];
+    EXPECT_EQ(paper.first, all.first) << d << ": the same nodes";
+    EXPECT_LT(paper.second, all.second) << d << ": fewer detection edges";
+  }
+}
+
+}  // namespace
+}  // namespace dualgraph
