@@ -178,7 +178,7 @@ Status BlockCholesky::factorize(const Block* h, const double* diagonal_add) {
       factor_[col_begin_[j]].diagonal() += Eigen::Map<const Vector6>(diagonal_add + 6 * j);
     }
   }
-  if (block_kernels_avx2::enabled()) {
+  if (num_blocks_ > 0 && block_kernels_avx2::enabled()) {  // (no storage to point into without blocks)
     block_kernels_avx2::PivotFailure failure;
     if (!block_kernels_avx2::factorizeColumns(factor_.data()->data(), diagonal_inverse_.data()->data(), col_begin_.data(),
                                               target_.data(), target_begin_.data(), num_blocks_, failure)) {
@@ -230,7 +230,7 @@ Status BlockCholesky::selectedInverse() {
   if (!factorized_) {
     return Status(StatusCode::kFailedPrecondition, "block Cholesky: selected inverse before a successful factorize");
   }
-  if (block_kernels_avx2::enabled()) {
+  if (num_blocks_ > 0 && block_kernels_avx2::enabled()) {
     block_kernels_avx2::selectedInverseColumns(factor_.data()->data(), diagonal_inverse_.data()->data(),
                                                sigma_.data()->data(), work_.empty() ? nullptr : work_.data()->data(),
                                                col_begin_.data(), target_.data(), target_begin_.data(), num_blocks_);

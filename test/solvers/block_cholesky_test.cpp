@@ -227,6 +227,14 @@ TEST_P(BlockCholeskyKernels, BadPatternIsInvalidArgument) {
   EXPECT_EQ(solver.analyse(-1, {}).code(), StatusCode::kInvalidArgument);
 }
 
+TEST_P(BlockCholeskyKernels, EmptyMatrixFactorisesSolvesAndInverts) {
+  BlockCholesky solver;
+  ASSERT_TRUE(solver.analyse(0, {}).ok());
+  EXPECT_TRUE(solver.factorize(nullptr).ok());
+  EXPECT_TRUE(solver.solve(nullptr, nullptr).ok());
+  EXPECT_TRUE(solver.selectedInverse().ok());
+}
+
 TEST_P(BlockCholeskyKernels, FillIsInThePatternAndOnlyThere) {
   // Star on block 0 (first): eliminating it couples every other block — full fill below.
   BlockCholesky solver;
