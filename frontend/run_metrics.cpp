@@ -123,6 +123,7 @@ Result<RunMetrics> computeRunMetrics(const Sequence& sequence, const SequenceRun
   m.detections_used =
       c.observations_accepted - c.observations_failed - c.observations_never_processed - c.observations_between_nodes;
   m.detections_rejected = m.detections - m.detections_used;
+  m.detections_between_nodes = c.observations_between_nodes;
   return m;
 }
 

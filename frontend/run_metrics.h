@@ -36,6 +36,9 @@ struct RunMetrics {
   int detections = 0;           ///< rows of the detection file
   int detections_used = 0;      ///< reached the Localizer and were accepted
   int detections_rejected = 0;  ///< all others (PnP, association, Localizer, outside the odometry span)
+  /// Of the rejected: single mode with `single_all_detections` false, detections between node instants
+  /// (not used by that baseline's definition; LocalizerCounters::observations_between_nodes).
+  int detections_between_nodes = 0;
 };
 
 /// Percentile p ∈ [0, 100] of `values` by linear interpolation between order statistics (NaN when empty).

@@ -93,6 +93,7 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run) {
   json.add("gate_corrections", laps).add("laps", m.laps)
       .add("detections", m.detections).add("detections_used", m.detections_used)
       .add("detections_rejected", m.detections_rejected)
+      .add("detections_between_nodes", m.detections_between_nodes)
       .add("pnp_rejected", run.frontend_counters.pnp_rejected)
       .add("not_associated", run.frontend_counters.not_associated)
       .add("reversed", run.frontend_counters.reversed)

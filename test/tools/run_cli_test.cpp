@@ -105,7 +105,8 @@ TEST(RunCli, WritesTrajectoriesStatsAndMetricsWithEveryKey) {
   const std::string json = readFile(out + "/metrics.json");
   for (const char* key : {"ate_m", "ate_unaligned_m", "ate_4dof_m", "ate_rot_deg", "vio_ate_m", "vio_ate_unaligned_m",
                           "vio_ate_rot_deg", "ate_reduction_pct", "keyframes", "nodes", "edges", "opt_ms_p50",
-                          "opt_ms_p95", "opt_ms_max", "laps", "detections_used", "detections_rejected"}) {
+                          "opt_ms_p95", "opt_ms_max", "laps", "detections_used", "detections_rejected",
+                          "detections_between_nodes"}) {
     const double value = jsonNumber(json, key);
     EXPECT_TRUE(std::isfinite(value)) << key << " in\n" << json;
   }
@@ -135,6 +136,15 @@ TEST(RunCli, SingleModeRuns) {
   EXPECT_LT(jsonNumber(json, "ate_m"), jsonNumber(json, "vio_ate_m"));
   EXPECT_EQ(dataLines(out + "/estimate.tum").size(), dataLines(sequenceDir() + "/vio.tum").size());
   expectStatsMatchKeyframes(out, json);
+  EXPECT_EQ(jsonNumber(json, "detections_between_nodes"), 0.0);  // the default attaches every detection
+  // DESIGN.md §3's baseline: only the detections of each node's instant; the others are counted apart.
+  const std::string config =
+      testing::writeFile("single_node_instants.yaml", "localizer: {mode: single, d_single: 1.0, single_all_detections: false}\n");
+  const std::string paper = readFile(runInto("single_node_instants", "--config " + config) + "/metrics.json");
+  EXPECT_GT(jsonNumber(paper, "detections_between_nodes"), jsonNumber(paper, "detections_used"));
+  EXPECT_LE(jsonNumber(paper, "detections_between_nodes"), jsonNumber(paper, "detections_rejected"));
+  EXPECT_EQ(jsonNumber(paper, "detections_used") + jsonNumber(paper, "detections_rejected"), jsonNumber(paper, "detections"));
+  EXPECT_EQ(jsonNumber(paper, "keyframes"), jsonNumber(json, "keyframes"));  // the same nodes
 }
 
 TEST(RunCli, WithoutGroundTruthWritesTrajectoriesButNoMetrics) {
