@@ -100,8 +100,9 @@ void BM_PoseGraph_LmIterationPhases(benchmark::State& state, const std::string& 
   }
 }
 
-/// The floor: CHOLMOD (same settings: supernodal, default ordering, analysed once outside the
-/// loop) numeric factorisation + solve of the very Hessian the LM iteration above builds.
+/// The floor: CHOLMOD (same settings as CholmodSolver: CHOLMOD's own supernodal/simplicial choice, LLᵀ,
+/// default ordering, analysed once outside the loop) numeric factorisation + solve of the very Hessian the
+/// LM iteration above builds.
 void BM_PoseGraph_BareCholmodFactorSolve(benchmark::State& state, const std::string& name) {
   Problem& p = problem(name);
   if (!p.ok) return state.SkipWithError(p.error.c_str());
@@ -110,7 +111,8 @@ void BM_PoseGraph_BareCholmodFactorSolve(benchmark::State& state, const std::str
   cholmod_common common;
   cholmod_start(&common);
   common.print = 0;
-  common.supernodal = CHOLMOD_SUPERNODAL;
+  common.supernodal = CHOLMOD_AUTO;
+  common.final_ll = 1;
   cholmod_sparse a{};
   a.nrow = a.ncol = view.n;
   a.nzmax = view.nnz();

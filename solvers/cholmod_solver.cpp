@@ -131,7 +131,9 @@ CholmodSolver::CholmodSolver(const CholmodOptions& options) : impl_(std::make_un
   cholmod_start(&c);
   c.print = 0;  // library code never prints
   c.error_handler = recordCholmodMessage;
-  c.supernodal = options.supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
+  c.supernodal = options.factorization == CholmodFactorization::kSupernodal   ? CHOLMOD_SUPERNODAL
+                 : options.factorization == CholmodFactorization::kSimplicial ? CHOLMOD_SIMPLICIAL
+                                                                              : CHOLMOD_AUTO;
   // Simplicial factors are computed as LLᵀ: CHOLMOD's simplicial LDLᵀ only stops at a zero pivot
   // and would accept an indefinite H. (Supernodal is always LLᵀ; final_asis keeps it supernodal.)
   c.final_ll = 1;
@@ -148,7 +150,10 @@ CholmodSolver::~CholmodSolver() {
 }
 
 std::string CholmodSolver::name() const {
-  return impl_->common.supernodal == CHOLMOD_SUPERNODAL ? "cholmod-supernodal" : "cholmod-simplicial";
+  const cholmod_factor* factor = impl_->factor;
+  if (factor != nullptr) return factor->is_super ? "cholmod-supernodal" : "cholmod-simplicial";
+  const int kind = impl_->common.supernodal;
+  return kind == CHOLMOD_SUPERNODAL ? "cholmod-supernodal" : kind == CHOLMOD_SIMPLICIAL ? "cholmod-simplicial" : "cholmod-auto";
 }
 
 double CholmodSolver::lastFactorNnz() const { return impl_->factor_nnz; }

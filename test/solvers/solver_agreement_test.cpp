@@ -3,6 +3,8 @@
 // layout, symbolic-analysis reuse across value changes, and re-analysis for a new pattern.
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "solvers/cholmod_solver.h"
 #include "solvers/eigen_solver.h"
 #include "test/solvers/spd_test_matrices.h"
@@ -131,10 +133,34 @@ TEST(CholmodSolver, ReportsFactorStatisticsAndTheOrderingItUsed) {
   const double analysed_nnz = automatic.lastFactorNnz();
   ASSERT_TRUE(automatic.factorize(problem.shifted(1.0).view()).ok());
   EXPECT_EQ(automatic.lastFactorNnz(), analysed_nnz) << "a factorize must not redo the analysis";
-  EXPECT_EQ(automatic.name(), "cholmod-supernodal");
+  EXPECT_TRUE(automatic.name() == "cholmod-supernodal" || automatic.name() == "cholmod-simplicial") << automatic.name();
   CholmodOptions simplicial;
-  simplicial.supernodal = false;
+  simplicial.factorization = CholmodFactorization::kSimplicial;
   EXPECT_EQ(CholmodSolver(simplicial).name(), "cholmod-simplicial");
+  CholmodOptions supernodal;
+  supernodal.factorization = CholmodFactorization::kSupernodal;
+  EXPECT_EQ(CholmodSolver(supernodal).name(), "cholmod-supernodal");
+  EXPECT_EQ(CholmodSolver().name(), "cholmod-auto");  // not analysed yet
+}
+
+TEST(CholmodSolver, AutoPicksSimplicialForAVerySparseFactorAndSupernodalForADenseOne) {
+  // A chain of 6×6 blocks (each block coupled to the next only): L has the pattern of A, ≈ 10 flops per
+  // nonzero, far below CHOLMOD's supernodal switch (40).
+  const BlockProblem chain = testing::randomBlockSpd(150, 6, 5, 1e-2, /*loop_closures=*/false);
+  // A dense SPD matrix of order 300: ≈ n/3 = 100 flops per nonzero of L.
+  BlockProblem dense;
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd a(300, 300);
+  for (int i = 0; i < a.size(); ++i) a.data()[i] = normal(rng);
+  dense.dense = a.transpose() * a + Eigen::MatrixXd::Identity(300, 300);
+  dense.pattern = Eigen::MatrixXi::Ones(300, 300);
+  CholmodSolver automatic;
+  ASSERT_TRUE(automatic.analyze(chain.csc().view()).ok());
+  EXPECT_EQ(automatic.name(), "cholmod-simplicial") << automatic.factorFlops() / automatic.lastFactorNnz() << " flops per nonzero";
+  ASSERT_TRUE(automatic.factorize(chain.csc().view()).ok());
+  ASSERT_TRUE(automatic.analyze(dense.csc().view()).ok());
+  EXPECT_EQ(automatic.name(), "cholmod-supernodal") << automatic.factorFlops() / automatic.lastFactorNnz() << " flops per nonzero";
 }
 
 }  // namespace

@@ -52,7 +52,7 @@ inline Csc toUpperCsc(const Eigen::MatrixXd& dense, const Eigen::MatrixXi& patte
 
 /// A seeded random SPD matrix H = Σ J_kᵀ J_k + δ I like a pose graph's: one factor per block
 /// (a prior), a chain of odometry factors between consecutive blocks and blocks/3 random loop
-/// closures; each factor has block_dim rows. The pattern marks whole blocks.
+/// closures (none with `loop_closures` false: a pure chain); each factor has block_dim rows. The pattern marks whole blocks.
 struct BlockProblem {
   Eigen::MatrixXd dense;
   Eigen::MatrixXi pattern;
@@ -64,7 +64,8 @@ struct BlockProblem {
   }
 };
 
-inline BlockProblem randomBlockSpd(int blocks, int block_dim, unsigned seed, double delta = 1e-2) {
+inline BlockProblem randomBlockSpd(int blocks, int block_dim, unsigned seed, double delta = 1e-2,
+                                   bool loop_closures = true) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   std::uniform_int_distribution<int> pick(0, blocks - 1);
@@ -94,7 +95,7 @@ inline BlockProblem randomBlockSpd(int blocks, int block_dim, unsigned seed, dou
   };
   for (int k = 0; k < blocks; ++k) add_factor(k, k);
   for (int k = 0; k + 1 < blocks; ++k) add_factor(k, k + 1);
-  for (int k = 0; k < blocks / 3; ++k) add_factor(pick(rng), pick(rng));
+  for (int k = 0; loop_closures && k < blocks / 3; ++k) add_factor(pick(rng), pick(rng));
   return problem;
 }
 
@@ -116,11 +117,17 @@ inline void PrintTo(const SolverCase& solver_case, std::ostream* os) { *os << so
 
 inline std::vector<SolverCase> allSolverCases() {
   return {
-      {"CholmodSupernodal", [] { return std::make_unique<CholmodSolver>(); }},
+      {"CholmodAuto", [] { return std::make_unique<CholmodSolver>(); }},
+      {"CholmodSupernodal",
+       [] {
+         CholmodOptions options;
+         options.factorization = CholmodFactorization::kSupernodal;
+         return std::make_unique<CholmodSolver>(options);
+       }},
       {"CholmodSimplicial",
        [] {
          CholmodOptions options;
-         options.supernodal = false;
+         options.factorization = CholmodFactorization::kSimplicial;
          return std::make_unique<CholmodSolver>(options);
        }},
       {"CholmodSupernodalAmd",
