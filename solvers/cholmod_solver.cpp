@@ -134,6 +134,7 @@ CholmodSolver::CholmodSolver(const CholmodOptions& options) : impl_(std::make_un
   c.supernodal = options.factorization == CholmodFactorization::kSupernodal   ? CHOLMOD_SUPERNODAL
                  : options.factorization == CholmodFactorization::kSimplicial ? CHOLMOD_SIMPLICIAL
                                                                               : CHOLMOD_AUTO;
+  c.supernodal_switch = options.supernodal_switch;
   // Simplicial factors are computed as LLᵀ: CHOLMOD's simplicial LDLᵀ only stops at a zero pivot
   // and would accept an indefinite H. (Supernodal is always LLᵀ; final_asis keeps it supernodal.)
   c.final_ll = 1;

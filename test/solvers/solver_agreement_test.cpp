@@ -161,6 +161,12 @@ TEST(CholmodSolver, AutoPicksSimplicialForAVerySparseFactorAndSupernodalForADens
   ASSERT_TRUE(automatic.factorize(chain.csc().view()).ok());
   ASSERT_TRUE(automatic.analyze(dense.csc().view()).ok());
   EXPECT_EQ(automatic.name(), "cholmod-supernodal") << automatic.factorFlops() / automatic.lastFactorNnz() << " flops per nonzero";
+  // The switch moved above the dense matrix's ≈ 100 flops per nonzero: simplicial there too.
+  CholmodOptions high_switch;
+  high_switch.supernodal_switch = 1000.0;
+  CholmodSolver tuned(high_switch);
+  ASSERT_TRUE(tuned.analyze(dense.csc().view()).ok());
+  EXPECT_EQ(tuned.name(), "cholmod-simplicial");
 }
 
 }  // namespace
