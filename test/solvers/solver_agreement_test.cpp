@@ -144,8 +144,8 @@ TEST(CholmodSolver, ReportsFactorStatisticsAndTheOrderingItUsed) {
 }
 
 TEST(CholmodSolver, AutoPicksSimplicialForAVerySparseFactorAndSupernodalForADenseOne) {
-  // A chain of 6×6 blocks (each block coupled to the next only): L has the pattern of A, ≈ 10 flops per
-  // nonzero, far below CHOLMOD's supernodal switch (40).
+  // A chain of 6×6 blocks (each block coupled to the next only): L has the pattern of A (no fill), few flops
+  // per nonzero, below CHOLMOD's supernodal switch (40).
   const BlockProblem chain = testing::randomBlockSpd(150, 6, 5, 1e-2, /*loop_closures=*/false);
   // A dense SPD matrix of order 300: ≈ n/3 = 100 flops per nonzero of L.
   BlockProblem dense;
