@@ -6,6 +6,8 @@
 // analysis) shows up as a non-zero difference. Allocations inside the linear solver are attributed to it
 // by a forwarding solver: none either for EigenSolver (and AutoSolver on this small graph); CHOLMOD's
 // are printed, not asserted (cholmod_factorize allocates its permuted transpose at every call).
+// The temporary graph's block solver (dual_graph/temporary_solver.h, its own LM on BlockCholesky) the same
+// way, with both kernel sets, and its marginals when computed again.
 // (Interposing malloc is not possible under AddressSanitizer, which owns malloc: skipped there, also when
 // only the libraries are instrumented: DUALGRAPH_TEST_LINKS_SANITIZERS, test/CMakeLists.txt.)
 #include <gtest/gtest.h>
@@ -17,6 +19,8 @@
 
 #include "core/optimizer.h"
 #include "core/linear_solver.h"
+#include "dual_graph/temporary_solver.h"
+#include "solvers/block_kernels_avx2.h"
 #include "solvers/linear_solver_factory.h"
 #include "types/edge_se3.h"
 #include "types/se3_math.h"
@@ -175,6 +179,41 @@ TEST_P(LmAllocation, IterationsAllocateNothingOnceTheStructureIsBuilt) {
             << " iterations: engine allocations in iterations 2.." << summary.iterations << ": 0; linear solver: "
             << library_total << "\n";
 }
+
+/// Parameter: the AVX2 + FMA kernels on (skipped without them) or the baseline ones.
+class TemporarySolverAllocation : public ::testing::TestWithParam<bool> {
+ protected:
+  void TearDown() override { block_kernels_avx2::setEnabled(true); }
+};
+
+TEST_P(TemporarySolverAllocation, IterationsAndRepeatedMarginalsAllocateNothing) {
+  if (!DUALGRAPH_COUNT_MALLOC) GTEST_SKIP() << "malloc cannot be interposed under AddressSanitizer";
+  if (block_kernels_avx2::setEnabled(GetParam()) != GetParam()) GTEST_SKIP() << "this CPU has no AVX2 + FMA";
+  Graph graph;
+  buildSpiral(graph);
+  TemporarySolver solver;
+  ASSERT_TRUE(solver.setGraph(graph).ok());
+  std::array<long, 64> at{};
+  int calls = 0;
+  OptimizerParams params;
+  params.max_iterations = 30;
+  params.relative_decrease_stop = 1e-12;
+  params.callback = [&](const IterationSummary&) {
+    if (calls < static_cast<int>(at.size())) at[calls++] = g_allocations.load();
+  };
+  const SolverSummary summary = solver.optimize(params);
+  ASSERT_TRUE(summary.usable()) << summary.message;
+  ASSERT_GE(calls, 3) << "too few iterations to say anything";
+  // Iteration 1 may size the vertices' undo stacks; none after it (the linear algebra included).
+  for (int k = 1; k < calls; ++k) EXPECT_EQ(at[k] - at[k - 1], 0) << "iteration " << k + 1 << " of " << summary.iterations;
+  ASSERT_TRUE(solver.computeMarginals().ok());
+  const long before = g_allocations.load();
+  ASSERT_TRUE(solver.computeMarginals().ok());
+  EXPECT_EQ(g_allocations.load(), before) << "a second computeMarginals allocated";
+}
+
+INSTANTIATE_TEST_SUITE_P(Kernels, TemporarySolverAllocation, ::testing::Values(false, true),
+                         [](const ::testing::TestParamInfo<bool>& info) { return info.param ? "Avx2" : "Baseline"; });
 
 INSTANTIATE_TEST_SUITE_P(
     SolversAndAlgorithms, LmAllocation,
