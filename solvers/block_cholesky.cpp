@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "solvers/block_cholesky.h"
 
+#include "solvers/block_diagonal_factor.h"
 #include "solvers/block_kernels.h"
 #include "solvers/block_kernels_avx2.h"
 
@@ -52,43 +53,6 @@ Status pivotFailure(int row, double d) {
   }
   return Status(StatusCode::kNotPositiveDefinite, "block Cholesky: matrix is not positive definite (pivot " +
                                                        std::to_string(d) + " at row " + std::to_string(row) + ")");
-}
-
-/// In-place Cholesky of a symmetric 6×6 block (lower triangle read, strict upper zeroed). `column` names
-/// the block column in messages.
-Status choleskyInPlace(Block& a, int column) {
-  for (int k = 0; k < 6; ++k) {
-    double d = a(k, k);
-    for (int m = 0; m < k; ++m) d -= a(k, m) * a(k, m);
-    if (!std::isfinite(d) || !(d > 0.0)) return pivotFailure(6 * column + k, d);
-    const double l = std::sqrt(d);
-    a(k, k) = l;
-    const double inverse = 1.0 / l;
-    for (int i = k + 1; i < 6; ++i) {
-      double s = a(i, k);
-      for (int m = 0; m < k; ++m) s -= a(i, m) * a(k, m);
-      a(i, k) = s * inverse;
-    }
-  }
-  a.triangularView<Eigen::StrictlyUpper>().setZero();
-  return Status();
-}
-
-/// L⁻¹ of a lower-triangular 6×6 block with a positive diagonal, by columns (Eigen's triangular solve
-/// with a matrix right-hand side goes through its dynamic-size kernel). The six reciprocals of the
-/// diagonal are computed first and multiplied, so no division sits on a column's dependency chain.
-void invertLower(const Block& l, Block& inverse) {
-  double reciprocal[6];
-  for (int c = 0; c < 6; ++c) reciprocal[c] = 1.0 / l(c, c);
-  inverse.setZero();
-  for (int c = 0; c < 6; ++c) {
-    inverse(c, c) = reciprocal[c];
-    for (int i = c + 1; i < 6; ++i) {
-      double s = 0.0;
-      for (int k = c; k < i; ++k) s += l(i, k) * inverse(k, c);
-      inverse(i, c) = -s * reciprocal[i];
-    }
-  }
 }
 
 }  // namespace
@@ -188,17 +152,17 @@ Status BlockCholesky::factorize(const Block* h, const double* diagonal_add) {
     return Status();
   }
   for (int j = 0; j < num_blocks_; ++j) {
-    Block& diagonal = factor_[col_begin_[j]];
-    DG_RETURN_IF_ERROR(choleskyInPlace(diagonal, j));
     Block& inverse = diagonal_inverse_[j];
-    invertLower(diagonal, inverse);
+    double pivot = 0.0;
+    const int failed = block_factor::choleskyAndInverse(factor_[col_begin_[j]].data(), inverse.data(), pivot);
+    if (failed >= 0) return pivotFailure(6 * j + failed, pivot);
     const int first = col_begin_[j] + 1;
     const int end = col_begin_[j + 1];
     for (int p = first; p < end; ++p) block_kernels::multiplyTransposedLowerInPlace(factor_[p], inverse);
     const int* target = target_.data() + target_begin_[j];
     for (int a = first; a < end; ++a) {
       for (int b = first; b < a; ++b) block_kernels::subtractProductTransposed(factor_[*target++], factor_[a], factor_[b]);
-      // A diagonal block of a later column: choleskyInPlace reads its lower triangle only.
+      // A diagonal block of a later column: its factorisation reads the lower triangle only.
       block_kernels::subtractGramLower(factor_[*target++], factor_[a]);
     }
   }

@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: MIT
 // The AVX2 + FMA kernels (solvers/block_kernels_avx2.h). This file alone is compiled with -mavx2 -mfma
-// (solvers/CMakeLists.txt) and must include nothing but intrinsics: see the header. Its functions are
+// (solvers/CMakeLists.txt) and must include nothing but intrinsics and the include-free
+// block_diagonal_factor.h (internal linkage): see the header. Its functions are
 // only called after the baseline code has checked the CPU (block_cholesky.cpp, `enabled`).
 #include "solvers/block_kernels_avx2.h"
 
 #if defined(__AVX2__) && defined(__FMA__)
 #include <immintrin.h>
+
+#include "solvers/block_diagonal_factor.h"
 
 namespace dualgraph::block_kernels_avx2 {
 
@@ -91,50 +94,17 @@ inline void multiplyLower(double* w, const double* x, const double* l) {
   product<kAssign, false>(w, x, [l](int k, int j) { return l + 6 * j + k; }, [](int k, int j) { return k < j; });
 }
 
-/// In-place Cholesky of a diagonal block (lower triangle read, strict upper zeroed) and its inverse;
-/// the same arithmetic as block_cholesky.cpp's choleskyInPlace and invertLower.
-bool choleskyAndInverse(double* a, double* inverse, int column, PivotFailure& failure) {
-  for (int k = 0; k < 6; ++k) {
-    double d = a[7 * k];
-    for (int m = 0; m < k; ++m) d -= a[6 * m + k] * a[6 * m + k];
-    if (!__builtin_isfinite(d) || !(d > 0.0)) {
-      failure.row = 6 * column + k;
-      failure.pivot = d;
-      return false;
-    }
-    const double l = __builtin_sqrt(d);
-    a[7 * k] = l;
-    const double r = 1.0 / l;
-    for (int i = k + 1; i < 6; ++i) {
-      double s = a[6 * k + i];
-      for (int m = 0; m < k; ++m) s -= a[6 * m + i] * a[6 * m + k];
-      a[6 * k + i] = s * r;
-    }
-  }
-  for (int col = 1; col < 6; ++col) {
-    for (int row = 0; row < col; ++row) a[6 * col + row] = 0.0;
-  }
-  double reciprocal[6];
-  for (int c = 0; c < 6; ++c) reciprocal[c] = 1.0 / a[7 * c];
-  for (int i = 0; i < 36; ++i) inverse[i] = 0.0;
-  for (int c = 0; c < 6; ++c) {
-    inverse[7 * c] = reciprocal[c];
-    for (int i = c + 1; i < 6; ++i) {
-      double s = 0.0;
-      for (int k = c; k < i; ++k) s += a[6 * k + i] * inverse[6 * c + k];
-      inverse[6 * c + i] = -s * reciprocal[i];
-    }
-  }
-  return true;
-}
-
 }  // namespace
 
 bool factorizeColumns(double* factor, double* diagonal_inverse, const int* col_begin, const int* target,
                       const int* target_begin, int num_blocks, PivotFailure& failure) {
   for (int j = 0; j < num_blocks; ++j) {
     double* inverse = diagonal_inverse + 36 * j;
-    if (!choleskyAndInverse(factor + 36 * col_begin[j], inverse, j, failure)) return false;
+    const int failed = block_factor::choleskyAndInverse(factor + 36 * col_begin[j], inverse, failure.pivot);
+    if (failed >= 0) {
+      failure.row = 6 * j + failed;
+      return false;
+    }
     const int first = col_begin[j] + 1;
     const int end = col_begin[j + 1];
     for (int p = first; p < end; ++p) multiplyTransposedLowerInPlace(factor + 36 * p, inverse);

@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// The factorisation of one diagonal 6×6 block of BlockCholesky, written once for both of its numeric
+// loops: block_cholesky.cpp (baseline flags) and block_kernels_avx2.cpp (-mavx2 -mfma). Internal linkage on
+// purpose: each of the two translation units keeps its own copy, so the AVX2 build of this function can
+// never be the one the linker picks for baseline code. No includes (compiler builtins only), as the AVX2
+// file requires.
+
+namespace dualgraph::block_factor {
+namespace {
+
+/// In-place Cholesky of the symmetric 6×6 block `a` (column-major, 36 doubles; lower triangle read, strict
+/// upper zeroed) and L⁻¹ into `inverse` (the six reciprocals of the diagonal first, so no division sits on
+/// a column's dependency chain). Returns -1, or the row 0…5 of the first pivot that is not positive and
+/// finite, with its value in `pivot` (the block is then unusable).
+inline int choleskyAndInverse(double* a, double* inverse, double& pivot) {
+  for (int k = 0; k < 6; ++k) {
+    double d = a[7 * k];
+    for (int m = 0; m < k; ++m) d -= a[6 * m + k] * a[6 * m + k];
+    if (!__builtin_isfinite(d) || !(d > 0.0)) {
+      pivot = d;
+      return k;
+    }
+    const double l = __builtin_sqrt(d);
+    a[7 * k] = l;
+    const double r = 1.0 / l;
+    for (int i = k + 1; i < 6; ++i) {
+      double s = a[6 * k + i];
+      for (int m = 0; m < k; ++m) s -= a[6 * m + i] * a[6 * m + k];
+      a[6 * k + i] = s * r;
+    }
+  }
+  for (int col = 1; col < 6; ++col) {
+    for (int row = 0; row < col; ++row) a[6 * col + row] = 0.0;
+  }
+  double reciprocal[6];
+  for (int c = 0; c < 6; ++c) reciprocal[c] = 1.0 / a[7 * c];
+  for (int i = 0; i < 36; ++i) inverse[i] = 0.0;
+  for (int c = 0; c < 6; ++c) {
+    inverse[7 * c] = reciprocal[c];
+    for (int i = c + 1; i < 6; ++i) {
+      double s = 0.0;
+      for (int k = c; k < i; ++k) s += a[6 * k + i] * inverse[6 * c + k];
+      inverse[6 * c + i] = -s * reciprocal[i];
+    }
+  }
+  return -1;
+}
+
+}  // namespace
+}  // namespace dualgraph::block_factor
