@@ -63,9 +63,10 @@ void eigenvalueRange(const Eigen::MatrixXd& m, double& smallest, double& largest
 /// any induced norm (λ_max ≤ ‖S‖∞, 1/λ_min ≤ ‖S⁻¹‖∞). The factor 10 over checkCovariance's 1e-12 covers
 /// the round-off of the computed inverse (relative ≈ κ·ε ≤ 1e-5 here). False means "not decided": the
 /// exact eigenvalues are computed. ≈ 5× cheaper than the eigenvalues, and the answer for every covariance
-/// of the hot paths (detections, odometry, distilled marginals).
+/// of the hot paths (detections, odometry, distilled marginals). When true and `inverse_out` is given, S⁻¹
+/// is stored there.
 template <int N>
-bool wellConditionedByNormBound(const Eigen::MatrixXd& m) {
+bool wellConditionedByNormBound(const Eigen::MatrixXd& m, Eigen::MatrixXd* inverse_out) {
   using Matrix = Eigen::Matrix<double, N, N>;
   const Matrix symmetric = 0.5 * (m + m.transpose());
   const Eigen::LLT<Matrix> llt(symmetric);
@@ -74,19 +75,25 @@ bool wellConditionedByNormBound(const Eigen::MatrixXd& m) {
   if (!inverse.allFinite()) return false;
   const double norm = symmetric.cwiseAbs().rowwise().sum().maxCoeff();
   const double inverse_norm = inverse.cwiseAbs().rowwise().sum().maxCoeff();
-  return norm * inverse_norm < 1e11;
+  if (!(norm * inverse_norm < 1e11)) return false;
+  if (inverse_out != nullptr) *inverse_out = inverse;
+  return true;
 }
 
 }  // namespace
 
-Status checkCovariance(const Eigen::MatrixXd& m, const std::string& what) {
+Status checkCovariance(const Eigen::MatrixXd& m, const std::string& what) { return checkCovariance(m, what, nullptr); }
+
+Status checkCovariance(const Eigen::MatrixXd& m, const std::string& what, Eigen::MatrixXd* inverse) {
+  if (inverse != nullptr) inverse->resize(0, 0);
   if (m.rows() != m.cols() || m.rows() == 0) return Status(StatusCode::kInvalidArgument, what + " is not square");
   if (!m.allFinite()) return Status(StatusCode::kInvalidArgument, what + " has a non-finite entry");
   const double scale = m.cwiseAbs().maxCoeff();
   if ((m - m.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(scale, 1e-300)) {
     return Status(StatusCode::kInvalidArgument, what + " is not symmetric");
   }
-  if ((m.rows() == 6 && wellConditionedByNormBound<6>(m)) || (m.rows() == 3 && wellConditionedByNormBound<3>(m))) {
+  if ((m.rows() == 6 && wellConditionedByNormBound<6>(m, inverse)) ||
+      (m.rows() == 3 && wellConditionedByNormBound<3>(m, inverse))) {
     return Status();
   }
   // Fixed-size solvers for the 6×6 and 3×3 covariances of the hot paths (no heap, ≈ 3× faster).

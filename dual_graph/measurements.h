@@ -66,6 +66,9 @@ Status validateGateObservation(const GateObservation& observation);
 /// smallest eigenvalue is above 1e-12 of the largest); otherwise kNotPositiveDefinite / kInvalidArgument
 /// with a message starting with `what`.
 Status checkCovariance(const Eigen::MatrixXd& m, const std::string& what);
+/// The same; when the check itself inverted the symmetric part of `m` (6×6 and 3×3, decided by the norm bound),
+/// that inverse is left in `inverse` (else it is emptied), so a caller that needs it does not factorise twice.
+Status checkCovariance(const Eigen::MatrixXd& m, const std::string& what, Eigen::MatrixXd* inverse);
 /// kInvalidArgument when the pose has a non-finite entry or a rotation that is not a rotation.
 Status checkRigidTransform(const Eigen::Isometry3d& pose, const std::string& what);
 

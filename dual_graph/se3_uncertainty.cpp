@@ -4,6 +4,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "dual_graph/measurements.h"
 
@@ -49,10 +50,12 @@ Result<Eigen::MatrixXd> inverseSpd(const Eigen::MatrixXd& symmetric) {
 
 Result<Eigen::MatrixXd> informationFromCovariance(const Eigen::MatrixXd& covariance, const std::string& what) {
   const Eigen::MatrixXd symmetric = 0.5 * (covariance + covariance.transpose());
-  DG_RETURN_IF_ERROR(checkCovariance(symmetric, what));
-  Result<Eigen::MatrixXd> inverse = symmetric.rows() == 6   ? inverseSpd<6>(symmetric)
-                                    : symmetric.rows() == 3 ? inverseSpd<3>(symmetric)
-                                                            : inverseSpd<Eigen::Dynamic>(symmetric);
+  Eigen::MatrixXd checked_inverse;  // the check's own Cholesky inverse, when it computed one
+  DG_RETURN_IF_ERROR(checkCovariance(symmetric, what, &checked_inverse));
+  Result<Eigen::MatrixXd> inverse = checked_inverse.size() > 0 ? Result<Eigen::MatrixXd>(std::move(checked_inverse))
+                                    : symmetric.rows() == 6    ? inverseSpd<6>(symmetric)
+                                    : symmetric.rows() == 3    ? inverseSpd<3>(symmetric)
+                                                               : inverseSpd<Eigen::Dynamic>(symmetric);
   if (!inverse.ok()) {
     return Status(StatusCode::kNotPositiveDefinite, what + " is not positive definite (Cholesky failed)");
   }
