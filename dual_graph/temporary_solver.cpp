@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/wall_clock.h"
+#include "solvers/block_kernels_avx2.h"
 
 namespace dualgraph {
 Status TemporarySolver::setGraph(Graph& graph) {
@@ -116,9 +117,10 @@ double TemporarySolver::evaluateChi2(std::string* first_bad) {
 void TemporarySolver::linearizeAndAssemble() {
   std::fill(h_.begin(), h_.end(), BlockCholesky::Block::Zero());
   rhs_.setZero();
+  const bool avx2 = block_kernels_avx2::enabled();  // once per linearisation, not per edge
   for (size_t k = 0; k < active_edges_.size(); ++k) {
     active_edges_[k]->computeJacobians();
-    assembleEdge(k);
+    assembleEdge(k, avx2);
   }
   // Padding of smaller vertices: identity diagonal, no coupling, zero right-hand side.
   for (size_t j = 0; j < active_.size(); ++j) {

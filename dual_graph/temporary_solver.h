@@ -58,7 +58,8 @@ class TemporarySolver {
   double evaluateChi2(std::string* first_bad);
   /// H and b from the active edges' Jacobians (their errors must be current).
   void linearizeAndAssemble();
-  void assembleEdge(size_t active_index);  ///< temporary_solver_assembly.cpp
+  /// One edge into H and b, with the AVX2 + FMA products when `avx2` (temporary_solver_assembly.cpp).
+  void assembleEdge(size_t active_index, bool avx2);
   /// Factorises H + diag(damping_) and solves for the step.
   Status solveStep(SolverSummary& summary);
   /// After a failed solve: kNumericalError naming the first non-finite Jacobian, H or b entry.

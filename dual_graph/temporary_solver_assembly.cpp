@@ -48,7 +48,7 @@ void addTransposedProduct(const ConstMap6& j, unsigned mask, const Matrix6& g, B
 
 }  // namespace
 
-void TemporarySolver::assembleEdge(size_t k) {
+void TemporarySolver::assembleEdge(size_t k, bool avx2) {
   const EdgeBase& edge = *active_edges_[k];
   const int m = edge.errorDim();
   const RobustKernel* kernel = edge.robustKernel();
@@ -58,7 +58,7 @@ void TemporarySolver::assembleEdge(size_t k) {
   const int* pair = pair_index_.data() + pair_begin_[k];
   bool uniform = m == kB;
   for (int a = 0; a < slots && uniform; ++a) uniform = blocks[a] < 0 || block_dim_[blocks[a]] == kB;
-  if (uniform && block_kernels_avx2::enabled()) {  // SE(3) edges, AVX2 + FMA: whole 6×6 products, no masks
+  if (uniform && avx2) {  // SE(3) edges, AVX2 + FMA: whole 6×6 products, no masks
     alignas(32) double w_information[36];
     const double* information = edge.informationData();
     for (int i = 0; i < 36; ++i) w_information[i] = weight * information[i];
