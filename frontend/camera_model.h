@@ -44,6 +44,11 @@ struct CameraModel {
 
   /// Pixel of a point in the camera frame [m], with the flags of `Projection`.
   Projection project(const Eigen::Vector3d& p_camera) const;
+  /// `project(p_camera)` (the same pixel, bit for bit) and, when `d_pixel_d_point` is non-null, the
+  /// analytic Jacobian ∂pixel/∂p_camera [px/m] of the pixel [px] w.r.t. the camera-frame point [m]:
+  /// K's 2×2 block · ∂distorted/∂(x/z, y/z) · ∂(x/z, y/z)/∂p_camera. Finite on the optical axis
+  /// (equidistant: θ_d/r → 1, its derivative → 0). Set to zero when the point is not `in_front`.
+  Projection project(const Eigen::Vector3d& p_camera, Eigen::Matrix<double, 2, 3>* d_pixel_d_point) const;
   /// The distorted normalised-plane point of an undistorted one (the model without K).
   Eigen::Vector2d distortNormalized(const Eigen::Vector2d& xy) const;
   /// Pixels (one per column, [px]) → undistorted normalised coordinates (x/z, y/z), via

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "frontend/camera_io.h"
 #include "frontend/camera_model.h"
@@ -253,6 +255,103 @@ TEST(CameraModel, ProjectAndUndistortAreInversesRadTan) {
 
 TEST(CameraModel, ProjectAndUndistortAreInversesEquidistant) {
   expectProjectUndistortConsistent(ratmEquidistant(), 80.0, 300.0);
+}
+
+/// Points the Jacobian tests use: the optical axis exactly and 1e-9 off it, rings out to 70°, and the
+/// rays through the pixels 1.5 px inside the four image corners, each at several ranges [m].
+Eigen::Matrix3Xd jacobianTestPoints(const CameraModel& camera) {
+  std::vector<Eigen::Vector3d> rays = {{0.0, 0.0, 1.0}, {1e-9, 0.0, 1.0}, {0.0, -1e-9, 1.0}, {1e-9, -1e-9, 1.0},
+                                       {1e-7, 3e-8, 1.0}, {-1e-5, 2e-5, 1.0}};
+  for (double off_axis_deg : {0.5, 5.0, 20.0, 40.0, 55.0, 70.0}) {
+    for (int i = 0; i < 8; ++i) {
+      const double off_axis = off_axis_deg * M_PI / 180.0;
+      const double azimuth = 2.0 * M_PI * (i + 0.3) / 8.0;
+      rays.emplace_back(std::sin(off_axis) * std::cos(azimuth), std::sin(off_axis) * std::sin(azimuth), std::cos(off_axis));
+    }
+  }
+  Eigen::Matrix2Xd corners(2, 4);
+  corners << 1.0, camera.width - 2.5, 1.0, camera.width - 2.5, 1.0, 1.0, camera.height - 2.5, camera.height - 2.5;
+  auto normalized = camera.undistortToNormalized(corners);
+  EXPECT_TRUE(normalized.ok()) << normalized.status().toString();
+  if (normalized.ok()) {
+    for (Eigen::Index i = 0; i < corners.cols(); ++i) rays.push_back(normalized->col(i).homogeneous());
+  }
+  Eigen::Matrix3Xd points(3, 0);
+  for (const Eigen::Vector3d& ray : rays) {
+    for (double range : {0.3, 2.0, 25.0}) {
+      points.conservativeResize(3, points.cols() + 1);
+      points.col(points.cols() - 1) = range * ray / ray.z();
+    }
+  }
+  return points;
+}
+
+/// project(p, &J) gives project(p)'s pixel bit for bit, and J equals central differences of
+/// project(p).pixel with a step of 1e-6 · |p| in each coordinate, entry by entry to `tolerance` ·
+/// max |numeric entry| (the truncation error is O(step²) relative; the rounding error ≈ 1e-15 / 1e-6).
+void expectAnalyticJacobianMatchesNumeric(const CameraModel& camera, double tolerance) {
+  const Eigen::Matrix3Xd points = jacobianTestPoints(camera);
+  ASSERT_GE(points.cols(), 150);
+  double worst = 0.0;
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    const Eigen::Vector3d p = points.col(i);
+    Eigen::Matrix<double, 2, 3> analytic;
+    analytic.setConstant(NAN);
+    const Projection with_jacobian = camera.project(p, &analytic);
+    const Projection plain = camera.project(p);
+    ASSERT_TRUE(plain.in_front) << p.transpose();
+    EXPECT_EQ(with_jacobian.pixel.x(), plain.pixel.x()) << p.transpose();
+    EXPECT_EQ(with_jacobian.pixel.y(), plain.pixel.y()) << p.transpose();
+    EXPECT_EQ(with_jacobian.in_front, plain.in_front);
+    EXPECT_EQ(with_jacobian.in_image, plain.in_image);
+    const double step = 1e-6 * p.norm();
+    Eigen::Matrix<double, 2, 3> numeric;
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d h = step * Eigen::Vector3d::Unit(c);
+      numeric.col(c) = (camera.project(p + h).pixel - camera.project(p - h).pixel) / (2.0 * step);
+    }
+    ASSERT_TRUE(analytic.allFinite()) << p.transpose() << "\n" << analytic;
+    const double error = (analytic - numeric).cwiseAbs().maxCoeff() / numeric.cwiseAbs().maxCoeff();
+    worst = std::max(worst, error);
+    EXPECT_LT(error, tolerance) << "p_camera " << p.transpose() << "\nanalytic:\n" << analytic << "\nnumeric:\n" << numeric;
+  }
+  ::testing::Test::RecordProperty("worst_relative_error", std::to_string(worst));
+}
+
+CameraModel radtanWithLargeTangential() {
+  CameraModel camera = ratmRadtan();
+  camera.distortion << -0.28, 0.11, 0.012, -0.009, -0.023;  // k1 k2 p1 p2 k3
+  return camera;
+}
+
+TEST(CameraModel, ProjectJacobianMatchesCentralDifferencesEquidistant) {
+  expectAnalyticJacobianMatchesNumeric(ratmEquidistant(), 1e-8);
+}
+
+TEST(CameraModel, ProjectJacobianMatchesCentralDifferencesRadTan) {
+  expectAnalyticJacobianMatchesNumeric(ratmRadtan(), 1e-8);
+  expectAnalyticJacobianMatchesNumeric(radtanWithLargeTangential(), 1e-8);
+}
+
+TEST(CameraModel, ProjectJacobianOnTheOpticalAxisIsThePinholeOne) {
+  // At p = (0, 0, z) every model is a pinhole to first order: ∂u/∂x = fx / z, ∂v/∂y = fy / z, the rest 0.
+  for (const CameraModel& camera : {ratmEquidistant(), ratmRadtan(), radtanWithLargeTangential()}) {
+    Eigen::Matrix<double, 2, 3> jacobian;
+    ASSERT_TRUE(camera.project({0.0, 0.0, 2.0}, &jacobian).valid());
+    Eigen::Matrix<double, 2, 3> expected;
+    expected << camera.fx() / 2.0, 0.0, 0.0, 0.0, camera.fy() / 2.0, 0.0;
+    EXPECT_EQ(jacobian, expected) << jacobian;
+  }
+}
+
+TEST(CameraModel, ProjectJacobianIsZeroBehindTheCamera) {
+  Eigen::Matrix<double, 2, 3> jacobian;
+  jacobian.setConstant(7.0);
+  EXPECT_FALSE(ratmEquidistant().project({0.1, 0.2, -1.0}, &jacobian).in_front);
+  EXPECT_TRUE(jacobian.isZero(0.0));
+  EXPECT_FALSE(ratmEquidistant().project({0.1, NAN, 1.0}, &jacobian).in_front);
+  EXPECT_TRUE(jacobian.isZero(0.0));
+  EXPECT_TRUE(ratmEquidistant().project({0.1, 0.2, 1.0}, nullptr).valid());
 }
 
 TEST(CameraModel, UndistortRejectsNonFinitePixels) {
