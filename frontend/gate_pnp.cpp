@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "frontend/gate_pnp.h"
 
+#include "frontend/gate_pnp_posterior.h"
+
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
@@ -12,9 +14,10 @@
 namespace dualgraph {
 namespace {
 
-using Matrix86d = Eigen::Matrix<double, 8, 6>;
-using Vector8d = Eigen::Matrix<double, 8, 1>;
-using Corners3 = Eigen::Matrix<double, 3, 4>;
+using pnp_detail::Corners3;
+using pnp_detail::Matrix86d;
+using pnp_detail::residuals;
+using pnp_detail::Vector8d;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -24,33 +27,20 @@ GatePnpSolution reject(GatePnpSolution solution, GatePnpRejection why, std::stri
   return solution;
 }
 
-/// Reprojection residuals project(camera_T_gate · p_gate) − pixel [px], stacked per corner; false if
-/// a corner is not in front of the camera.
-bool residuals(const Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, const GateCornerPixels& pixels,
-               const CameraModel& camera, Vector8d& r) {
+/// J = ∂r/∂ε of se3BoxPlus(camera_T_gate, ε) (ε = [ε_t; ε_θ], m and rad): the corner p_c = R p + t moves by
+/// R ε_t − R [p]× ε_θ, chained with CameraModel's analytic ∂pixel/∂p_c.
+bool jacobian(const Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, const CameraModel& camera,
+              Matrix86d& J_r_eps) {
+  const Eigen::Matrix3d& R = camera_T_gate.linear();
   for (int i = 0; i < 4; ++i) {
-    const Projection projection = camera.project(camera_T_gate * Eigen::Vector3d(p_gate.col(i)));
-    if (!projection.in_front) return false;
-    r.segment<2>(2 * i) = projection.pixel - pixels.col(i);
+    const Eigen::Vector3d p = p_gate.col(i);
+    Eigen::Matrix<double, 2, 3> d_pixel;
+    if (!camera.project(camera_T_gate * p, &d_pixel).in_front) return false;
+    const Eigen::Matrix<double, 2, 3> d_pixel_R = d_pixel * R;
+    J_r_eps.block<2, 3>(2 * i, 0) = d_pixel_R;
+    J_r_eps.block<2, 3>(2 * i, 3) = -d_pixel_R * skew(p);
   }
-  return true;
-}
-
-/// J = ∂r/∂ε of camera_T_gate · exp(ε) by central differences (ε [m, rad]; smooth models, h = 1e-6).
-bool jacobian(const Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, const GateCornerPixels& pixels,
-              const CameraModel& camera, Matrix86d& J_r_eps) {
-  constexpr double h = 1e-6;
-  for (int k = 0; k < 6; ++k) {
-    Vector6d step = Vector6d::Zero();
-    step[k] = h;
-    Vector8d plus, minus;
-    if (!residuals(se3BoxPlus(camera_T_gate, step), p_gate, pixels, camera, plus) ||
-        !residuals(se3BoxPlus(camera_T_gate, -step), p_gate, pixels, camera, minus)) {
-      return false;
-    }
-    J_r_eps.col(k) = (plus - minus) / (2.0 * h);
-  }
-  return true;
+  return J_r_eps.allFinite();
 }
 
 double rms(const Vector8d& r) { return std::sqrt(r.squaredNorm() / 4.0); }
@@ -75,7 +65,7 @@ double refine(Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, const Ga
   if (!residuals(camera_T_gate, p_gate, pixels, camera, r)) return -1.0;
   for (int it = 0; it < iterations; ++it) {
     Matrix86d J;
-    if (!jacobian(camera_T_gate, p_gate, pixels, camera, J)) break;
+    if (!jacobian(camera_T_gate, p_gate, camera, J)) break;
     Vector6d step = Vector6d::Zero();
     if (translation_only) {
       const Eigen::Matrix<double, 8, 3> J_t = J.leftCols<3>();
@@ -237,8 +227,8 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
       alternative = static_cast<int>(k);
     }
   }
-  // IPPE and SQPnP found one basin: on request, the other tilt with its translation re-fitted.
-  if (alternative < 0 && params.mirrored_tilt_alternative) {
+  // IPPE and SQPnP found one basin: the tilt posterior spans the other tilt anyway (translation re-fitted).
+  if (alternative < 0 && params.covariance_model == PnpCovarianceModel::kTiltPosterior) {
     Eigen::Isometry3d mirror = mirroredTilt(solution.camera_T_gate);
     const double error = refine(mirror, p_gate, corners, camera, params.max_refinement_iterations, true);
     if (error >= 0.0 && so3Log(solution.camera_T_gate.linear().transpose() * mirror.linear()).norm() > kPi / 180.0) {
@@ -254,7 +244,7 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
   }
 
   Matrix86d J;
-  if (!jacobian(solution.camera_T_gate, p_gate, corners, camera, J)) {
+  if (!jacobian(solution.camera_T_gate, p_gate, camera, J)) {
     return reject(solution, GatePnpRejection::kSolverFailed, "the pose puts a corner behind the camera");
   }
   const Matrix6d information = J.transpose() * J;
@@ -263,14 +253,28 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
   const double smallest = eigen.eigenvalues().minCoeff();
   solution.condition_number = smallest > 0.0 ? largest / smallest : std::numeric_limits<double>::infinity();
   solution.covariance = params.pixel_sigma * params.pixel_sigma * information.inverse();
-  if (alternative >= 0) {
+  bool integrated = false;  // the tilt posterior's moment replaced the Laplace covariance
+  if (params.covariance_model == PnpCovarianceModel::kTiltPosterior) {
+    pnp_detail::TiltPosteriorInput input;
+    input.camera_T_gate = solution.camera_T_gate;
+    input.jacobian = J;
+    input.ssr = 4.0 * solution.reprojection_rms * solution.reprojection_rms;
+    if (alternative >= 0) {
+      input.other_tilt = &solution.alternative_camera_T_gate;
+      input.other_ssr = 4.0 * solution.alternative_reprojection_rms * solution.alternative_reprojection_rms;
+    }
+    Matrix6d posterior;
+    integrated = pnp_detail::tiltPosteriorCovariance(input, p_gate, corners, camera, params.pixel_sigma, posterior);
+    if (integrated) solution.covariance = posterior;
+  }
+  if (!integrated && alternative >= 0) {
     // Two poses explain the pixels: report the second moment of the two-mode posterior about the
     // returned pose, Σ = w₁ Σ₁ + w₂ (Σ₂ + δ δᵀ), with likelihood weights w ∝ exp(−SSR / 2σ²) and δ the
     // alternative's offset (right perturbation in the gate frame), instead of Σ₁ alone, which is
     // far too confident when the wrong mode wins (measured NEES ≈ 29 on near-frontal views).
     const Eigen::Isometry3d& other = solution.alternative_camera_T_gate;
     Matrix86d J_other;
-    if (jacobian(other, p_gate, corners, camera, J_other)) {
+    if (jacobian(other, p_gate, camera, J_other)) {
       // Σ₂ moved into the returned pose's chart: best ⊞ (δ + A ε₂) = other ⊞ ε₂ to first order.
       const Vector6d delta = se3BoxMinus(solution.camera_T_gate, other);
       Matrix6d adjoint = Matrix6d::Zero();

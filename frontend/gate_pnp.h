@@ -37,6 +37,13 @@ enum class GatePnpRejection {
 /// "NonFiniteInput", ...
 const char* gatePnpRejectionName(GatePnpRejection rejection);
 
+/// How solveGatePnp turns the pixel noise into the pose covariance (see GatePnpSolution).
+enum class PnpCovarianceModel {
+  kLaplace,        ///< σ² (JᵀJ)⁻¹ at the returned pose, mixed with IPPE's other basin when it found one
+  kTiltPosterior,  ///< the posterior's second moment, the tilt integrated on a lattice (consistent; not the
+                   ///< default: the localizer's ATE is lower with kLaplace, see frontend/README.md)
+};
+
 struct GatePnpParams {
   double gate_size = 1.5;               ///< side of the inner square [m]
   double pixel_sigma = 1.0;             ///< corner noise, standard deviation per pixel coordinate [px]
@@ -46,11 +53,7 @@ struct GatePnpParams {
   double min_corner_angle_deg = 5.0;    ///< [deg], in the undistorted normalised plane
   double max_condition_number = 1e10;   ///< of JᵀJ (J in px per m and px per rad)
   int max_refinement_iterations = 20;   ///< Gauss–Newton steps in pixel space after IPPE
-  /// When IPPE's and SQPnP's candidates end in one basin, take the mirrored tilt (translation re-fitted)
-  /// as the alternative mode anyway (see below): a consistent covariance for near-frontal far views
-  /// (mean NEES 6.3 instead of 7.2 on the simulated RATM views) at the price of the localizer's
-  /// accuracy on the ellipse (ATE 0.034 → 0.041 m over seeds 1–3), so off by default.
-  bool mirrored_tilt_alternative = false;
+  PnpCovarianceModel covariance_model = PnpCovarianceModel::kLaplace;
 };
 
 /// The pose of one gate from its corners, or the reason it was rejected.
@@ -65,23 +68,27 @@ struct GatePnpParams {
 ///
 /// Covariance: metric [t; θ] (m², rad²), a right perturbation in the gate frame in the chart the
 /// graph's SE(3) edges measure errors in, camera_T_gate_true = se3BoxPlus(camera_T_gate, ε) (translation
-/// and rotation apart, types/se3_math.h), Σ = σ² (JᵀJ)⁻¹ with J = ∂pixels/∂ε (8×6, central differences
+/// and rotation apart, types/se3_math.h), Σ = σ² (JᵀJ)⁻¹ with J = ∂pixels/∂ε (8×6, analytic
 /// through project). Because body_T_gate = body_T_camera · camera_T_gate shares that perturbation, the
 /// same Σ is the covariance of body_T_gate, as GateObservation expects.
 ///
 /// Ambiguity: near-frontal views of a small square have two poses (mirrored tilts) explaining the
 /// pixels almost equally. The alternative is the best other refined candidate that differs by more
-/// than 1° in rotation or, when IPPE's and SQPnP's candidates all end in one basin and
-/// `mirrored_tilt_alternative` is set, the returned pose with its normal reflected about the line of
-/// sight and its translation re-fitted (the error's profile at the mirrored tilt). It is kept in
-/// `alternative_*`, and `ambiguous` is set when it is also within max_reprojection_rms. The returned
-/// pose is still the lower-RMS one. Σ is the second moment of the two-mode posterior about the
-/// returned pose, w₁Σ₁ + w₂(Σ₂ + δδᵀ), δ the alternative's offset, weights ∝ exp(−SSR/2σ²)·√det Σ
-/// (each mode's Laplace mass), so it says how little the tilt is known.
-/// Consistency on the simulated RATM ellipse (σ = 1 px, first 1000 views, test/frontend/
-/// simulator_sensors_test.cpp; band 5.79–6.22): mean NEES 7.18 by default (6.29 below 6 m, 7.8 beyond
-/// 10 m); 6.33 with `mirrored_tilt_alternative` (6.21 beyond 10 m, 6.68 at 6–10 m, where the tilt is
-/// neither determined nor clearly two-fold).
+/// than 1° in rotation or, when IPPE's and SQPnP's candidates all end in one basin (and the model is
+/// kTiltPosterior), the returned pose with its normal reflected about the line of sight and its
+/// translation re-fitted. It is kept in `alternative_*`, and `ambiguous` is set when it is also within
+/// max_reprojection_rms. The returned pose is always the lower-RMS one.
+///
+/// kTiltPosterior: Σ is the second moment of the posterior about the returned pose (flat
+/// prior, isotropic pixel noise), the two tilt angles across the line of sight integrated on a lattice
+/// that reaches the alternative, the other four coordinates Gaussian given the tilt
+/// (frontend/gate_pnp_posterior.h). kLaplace (default): σ² (JᵀJ)⁻¹, mixed with IPPE's other basin when it found
+/// one, w₁Σ₁ + w₂(Σ₂ + δδᵀ) (weights: each mode's Laplace mass).
+/// Consistency on the simulated RATM ellipse (σ = 1 px, first 1000 views, seed 1, test/frontend/
+/// simulator_sensors_test.cpp; band 5.79–6.22): mean NEES **6.15** with kTiltPosterior (6.17 below 6 m,
+/// 5.92 at 6–10 m, 6.27 beyond), 7.18 with kLaplace (7.7–7.8 beyond 6 m, where the tilt's likelihood
+/// is flat-topped or two-peaked). Cost per view on that flight: ≈ 220 µs vs ≈ 160 µs (bench
+/// BM_GatePnp_Solve).
 struct GatePnpSolution {
   GatePnpRejection rejection = GatePnpRejection::kNone;
   std::string message;  ///< why it was rejected (empty when accepted)

@@ -20,6 +20,15 @@ Status readBool(const std::string& source, const std::string& field, const YAML:
   return fieldError(source, node.Mark(), field, "expected true or false, got " + describe(node));
 }
 
+Status readPnpCovariance(const std::string& source, const std::string& field, const YAML::Node& node,
+                         PnpCovarianceModel& out) {
+  if (node.IsScalar() && (node.Scalar() == "tilt_posterior" || node.Scalar() == "laplace")) {
+    out = node.Scalar() == "laplace" ? PnpCovarianceModel::kLaplace : PnpCovarianceModel::kTiltPosterior;
+    return Status();
+  }
+  return fieldError(source, node.Mark(), field, "expected tilt_posterior or laplace, got " + describe(node));
+}
+
 Status readNonNegativeInt(const std::string& source, const std::string& field, const YAML::Node& node, int& out, int min) {
   DG_RETURN_IF_ERROR(readInteger(source, field, node, out));
   if (out < min) return fieldError(source, node.Mark(), field, "must be >= " + std::to_string(min));
@@ -44,7 +53,7 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
     else if (key == "max_range") status = readPositive(source, field, value, pnp.max_range);
     else if (key == "min_corner_angle_deg") status = readNumber(source, field, value, pnp.min_corner_angle_deg);
     else if (key == "max_condition_number") status = readPositive(source, field, value, pnp.max_condition_number);
-    else if (key == "mirrored_tilt_alternative") status = readBool(source, field, value, pnp.mirrored_tilt_alternative);
+    else if (key == "pnp_covariance") status = readPnpCovariance(source, field, value, pnp.covariance_model);
     else if (key == "max_refinement_iterations") status = readNonNegativeInt(source, field, value, pnp.max_refinement_iterations, 0);
     else if (key == "max_association_distance") status = readPositive(source, field, value, association.max_distance);
     else if (key == "max_normal_angle") status = readNumber(source, field, value, association.max_normal_angle);

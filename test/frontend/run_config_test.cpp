@@ -55,7 +55,7 @@ void expectSamePnp(const GatePnpParams& a, const GatePnpParams& b) {
   EXPECT_EQ(a.min_corner_angle_deg, b.min_corner_angle_deg);
   EXPECT_EQ(a.max_condition_number, b.max_condition_number);
   EXPECT_EQ(a.max_refinement_iterations, b.max_refinement_iterations);
-  EXPECT_EQ(a.mirrored_tilt_alternative, b.mirrored_tilt_alternative);
+  EXPECT_EQ(a.covariance_model, b.covariance_model);
 }
 
 void expectSameAssociation(const AssociationParams& a, const AssociationParams& b) {
@@ -107,7 +107,7 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
       "  min_corner_angle_deg: 7.5\n"
       "  max_condition_number: 1.0e8\n"
       "  max_refinement_iterations: 7\n"
-      "  mirrored_tilt_alternative: true\n"
+      "  pnp_covariance: tilt_posterior\n"
       "  max_association_distance: 1.25\n"
       "  max_normal_angle: 0.9\n"
       "  allow_reversed: false\n"
@@ -128,7 +128,7 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
   EXPECT_EQ(f.pnp.min_corner_angle_deg, 7.5);
   EXPECT_EQ(f.pnp.max_condition_number, 1.0e8);
   EXPECT_EQ(f.pnp.max_refinement_iterations, 7);
-  EXPECT_TRUE(f.pnp.mirrored_tilt_alternative);
+  EXPECT_EQ(f.pnp.covariance_model, PnpCovarianceModel::kTiltPosterior);
   EXPECT_EQ(f.pnp.gate_size, GatePnpParams{}.gate_size);  // from the map, not the config
   EXPECT_EQ(f.association.max_distance, 1.25);
   EXPECT_EQ(f.association.max_normal_angle, 0.9);
@@ -154,6 +154,9 @@ TEST(RunConfig, ErrorsNameTheLineAndTheField) {
   const BadConfig cases[] = {
       {"unknown frontend key", "frontend:\n  pixel_sigma: 1.0\n  pixel_sigmaa: 2.0\n", 3, "frontend.pixel_sigmaa"},
       {"bool as text", "frontend:\n  trust_ids: maybe\n", 2, "frontend.trust_ids"},
+      {"unknown covariance model", "frontend:\n  pnp_covariance: exact\n", 2, "frontend.pnp_covariance"},
+      {"the removed mirrored tilt key", "frontend:\n  mirrored_tilt_alternative: true\n", 2,
+       "frontend.mirrored_tilt_alternative"},
       {"number as text", "frontend:\n  max_range: far\n", 2, "frontend.max_range"},
       {"integer as real", "frontend:\n  max_refinement_iterations: 2.5\n", 2, "frontend.max_refinement_iterations"},
       {"list for a number", "frontend:\n  pixel_sigma: [1, 2]\n", 2, "frontend.pixel_sigma"},

@@ -161,10 +161,12 @@ struct NeesSample {
 // PnP on the kTrue detections of the RATM ellipse flight (seed 1, default noise) in order, until
 // 1000 of them span a diagonal ≥ 160 px. NEES: the estimate turned by the 90° step closest to the
 // truth (its covariance with it), e = log(truth⁻¹ · estimate).
-std::vector<NeesSample> pnpNees(const GatePnpParams& pnp) {
+// Other flights (`track`, `seed`) may have fewer large views and a rare rejected one (counted in *rejected).
+std::vector<NeesSample> pnpNees(const GatePnpParams& pnp, const char* track = "ratm_ellipse.yaml", int seed = 1,
+                                int* rejected = nullptr) {
   const CameraModel camera = simtest::ratmCamera();
   const DetectionSimParams params;
-  auto detections = simulateDetections(ratmFlight("ratm_ellipse.yaml"), simtest::shippedTrack("ratm_ellipse.yaml"), camera, params, 1);
+  auto detections = simulateDetections(ratmFlight(track), simtest::shippedTrack(track), camera, params, seed);
   EXPECT_TRUE(detections.ok());
   std::vector<NeesSample> out;
   int large = 0;  // views spanning ≥ 160 px
@@ -173,7 +175,8 @@ std::vector<NeesSample> pnpNees(const GatePnpParams& pnp) {
     GateCornerPixels pixels;
     for (int i = 0; i < 4; ++i) pixels.col(i) = d.corners.corners[static_cast<size_t>(i)];
     const GatePnpSolution solution = solveGatePnp(pixels, camera, d.seen_from_front ? GateSide::kFront : GateSide::kBack, pnp);
-    EXPECT_TRUE(solution.ok()) << solution.message;  // pixel_sigma 1, the detector's
+    if (rejected != nullptr) *rejected += solution.ok() ? 0 : 1;
+    EXPECT_TRUE(solution.ok() || rejected != nullptr) << solution.message;  // pixel_sigma 1, the detector's
     if (!solution.ok()) continue;
     Eigen::Isometry3d estimate = solution.body_T_gate;
     Matrix6d covariance = solution.covariance;
@@ -183,7 +186,7 @@ std::vector<NeesSample> pnpNees(const GatePnpParams& pnp) {
     large += diagonal >= 160.0;
     out.push_back({simtest::poseNees(estimate, covariance, d.body_T_gate), range, diagonal, solution.ambiguous});
   }
-  EXPECT_EQ(large, 1000);
+  EXPECT_TRUE(large == 1000 || rejected != nullptr) << large;
   return out;
 }
 
@@ -216,30 +219,51 @@ NeesSummary summarizeNees(const std::vector<NeesSample>& samples, const char* wh
 }
 
 // Mean NEES of 1000 independent 6-DoF errors: χ²₆₀₀₀ / 1000, two-sided 95 % band [5.79, 6.22], in the
-// chart the graph's edges use (poseNees). Issue 4 asks for it over the first 1000 views. KNOWN GAP, not
-// loosened silently: 7.18 by default (9.9 when Σ was taken in the coupled SE(3) exponential's chart),
-// 6.33 with mirrored_tilt_alternative. Close views (≥ 160 px) are in their band either way.
-TEST(DetectionSimulator, PnpNeesIsConsistentUpCloseAndOverconfidentAtNearFrontalFarViews) {
-  const std::vector<NeesSample> samples = pnpNees(GatePnpParams{});
-  ASSERT_GE(samples.size(), 1000u);
-  const NeesSummary m = summarizeNees(samples, "default");
-  EXPECT_TRUE(inNeesBand(m.large, m.large_n)) << m.large;
-  EXPECT_LT(m.first, 7.6);               // regression bound on the known gap
-  EXPECT_FALSE(inNeesBand(m.far, m.far_n)) << m.far << ": far views are consistent now, tighten the bound";
+// chart the graph's edges use (poseNees), over the first 1000 views as issue 4 asks, and in each range bin.
+GatePnpParams tiltPosterior() {
+  GatePnpParams pnp;
+  pnp.covariance_model = PnpCovarianceModel::kTiltPosterior;
+  return pnp;
 }
 
-// With the mirrored tilt as the alternative mode, far views (≥ 10 m) are in their band too; the excess
-// left is at 6–10 m, where the tilt is neither determined nor clearly two-fold.
-TEST(DetectionSimulator, PnpNeesWithTheMirroredTiltIsConsistentFarAwayWithAGapInBetween) {
-  GatePnpParams pnp;
-  pnp.mirrored_tilt_alternative = true;
-  const std::vector<NeesSample> samples = pnpNees(pnp);
+TEST(DetectionSimulator, PnpNeesOfTheTiltPosteriorIsInItsBandNearAndFar) {
+  const std::vector<NeesSample> samples = pnpNees(tiltPosterior());
   ASSERT_GE(samples.size(), 1000u);
-  const NeesSummary m = summarizeNees(samples, "mirrored tilt");
+  const NeesSummary m = summarizeNees(samples, "tilt posterior");
+  EXPECT_TRUE(inNeesBand(m.first, 1000)) << m.first;
   EXPECT_TRUE(inNeesBand(m.large, m.large_n)) << m.large;
+  EXPECT_TRUE(inNeesBand(m.near, m.near_n)) << m.near;
+  EXPECT_TRUE(inNeesBand(m.middle, m.middle_n)) << m.middle;
   EXPECT_TRUE(inNeesBand(m.far, m.far_n)) << m.far;
-  EXPECT_LT(m.first, 6.6);  // regression bound on the known gap (the band is [5.79, 6.22])
-  EXPECT_FALSE(inNeesBand(m.middle, m.middle_n)) << m.middle << ": the gap closed, tighten the bound above";
+}
+
+// The other simulated flights: 6.03–6.44 (ellipse seeds 2, 3; lemniscate seeds 1–3). An importance-
+// sampled posterior gives the same (frontend/README.md): what is left is the posterior's own frequentist
+// coverage at this signal-to-noise, not the lattice. A regression bound (within 8 % of 6), not the band.
+TEST(DetectionSimulator, PnpNeesOfTheTiltPosteriorOnOtherFlightsIsWithinEightPercent) {
+  const std::pair<const char*, int> flights[] = {{"ratm_ellipse.yaml", 2}, {"ratm_ellipse.yaml", 3},
+                                                 {"ratm_lemniscate.yaml", 1}, {"ratm_lemniscate.yaml", 2},
+                                                 {"ratm_lemniscate.yaml", 3}};
+  for (const auto& [track, seed] : flights) {
+    int rejected = 0;
+    const std::vector<NeesSample> samples = pnpNees(tiltPosterior(), track, seed, &rejected);
+    ASSERT_GE(samples.size(), 1000u);
+    const std::string what = std::string(track) + " seed " + std::to_string(seed);
+    const NeesSummary m = summarizeNees(samples, what.c_str());
+    EXPECT_NEAR(m.first, 6.0, 0.48) << what;
+    EXPECT_LE(rejected, 5) << what;
+  }
+}
+
+// The default Laplace covariance (with IPPE's other basin mixed in) is consistent up close and overconfident
+// beyond 6 m, where the tilt's likelihood is flat-topped or two-peaked: what the tilt posterior fixes.
+TEST(DetectionSimulator, PnpNeesOfTheLaplaceCovarianceIsOverconfidentFarAway) {
+  const std::vector<NeesSample> samples = pnpNees(GatePnpParams{});  // kLaplace, the default
+  ASSERT_GE(samples.size(), 1000u);
+  const NeesSummary m = summarizeNees(samples, "laplace");
+  EXPECT_TRUE(inNeesBand(m.large, m.large_n)) << m.large;
+  EXPECT_TRUE(inNeesBand(m.near, m.near_n)) << m.near;
+  EXPECT_GT(m.far, 6.0 + 1.96 * std::sqrt(12.0 / m.far_n)) << m.far;
 }
 
 // |count − n p| ≤ 4 √(n p (1 − p)) (+1 for tiny n p).
