@@ -20,7 +20,8 @@ namespace {
 
 /// TemporaryGraph::distil on a recorded interval (args: gates, poses, gates seen per pose, solver 0 = block
 /// (the default), 1 = graph (the generic Optimizer, the former path), avx2 1 = the block kernels chosen at
-/// run time (AVX2 + FMA when the CPU has them, the default), 0 = the baseline SSE2 ones forced): the graph is built, optimised and
+/// run time (AVX2 + FMA when the CPU has them, the default), 0 = the baseline SSE2 ones forced; model_stop 1 =
+/// temp_model_decrease_stop as configured (the default), 0 = off): the graph is built, optimised and
 /// its gates' marginals inverted into edges. One TemporaryGraph is reused, as in the Localizer (its block
 /// solver keeps its buffers): the observations are recorded again before each call, outside the timing
 /// (distil clears them). Manual time around distil alone.
@@ -28,6 +29,7 @@ void BM_TemporaryGraph_Distil(benchmark::State& state) {
   bench::TemporaryScenario scenario = bench::makeTemporaryScenario(
       static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), static_cast<int>(state.range(2)));
   scenario.params.temp_solver = state.range(3) == 0 ? TemporarySolverKind::kBlock : TemporarySolverKind::kGraph;
+  if (state.range(5) == 0) scenario.params.temp_model_decrease_stop = 0.0;  // the relative rule alone
   TemporaryGraph temporary(scenario.params, scenario.kernel);
   DistillationResult result;
   const bool avx2 = block_kernels_avx2::setEnabled(state.range(4) != 0);
@@ -49,10 +51,11 @@ void BM_TemporaryGraph_Distil(benchmark::State& state) {
   state.counters["avx2"] = avx2 ? 1 : 0;
 }
 BENCHMARK(BM_TemporaryGraph_Distil)
-    ->ArgNames({"gates", "poses", "per_pose", "graph", "avx2"})
-    ->ArgsProduct({{4}, {20}, {4}, {0, 1}, {1}})
-    ->ArgsProduct({{11}, {50}, {4, 11}, {0, 1}, {1}})
-    ->ArgsProduct({{11}, {50}, {4}, {0}, {0}})
+    ->ArgNames({"gates", "poses", "per_pose", "graph", "avx2", "model_stop"})
+    ->ArgsProduct({{4}, {20}, {4}, {0, 1}, {1}, {1}})
+    ->ArgsProduct({{11}, {50}, {4, 11}, {0, 1}, {1}, {1}})
+    ->ArgsProduct({{11}, {50}, {4}, {0}, {0}, {1}})
+    ->ArgsProduct({{11}, {50}, {4}, {0}, {1}, {0}})
     ->UseManualTime()
     ->Unit(benchmark::kMicrosecond);
 

@@ -27,6 +27,8 @@ namespace dualgraph {
 ///   double lmStepInfNorm() const;
 ///   void   lmMarkErrorsStale();                    the edges hold a rejected trial's errors
 ///   void   lmRelinearize(SolverSummary&);          H and b at the current estimate
+/// With `params.model_decrease_stop` > 0 the loop may end right after an undamped lmSolveStep at the
+/// final estimate (see OptimizerParams).
 template <typename System>
 void runLevenbergMarquardtLoop(System& system, const OptimizerParams& params, double start_ms, SolverSummary& summary) {
   using namespace lm_constants;
@@ -46,6 +48,7 @@ void runLevenbergMarquardtLoop(System& system, const OptimizerParams& params, do
     progress.iteration = iteration;
     Status last_failure;
     double new_chi2 = chi2;
+    double accepted_rho = 0.0;
     bool at_minimum = false;
     for (int trial = 0; trial < params.max_trials && !progress.step_accepted; ++trial) {
       if (out_of_time()) break;
@@ -91,6 +94,7 @@ void runLevenbergMarquardtLoop(System& system, const OptimizerParams& params, do
         const double a = 2.0 * rho - 1.0;
         lambda *= std::clamp(1.0 - a * a * a, 1.0 / 3.0, 2.0 / 3.0);
         nu = 2.0;
+        accepted_rho = rho;
         progress.step_accepted = true;
       } else {
         system.lmPop();
@@ -121,7 +125,21 @@ void runLevenbergMarquardtLoop(System& system, const OptimizerParams& params, do
         summary.termination = TerminationReason::kTimeBudget;
         return;
       }
-      if (iteration < params.max_iterations) system.lmRelinearize(summary);
+      if (iteration < params.max_iterations) {
+        system.lmRelinearize(summary);
+        if (params.model_decrease_stop > 0.0 && accepted_rho > 0.75) {
+          // The model was trusted by the last step: ask its undamped Gauss–Newton step whether another
+          // iteration could still lower χ² by the relative threshold.
+          system.lmSetDamping(scaled, 0.0);
+          if (system.lmSolveStep(summary).ok()) {
+            const double predicted = system.lmPredictedDecrease();
+            if (std::isfinite(predicted) && predicted <= params.model_decrease_stop * chi2) {
+              summary.termination = TerminationReason::kConverged;
+              return;
+            }
+          }
+        }
+      }
       continue;
     }
     if (params.callback) params.callback(progress);

@@ -86,6 +86,12 @@ struct OptimizerParams {
   int max_iterations = 100;
   /// Stop when an accepted step lowers χ² by less than this fraction of the previous χ².
   double relative_decrease_stop = 1e-9;
+  /// LM: after an accepted step with gain ratio above 0.75, factorise the undamped H at the new estimate
+  /// and stop there (kConverged) when its Gauss–Newton step predicts a χ² decrease below this fraction
+  /// of χ²: the confirming iteration (a damped factorisation, a trial step, a χ² evaluation) is saved,
+  /// and the system is left holding that undamped factorisation (the temporary graph's marginals reuse
+  /// it). 0 = off (the default). When the check does not stop, its factorisation is spent.
+  double model_decrease_stop = 0.0;
   /// Also stop when the largest entry of an accepted step is below this (tangent units); this ends
   /// zero-residual problems, whose χ² keeps falling by large fractions down to round-off.
   double step_norm_stop = 1e-12;

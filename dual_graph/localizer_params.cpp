@@ -105,6 +105,7 @@ Status validateOptimisation(const LocalizerParams& params) {
   DG_RETURN_IF_ERROR(requireNonNegativeFinite("main_time_budget_ms", params.main_time_budget_ms));
   DG_RETURN_IF_ERROR(requireNonNegativeFinite("main_relative_decrease_stop", params.main_relative_decrease_stop));
   DG_RETURN_IF_ERROR(requireNonNegativeFinite("temp_relative_decrease_stop", params.temp_relative_decrease_stop));
+  DG_RETURN_IF_ERROR(requireNonNegativeFinite("temp_model_decrease_stop", params.temp_model_decrease_stop));
   if (params.main_window != 0 && params.main_window < 2) {
     return invalid("main_window", "must be 0 (full batch) or at least 2, got " + std::to_string(params.main_window));
   }

@@ -93,6 +93,12 @@ struct LocalizerParams {
   /// 1e-6 before (the engine's default is 1e-9); the simulated races' ATE (seeds 1–3, every Dual row)
   /// moved by at most 1.1e-4 m (0.2 %), up or down.
   double temp_relative_decrease_stop = 1e-4;
+  /// Also stop a temporary graph's LM, without the confirming iteration, when after a well-predicted step
+  /// (gain ratio > 0.75) the undamped Gauss–Newton step at the new estimate predicts a χ² decrease below
+  /// this fraction (OptimizerParams::model_decrease_stop); the marginals then reuse that factorisation.
+  /// Same threshold as above by default: it ends where the rule above would, one iteration earlier (the
+  /// estimate is the one before that iteration's tiny step). 0 = off.
+  double temp_model_decrease_stop = 1e-4;
   /// Main graph: kAuto (Eigen's simplicial LDLᵀ on these small systems, CHOLMOD when a full-batch main
   /// graph grows past 3000 unknowns), measured fastest (solvers/auto_solver.h). Temporary graphs: CHOLMOD
   /// when kCholmod, otherwise Eigen in the graph's own order (EigenOrdering::kNatural: a time-ordered

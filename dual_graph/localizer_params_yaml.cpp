@@ -170,6 +170,7 @@ constexpr FieldSlot<double> kNumberFields[] = {
     {"main_time_budget_ms", &LocalizerParams::main_time_budget_ms},
     {"main_relative_decrease_stop", &LocalizerParams::main_relative_decrease_stop},
     {"temp_relative_decrease_stop", &LocalizerParams::temp_relative_decrease_stop},
+    {"temp_model_decrease_stop", &LocalizerParams::temp_model_decrease_stop},
     {"chi2_gate_pose", &LocalizerParams::chi2_gate_pose}, {"chi2_gate_point", &LocalizerParams::chi2_gate_point},
 };
 constexpr FieldSlot<int> kIntegerFields[] = {

@@ -152,6 +152,7 @@ OptimizerParams TemporaryGraph::lmParams() const {
   OptimizerParams lm;
   lm.max_iterations = params_.temp_max_iterations;
   lm.relative_decrease_stop = params_.temp_relative_decrease_stop;
+  lm.model_decrease_stop = params_.temp_model_decrease_stop;
   lm.damping = params_.lm_damping;
   return lm;
 }

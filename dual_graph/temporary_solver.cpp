@@ -23,6 +23,7 @@ Status TemporarySolver::setProblem(const std::vector<VertexBase*>& vertices, con
   has_problem_ = false;
   marginals_ready_ = false;
   errors_current_ = false;
+  undamped_factor_current_ = false;
   active_.clear();
   block_dim_.clear();
   active_edges_.clear();
@@ -115,6 +116,7 @@ double TemporarySolver::evaluateChi2(std::string* first_bad) {
 }
 
 void TemporarySolver::linearizeAndAssemble() {
+  undamped_factor_current_ = false;
   std::fill(h_.begin(), h_.end(), BlockCholesky::Block::Zero());
   rhs_.setZero();
   const bool avx2 = block_kernels_avx2::enabled();  // once per linearisation, not per edge
@@ -129,6 +131,7 @@ void TemporarySolver::linearizeAndAssemble() {
 }
 
 void TemporarySolver::setDamping(bool scaled, double lambda) {
+  damping_is_zero_ = lambda == 0.0;
   for (size_t j = 0; j < active_.size(); ++j) {
     const BlockCholesky::Block& diagonal = h_[cholesky_.diagonalIndex(static_cast<int>(j))];
     for (int c = 0; c < kB; ++c) {
@@ -142,12 +145,15 @@ void TemporarySolver::setDamping(bool scaled, double lambda) {
 double TemporarySolver::dampingEnergy() const { return (damping_.array() * step_.array().square()).sum(); }
 
 void TemporarySolver::applyStep() {
+  undamped_factor_current_ = false;
   for (size_t j = 0; j < active_.size(); ++j) active_[j]->plus(step_.data() + kB * j);
 }
 
 Status TemporarySolver::solveStep(SolverSummary& summary) {
   ++summary.factorizations;
+  undamped_factor_current_ = false;
   DG_RETURN_IF_ERROR(cholesky_.factorize(h_.data(), damping_.data()));
+  undamped_factor_current_ = damping_is_zero_;  // the factor of H itself, at the current estimate
   DG_RETURN_IF_ERROR(cholesky_.solve(rhs_.data(), step_.data()));
   if (!step_.allFinite()) return Status(StatusCode::kNumericalError, "non-finite step");
   return Status();
@@ -206,10 +212,16 @@ Status TemporarySolver::computeMarginals() {
   marginals_ready_ = false;
   if (!has_problem_) return Status(StatusCode::kFailedPrecondition, "temporary solver: setGraph was not called");
   if (active_.empty()) return Status(StatusCode::kFailedPrecondition, "no free vertex in the system");
+  // optimize ended on the model check (OptimizerParams::model_decrease_stop): the factor of the undamped
+  // H at this estimate is in cholesky_ already.
+  const bool reuse = errors_current_ && undamped_factor_current_;
   if (!errors_current_) evaluateChi2(nullptr);
   errors_current_ = false;
-  linearizeAndAssemble();
-  DG_RETURN_IF_ERROR(cholesky_.factorize(h_.data()));
+  if (!reuse) {
+    linearizeAndAssemble();
+    DG_RETURN_IF_ERROR(cholesky_.factorize(h_.data()));
+  }
+  undamped_factor_current_ = false;
   DG_RETURN_IF_ERROR(cholesky_.selectedInverse());
   marginals_ready_ = true;
   return Status();

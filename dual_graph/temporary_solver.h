@@ -22,8 +22,8 @@ namespace dualgraph {
 /// generic Optimizer's LM (core/optimizer_loops.cpp): the same damping (`params.damping`: H + λI with
 /// λ₀ = τ·max diag H, or H + λ·diag H clamped to [1e-6, 1e32] with λ₀ = 1e-4), gain ratio from the
 /// damping actually applied, Nielsen's λ update, the same acceptance (including steps below χ²'s
-/// round-off) and stopping rules (`relative_decrease_stop`, `step_norm_stop`, `max_iterations`,
-/// `max_trials`, `time_budget_ms`) and the same terminations. Only Levenberg–Marquardt (`params.algorithm`
+/// round-off) and stopping rules (`relative_decrease_stop`, `model_decrease_stop`, `step_norm_stop`,
+/// `max_iterations`, `max_trials`, `time_budget_ms`) and the same terminations. Only Levenberg–Marquardt (`params.algorithm`
 /// is not read). Covariances are Σ = H⁻¹ of the undamped H at the current estimate, in each vertex's own
 /// tangent space (VertexSE3: g2o's [δt; δq]), from the selected inverse of the block factor.
 ///
@@ -44,7 +44,8 @@ class TemporarySolver {
   SolverSummary optimize(const OptimizerParams& params);
   /// Linearises at the current estimate and computes the selected inverse of the undamped H; then
   /// `marginal`. Right after `optimize` it reuses the errors optimize left (the estimate must not be
-  /// changed in between; anything else recomputes them). Errors: the factorisation's status (kNotPositiveDefinite, kNumericalError),
+  /// changed in between; anything else recomputes them), and when optimize stopped on the model check
+  /// (`model_decrease_stop`) also the factor of that H it left. Errors: the factorisation's status (kNotPositiveDefinite, kNumericalError),
   /// kFailedPrecondition when no free vertex is attached to an edge.
   Status computeMarginals();
   /// Covariance of free vertex `id` (tangentDim square) from the last successful `computeMarginals`;
@@ -104,6 +105,8 @@ class TemporarySolver {
   bool marginals_ready_ = false;
   bool errors_stale_ = false;
   bool errors_current_ = false;  ///< every edge's error is at the current estimate (set by optimize only)
+  bool damping_is_zero_ = false;          ///< the last setDamping's λ was 0
+  bool undamped_factor_current_ = false;  ///< cholesky_ holds the factor of the undamped H at the current estimate
 };
 
 }  // namespace dualgraph

@@ -59,6 +59,7 @@ void bindParams(py::module_& m) {
   DG_FIELD(fix_map_gates); DG_FIELD(initial_sigma_t); DG_FIELD(initial_sigma_r); DG_FIELD(main_max_iterations);
   DG_FIELD(main_time_budget_ms); DG_FIELD(main_relative_decrease_stop); DG_FIELD(main_window); DG_FIELD(temp_max_iterations);
   DG_FIELD(temp_relative_decrease_stop);
+  DG_FIELD(temp_model_decrease_stop);
   DG_FIELD(robust_kernel); DG_FIELD(chi2_gate_pose); DG_FIELD(chi2_gate_point);
 #undef DG_FIELD
 

@@ -23,7 +23,7 @@ const std::vector<std::string> kFieldNames = {
     "mode", "landmark", "mapping", "d_main", "theta_main", "d_temp", "theta_temp", "d_single", "theta_single",
     "single_all_detections", "use_input_covariance", "odom_sigma_t", "odom_sigma_r", "odom_min_distance", "map_sigma_t", "map_sigma_r",
     "fix_map_gates", "initial_world_T_odom", "initial_sigma_t", "initial_sigma_r", "main_max_iterations",
-    "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "temp_relative_decrease_stop", "linear_solver", "lm_damping", "temp_solver", "robust_kernel", "chi2_gate_pose",
+    "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "temp_relative_decrease_stop", "temp_model_decrease_stop", "linear_solver", "lm_damping", "temp_solver", "robust_kernel", "chi2_gate_pose",
     "chi2_gate_point"};
 
 /// Field by field; the transform to `pose_tolerance` (max abs difference of the 4x4 matrices).
@@ -55,6 +55,7 @@ void expectSameParams(const LocalizerParams& a, const LocalizerParams& b, double
   EXPECT_EQ(a.main_window, b.main_window);
   EXPECT_EQ(a.temp_max_iterations, b.temp_max_iterations);
   EXPECT_EQ(a.temp_relative_decrease_stop, b.temp_relative_decrease_stop);
+  EXPECT_EQ(a.temp_model_decrease_stop, b.temp_model_decrease_stop);
   EXPECT_EQ(a.linear_solver, b.linear_solver);
   EXPECT_EQ(a.lm_damping, b.lm_damping);
   EXPECT_EQ(a.temp_solver, b.temp_solver);
@@ -90,6 +91,7 @@ main_relative_decrease_stop: 1e-4
 main_window: 12
 temp_max_iterations: 30
 temp_relative_decrease_stop: 1e-8
+temp_model_decrease_stop: 0
 linear_solver: eigen
 lm_damping: identity
 temp_solver: graph
@@ -110,6 +112,7 @@ LocalizerParams allOverriddenExpected() {
   p.initial_sigma_t = 0.5, p.initial_sigma_r = 0.1;
   p.main_max_iterations = 7, p.main_time_budget_ms = 12.5, p.main_relative_decrease_stop = 1e-4, p.temp_max_iterations = 30;
   p.temp_relative_decrease_stop = 1e-8;
+  p.temp_model_decrease_stop = 0.0;
   p.main_window = 12;
   p.linear_solver = LinearSolverKind::kEigen, p.lm_damping = LmDamping::kIdentity, p.robust_kernel = "cauchy:1.5";
   p.temp_solver = TemporarySolverKind::kGraph;
@@ -284,6 +287,7 @@ TEST(LocalizerParamsValidation, EachOutOfDomainFieldIsNamed) {
       {"main_max_iterations", [](LocalizerParams& p) { p.main_max_iterations = 0; }},
       {"temp_max_iterations", [](LocalizerParams& p) { p.temp_max_iterations = -3; }},
       {"temp_relative_decrease_stop", [](LocalizerParams& p) { p.temp_relative_decrease_stop = -1e-6; }},
+      {"temp_model_decrease_stop", [](LocalizerParams& p) { p.temp_model_decrease_stop = std::nan(""); }},
       {"main_window", [](LocalizerParams& p) { p.main_window = 1; }},
       {"main_window", [](LocalizerParams& p) { p.main_window = -5; }},
       {"main_time_budget_ms", [](LocalizerParams& p) { p.main_time_budget_ms = -1.0; }},

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cstdio>
 #include <random>
 #include <vector>
 
@@ -250,6 +251,53 @@ TEST(TemporarySolver, TakesTheGenericOptimizersStepsAndMarginals) {
       EXPECT_LE(relativeDifference(*solver.marginal(id), *marginals.block(id)), 1e-8) << "vertex " << id;
     }
     EXPECT_EQ(solver.marginal(6).status().code(), StatusCode::kFailedPrecondition);  // fixed: not in the system
+  }
+}
+
+// OptimizerParams::model_decrease_stop: the run ends one iteration earlier, at the estimate before the
+// confirming step, in both solvers alike; the block solver's marginals then reuse the undamped factor the
+// check left, and equal a fresh linearisation's at the same estimate.
+TEST(TemporarySolver, ModelDecreaseStopSavesTheConfirmingIterationAndReusesItsFactor) {
+  for (const LmDamping damping : {LmDamping::kIdentity, LmDamping::kDiagonal}) {
+    SCOPED_TRACE(lmDampingName(damping));
+    OptimizerParams params;
+    params.damping = damping;
+    params.max_iterations = 30;
+    params.relative_decrease_stop = 1e-4;
+    Graph reference_graph, block_graph, generic_graph;
+    buildChain(reference_graph, 5);
+    buildChain(block_graph, 5);
+    buildChain(generic_graph, 5);
+    TemporarySolver reference_solver;
+    ASSERT_TRUE(reference_solver.setGraph(reference_graph).ok());
+    const SolverSummary reference = reference_solver.optimize(params);  // the relative rule alone
+    params.model_decrease_stop = 1e-4;
+    TemporarySolver solver;
+    ASSERT_TRUE(solver.setGraph(block_graph).ok());
+    const SolverSummary block = solver.optimize(params);
+    Optimizer optimizer(generic_graph, std::make_unique<EigenSolver>(EigenOrdering::kNatural));
+    const SolverSummary generic = optimizer.optimize(params);
+    std::printf("[ INFO ] %s: %d iterations, %d factorisations, chi2 %.9g (relative rule alone: %d, %d, %.9g)\n",
+                lmDampingName(damping), block.iterations, block.factorizations, block.final_chi2, reference.iterations,
+                reference.factorizations, reference.final_chi2);
+    EXPECT_EQ(block.termination, TerminationReason::kConverged) << block.message;
+    EXPECT_EQ(block.iterations + 1, reference.iterations);
+    EXPECT_EQ(block.iterations, generic.iterations);
+    EXPECT_EQ(block.factorizations, generic.factorizations);
+    EXPECT_LE(std::abs(block.final_chi2 - generic.final_chi2), 1e-9 * generic.initial_chi2);
+    // χ² one step short of the relative rule's end, by less than the threshold's share of it.
+    EXPECT_GE(block.final_chi2, reference.final_chi2);
+    EXPECT_LE(block.final_chi2 - reference.final_chi2, 2 * params.model_decrease_stop * block.final_chi2);
+    ASSERT_TRUE(solver.computeMarginals().ok());  // reuses the check's factor
+    std::vector<Eigen::MatrixXd> reused;
+    for (int id = 0; id < 6; ++id) reused.push_back(*solver.marginal(id));
+    ASSERT_TRUE(solver.computeMarginals().ok());  // linearises and factorises again at the same estimate
+    MarginalCovariance marginals;
+    ASSERT_TRUE(marginals.compute(optimizer, generic_graph).ok());
+    for (int id = 0; id < 6; ++id) {
+      EXPECT_LE(relativeDifference(reused[id], *solver.marginal(id)), 1e-12) << "vertex " << id;
+      EXPECT_LE(relativeDifference(reused[id], *marginals.block(id)), 1e-8) << "vertex " << id;
+    }
   }
 }
 

@@ -39,6 +39,7 @@ void expectSameLocalizer(const LocalizerParams& a, const LocalizerParams& b) {
   EXPECT_EQ(a.main_relative_decrease_stop, b.main_relative_decrease_stop);
   EXPECT_EQ(a.temp_max_iterations, b.temp_max_iterations);
   EXPECT_EQ(a.temp_relative_decrease_stop, b.temp_relative_decrease_stop);
+  EXPECT_EQ(a.temp_model_decrease_stop, b.temp_model_decrease_stop);
   EXPECT_EQ(a.linear_solver, b.linear_solver);
   EXPECT_EQ(a.lm_damping, b.lm_damping);
   EXPECT_EQ(a.robust_kernel, b.robust_kernel);
