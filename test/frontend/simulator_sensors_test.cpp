@@ -14,6 +14,7 @@
 #include "frontend/flight.h"
 #include "frontend/gate_pnp.h"
 #include "frontend/vio_drift.h"
+#include "test/frontend/pnp_nees_fixtures.h"
 #include "test/frontend/simulator_fixtures.h"
 
 namespace dualgraph {
@@ -23,6 +24,7 @@ using simtest::angleBetween;
 using simtest::ratmFlight;
 using simtest::sampleTruth;
 using Truth = simtest::SampledTruth;
+using namespace simtest::nees;
 
 TEST(VioDrift, IsDeterministicPerSeedDiffersAcrossSeedsAndStartsInTheWorldFrame) {
   const Truth truth = sampleTruth(ratmFlight("ratm_lemniscate.yaml", 2), 100.0);
@@ -153,79 +155,8 @@ TEST(DetectionSimulator, NoiseFreeDetectionsAreProjectionsAndPnpRecoversTheGate)
   EXPECT_GT(from_behind, 0);  // the ellipse flies gates 1 and 4 against their normal
 }
 
-struct NeesSample {
-  double nees, range, diagonal_px;
-  bool ambiguous;
-};
-
-// PnP on the kTrue detections of the RATM ellipse flight (seed 1, default noise) in order, until
-// 1000 of them span a diagonal ≥ 160 px. NEES: the estimate turned by the 90° step closest to the
-// truth (its covariance with it), e = log(truth⁻¹ · estimate).
-// Other flights (`track`, `seed`) may have fewer large views and a rare rejected one (counted in *rejected).
-std::vector<NeesSample> pnpNees(const GatePnpParams& pnp, const char* track = "ratm_ellipse.yaml", int seed = 1,
-                                int* rejected = nullptr) {
-  const CameraModel camera = simtest::ratmCamera();
-  const DetectionSimParams params;
-  auto detections = simulateDetections(ratmFlight(track), simtest::shippedTrack(track), camera, params, seed);
-  EXPECT_TRUE(detections.ok());
-  std::vector<NeesSample> out;
-  int large = 0;  // views spanning ≥ 160 px
-  for (const SimulatedDetection& d : *detections) {
-    if (d.kind != SimulatedDetectionKind::kTrue || large == 1000) continue;
-    GateCornerPixels pixels;
-    for (int i = 0; i < 4; ++i) pixels.col(i) = d.corners.corners[static_cast<size_t>(i)];
-    const GatePnpSolution solution = solveGatePnp(pixels, camera, d.seen_from_front ? GateSide::kFront : GateSide::kBack, pnp);
-    if (rejected != nullptr) *rejected += solution.ok() ? 0 : 1;
-    EXPECT_TRUE(solution.ok() || rejected != nullptr) << solution.message;  // pixel_sigma 1, the detector's
-    if (!solution.ok()) continue;
-    Eigen::Isometry3d estimate = solution.body_T_gate;
-    Matrix6d covariance = solution.covariance;
-    simtest::alignQuarterTurn(estimate, &covariance, d.body_T_gate);
-    const double range = (camera.body_T_camera.inverse() * d.body_T_gate).translation().norm();
-    const double diagonal = (d.true_pixels.col(0) - d.true_pixels.col(2)).norm();
-    large += diagonal >= 160.0;
-    out.push_back({simtest::poseNees(estimate, covariance, d.body_T_gate), range, diagonal, solution.ambiguous});
-  }
-  EXPECT_TRUE(large == 1000 || rejected != nullptr) << large;
-  return out;
-}
-
-// The band of a mean of n independent χ²(6) NEES values: 6 ± 1.96 √(12 / n).
-bool inNeesBand(double mean, int n) { return std::abs(mean - 6.0) <= 1.96 * std::sqrt(12.0 / n); }
-
-struct NeesSummary {
-  double first = 0, large = 0, near = 0, middle = 0, far = 0;
-  int large_n = 0, near_n = 0, middle_n = 0, far_n = 0, ambiguous = 0;
-};
-
-// Means over the first 1000 views (all, < 6 m, 6–10 m, ≥ 10 m) and over the first 1000 spanning ≥ 160 px.
-NeesSummary summarizeNees(const std::vector<NeesSample>& samples, const char* what) {
-  NeesSummary m;
-  for (size_t i = 0; i < samples.size(); ++i) {
-    const NeesSample& s = samples[i];
-    if (s.diagonal_px >= 160.0) m.large += s.nees, ++m.large_n;
-    if (i >= 1000) continue;
-    m.first += s.nees / 1000;
-    m.ambiguous += s.ambiguous ? 1 : 0;
-    if (s.range < 6.0) m.near += s.nees, ++m.near_n;
-    if (s.range >= 6.0 && s.range < 10.0) m.middle += s.nees, ++m.middle_n;
-    if (s.range >= 10.0) m.far += s.nees, ++m.far_n;
-  }
-  m.large /= m.large_n, m.near /= m.near_n, m.middle /= m.middle_n, m.far /= m.far_n;
-  std::printf("[ measured ] PnP NEES (%s): first 1000 views %.3f (%d ambiguous; < 6 m %.2f over %d, 6-10 m %.2f over %d, "
-              ">= 10 m %.2f over %d); first 1000 of >= 160 px %.3f\n",
-              what, m.first, m.ambiguous, m.near, m.near_n, m.middle, m.middle_n, m.far, m.far_n, m.large);
-  return m;
-}
-
 // Mean NEES of 1000 independent 6-DoF errors: χ²₆₀₀₀ / 1000, two-sided 95 % band [5.79, 6.22], in the
 // chart the graph's edges use (poseNees), over the first 1000 views as issue 4 asks, and in each range bin.
-GatePnpParams tiltPosterior() {
-  GatePnpParams pnp;
-  pnp.covariance_model = PnpCovarianceModel::kTiltPosterior;
-  return pnp;
-}
-
 TEST(DetectionSimulator, PnpNeesOfTheTiltPosteriorIsInItsBandNearAndFar) {
   const std::vector<NeesSample> samples = pnpNees(tiltPosterior());
   ASSERT_GE(samples.size(), 1000u);
@@ -235,24 +166,6 @@ TEST(DetectionSimulator, PnpNeesOfTheTiltPosteriorIsInItsBandNearAndFar) {
   EXPECT_TRUE(inNeesBand(m.near, m.near_n)) << m.near;
   EXPECT_TRUE(inNeesBand(m.middle, m.middle_n)) << m.middle;
   EXPECT_TRUE(inNeesBand(m.far, m.far_n)) << m.far;
-}
-
-// The other simulated flights: 6.03–6.44 (ellipse seeds 2, 3; lemniscate seeds 1–3). An importance-
-// sampled posterior gives the same (frontend/README.md): what is left is the posterior's own frequentist
-// coverage at this signal-to-noise, not the lattice. A regression bound (within 8 % of 6), not the band.
-TEST(DetectionSimulator, PnpNeesOfTheTiltPosteriorOnOtherFlightsIsWithinEightPercent) {
-  const std::pair<const char*, int> flights[] = {{"ratm_ellipse.yaml", 2}, {"ratm_ellipse.yaml", 3},
-                                                 {"ratm_lemniscate.yaml", 1}, {"ratm_lemniscate.yaml", 2},
-                                                 {"ratm_lemniscate.yaml", 3}};
-  for (const auto& [track, seed] : flights) {
-    int rejected = 0;
-    const std::vector<NeesSample> samples = pnpNees(tiltPosterior(), track, seed, &rejected);
-    ASSERT_GE(samples.size(), 1000u);
-    const std::string what = std::string(track) + " seed " + std::to_string(seed);
-    const NeesSummary m = summarizeNees(samples, what.c_str());
-    EXPECT_NEAR(m.first, 6.0, 0.48) << what;
-    EXPECT_LE(rejected, 5) << what;
-  }
 }
 
 // The default Laplace covariance (with IPPE's other basin mixed in) is consistent up close and overconfident
