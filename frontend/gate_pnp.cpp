@@ -15,6 +15,7 @@ namespace dualgraph {
 namespace {
 
 using pnp_detail::Corners3;
+using pnp_detail::jacobian;
 using pnp_detail::Matrix86d;
 using pnp_detail::residuals;
 using pnp_detail::Vector8d;
@@ -25,22 +26,6 @@ GatePnpSolution reject(GatePnpSolution solution, GatePnpRejection why, std::stri
   solution.rejection = why;
   solution.message = std::string(gatePnpRejectionName(why)) + ": " + std::move(message);
   return solution;
-}
-
-/// J = ∂r/∂ε of se3BoxPlus(camera_T_gate, ε) (ε = [ε_t; ε_θ], m and rad): the corner p_c = R p + t moves by
-/// R ε_t − R [p]× ε_θ, chained with CameraModel's analytic ∂pixel/∂p_c.
-bool jacobian(const Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, const CameraModel& camera,
-              Matrix86d& J_r_eps) {
-  const Eigen::Matrix3d& R = camera_T_gate.linear();
-  for (int i = 0; i < 4; ++i) {
-    const Eigen::Vector3d p = p_gate.col(i);
-    Eigen::Matrix<double, 2, 3> d_pixel;
-    if (!camera.project(camera_T_gate * p, &d_pixel).in_front) return false;
-    const Eigen::Matrix<double, 2, 3> d_pixel_R = d_pixel * R;
-    J_r_eps.block<2, 3>(2 * i, 0) = d_pixel_R;
-    J_r_eps.block<2, 3>(2 * i, 3) = -d_pixel_R * skew(p);
-  }
-  return J_r_eps.allFinite();
 }
 
 double rms(const Vector8d& r) { return std::sqrt(r.squaredNorm() / 4.0); }

@@ -85,9 +85,9 @@ struct GatePnpParams {
 /// (frontend/gate_pnp_posterior.h). kLaplace (default): σ² (JᵀJ)⁻¹, mixed with IPPE's other basin when it found
 /// one, w₁Σ₁ + w₂(Σ₂ + δδᵀ) (weights: each mode's Laplace mass).
 /// Consistency on the simulated RATM ellipse (σ = 1 px, first 1000 views, seed 1, test/frontend/
-/// simulator_sensors_test.cpp; band 5.79–6.22): mean NEES **6.15** with kTiltPosterior (6.17 below 6 m,
-/// 5.92 at 6–10 m, 6.27 beyond), 7.18 with kLaplace (7.7–7.8 beyond 6 m, where the tilt's likelihood
-/// is flat-topped or two-peaked). Cost per view on that flight: ≈ 220 µs vs ≈ 160 µs (bench
+/// simulator_sensors_test.cpp; band 5.79–6.22): mean NEES **6.13** with kTiltPosterior (6.17 below 6 m,
+/// 5.90 at 6–10 m, 6.23 beyond), 7.18 with kLaplace (7.7–7.8 beyond 6 m, where the tilt's likelihood
+/// is flat-topped or two-peaked). Cost per view on that flight: ≈ 380 µs vs ≈ 160 µs (bench
 /// BM_GatePnp_Solve).
 struct GatePnpSolution {
   GatePnpRejection rejection = GatePnpRejection::kNone;

@@ -10,14 +10,17 @@ namespace dualgraph::pnp_detail {
 namespace {
 
 // The lattice covers ± kHalfWidth standard deviations of each tilt with kNodesPerSide nodes on each side
-// of the centre (spacing 4σ/3: the trapezoid rule's relative error on a Gaussian is 2 exp(−2π²σ²/h²) ≈ 3e-5).
-// The mean NEES of test/frontend/simulator_sensors_test.cpp moves by < 0.01 between this and ±5σ at σ/2.
+// of the centre (spacing 0.8σ). On a Gaussian the trapezoid rule would be exact to 1e-5 at 4σ/3 already,
+// but a far near-frontal view's flat-topped tilt needs more: against an importance-sampled posterior
+// (test/frontend/gate_pnp_test.cpp) 4σ/3 left one direction 15 % short, 0.8σ is within 3–9 %, and finer
+// lattices do not get closer (what is left is the other four coordinates' Gaussian approximation).
 constexpr double kHalfWidth = 4.0;
-constexpr int kNodesPerSide = 3;
+constexpr int kNodesPerSide = 5;
 constexpr int kMaxNodesAcross = 41;      // along the axis towards the other tilt, at most
 constexpr double kMaxSigma = 0.35;       // [rad]: a Laplace standard deviation above this is capped
 constexpr double kOtherTiltLogRatio = 30.0;  // the other tilt joins the lattice when ΔSSR / 2σ² ≤ this
-constexpr int kRefits = 2;               // Gauss–Newton steps on the four other coordinates per node
+constexpr int kRefits = 2;
+constexpr double kNegligibleWeight = 1e-9;  // a node's weight against the returned pose's               // Gauss–Newton steps on the four other coordinates per node
 
 }  // namespace
 
@@ -30,6 +33,42 @@ bool residuals(const Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, c
   }
   return true;
 }
+
+// The corner p_c = R p + t moves by R ε_t − R [p]× ε_θ, chained with CameraModel's analytic ∂pixel/∂p_c.
+bool jacobian(const Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, const CameraModel& camera,
+              Matrix86d& J_r_eps) {
+  const Eigen::Matrix3d& R = camera_T_gate.linear();
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d p = p_gate.col(i);
+    Eigen::Matrix<double, 2, 3> d_pixel;
+    if (!camera.project(camera_T_gate * p, &d_pixel).in_front) return false;
+    const Eigen::Matrix<double, 2, 3> d_pixel_R = d_pixel * R;
+    J_r_eps.block<2, 3>(2 * i, 0) = d_pixel_R;
+    J_r_eps.block<2, 3>(2 * i, 3) = -d_pixel_R * skew(p);
+  }
+  return J_r_eps.allFinite();
+}
+
+namespace {
+
+/// ∂r/∂y of the four other coordinates y = [ε_t; roll about `sight`] of se3BoxPlus(pose, ε) at the node
+/// ε = (·, theta): in the returned pose's chart, where the moment is taken (the node's own chart would turn
+/// a far gate's depth variance into lateral variance by the tilt). ∂p_c/∂ε_t = R, ∂p_c/∂ε_θ = −R_node [p]× J_r(θ).
+bool otherJacobian(const Eigen::Isometry3d& pose, const Eigen::Isometry3d& node, const Eigen::Vector3d& theta,
+                   const Eigen::Vector3d& sight, const Corners3& p_gate, const CameraModel& camera,
+                   Eigen::Matrix<double, 8, 4>& J) {
+  const Eigen::Vector3d roll_axis = so3RightJacobian(theta) * sight;
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d p = p_gate.col(i);
+    Eigen::Matrix<double, 2, 3> d_pixel;
+    if (!camera.project(node * p, &d_pixel).in_front) return false;
+    J.block<2, 3>(2 * i, 0) = d_pixel * pose.linear();
+    J.block<2, 1>(2 * i, 3) = -d_pixel * (node.linear() * p.cross(roll_axis));
+  }
+  return J.allFinite();
+}
+
+}  // namespace
 
 bool tiltPosteriorCovariance(const TiltPosteriorInput& input, const Corners3& p_gate, const GateCornerPixels& pixels,
                              const CameraModel& camera, double pixel_sigma, Matrix6d& covariance) {
@@ -77,39 +116,61 @@ bool tiltPosteriorCovariance(const TiltPosteriorInput& input, const Corners3& p_
   const double h_beta = sigma_beta * kHalfWidth / kNodesPerSide;
 
   // The other four given the tilt: linear prediction −Hoo⁻¹ Hot τ, then chord Gauss–Newton steps with
-  // the Jacobian at the returned pose; their conditional covariance σ² Hoo⁻¹.
+  // the Jacobian at the returned pose; their conditional covariance σ² (J_oᵀ J_o)⁻¹ with J_o at the node,
+  // whose volume √det also weighs the node (the Laplace mass of the four given the tilt).
   const Eigen::Matrix<double, 8, 4> J_other = input.jacobian * E.leftCols<4>();
   const Eigen::Matrix4d H_other = J_other.transpose() * J_other;
   const Eigen::LDLT<Eigen::Matrix4d> H_other_ldlt(H_other);
   const Eigen::Matrix<double, 4, 8> step_map = H_other_ldlt.solve(J_other.transpose());
   const Eigen::Matrix<double, 4, 2> predict = -H_other_ldlt.solve(Hy.topRightCorner<4, 2>());
   if (!step_map.allFinite() || !predict.allFinite()) return false;
+  const double reference_determinant = H_other_ldlt.vectorD().prod();
 
   double weight_sum = 0.0;
   Matrix6d moment = Matrix6d::Zero();
+  // One node: its weight (0 when a corner falls behind the camera), added to the sums.
+  const auto add_node = [&](double alpha, double beta) {
+    Vector6d y;
+    y.tail<2>() << alpha, beta;
+    y.head<4>() = predict * y.tail<2>();
+    Vector8d r;
+    bool in_front = true;
+    for (int it = 0; it < kRefits && in_front; ++it) {
+      in_front = residuals(se3BoxPlus(pose, E * y), p_gate, pixels, camera, r);
+      if (in_front) y.head<4>() -= step_map * r;
+    }
+    const Eigen::Isometry3d node = se3BoxPlus(pose, E * y);
+    Eigen::Matrix<double, 8, 4> J_node_other;
+    if (!in_front || !residuals(node, p_gate, pixels, camera, r) ||
+        !otherJacobian(pose, node, (E * y).tail<3>(), sight, p_gate, camera, J_node_other)) {
+      return 0.0;
+    }
+    const Eigen::LDLT<Eigen::Matrix4d> node_ldlt(J_node_other.transpose() * J_node_other);
+    const double volume = std::sqrt(reference_determinant / node_ldlt.vectorD().prod());  // √det C_node / √det C₀
+    if (node_ldlt.info() != Eigen::Success || !(node_ldlt.vectorD().minCoeff() > 0.0) || !std::isfinite(volume)) return 0.0;
+    const double weight = volume * std::exp(-std::min(700.0, (r.squaredNorm() - input.ssr) / (2.0 * sigma2)));
+    const Vector6d epsilon = E * y;
+    Matrix6d conditional = Matrix6d::Zero();
+    conditional.topLeftCorner<4, 4>() = sigma2 * node_ldlt.solve(Eigen::Matrix4d::Identity());
+    weight_sum += weight;
+    moment.noalias() += weight * (epsilon * epsilon.transpose() + E * conditional * E.transpose());
+    return weight;
+  };
+  // Each column from its centre outwards, each side until a node's weight is negligible against the
+  // returned pose's (≈ 1): given the tilt along the first axis the second is one-peaked, so what lies
+  // beyond adds nothing; columns between two far-apart modes then cost three nodes instead of eleven.
   for (int i = 0; i < n_alpha; ++i) {
     const double alpha = lo + i * h_alpha;
-    for (int j = -kNodesPerSide; j <= kNodesPerSide; ++j) {
-      Vector6d y;
-      y.tail<2>() << alpha, slope * alpha + j * h_beta;
-      y.head<4>() = predict * y.tail<2>();
-      Vector8d r;
-      bool in_front = true;
-      for (int it = 0; it < kRefits && in_front; ++it) {
-        in_front = residuals(se3BoxPlus(pose, E * y), p_gate, pixels, camera, r);
-        if (in_front) y.head<4>() -= step_map * r;
+    const double centre = slope * alpha;
+    add_node(alpha, centre);
+    for (int side : {1, -1}) {
+      for (int j = 1; j <= kNodesPerSide; ++j) {
+        if (add_node(alpha, centre + side * j * h_beta) < kNegligibleWeight) break;
       }
-      if (!in_front || !residuals(se3BoxPlus(pose, E * y), p_gate, pixels, camera, r)) continue;
-      const double weight = std::exp(-std::min(700.0, (r.squaredNorm() - input.ssr) / (2.0 * sigma2)));
-      const Vector6d epsilon = E * y;
-      weight_sum += weight;
-      moment.noalias() += weight * epsilon * epsilon.transpose();
     }
   }
   if (!(weight_sum > 0.0) || !moment.allFinite()) return false;
-  Matrix6d conditional = Matrix6d::Zero();
-  conditional.topLeftCorner<4, 4>() = sigma2 * H_other_ldlt.solve(Eigen::Matrix4d::Identity());
-  covariance = moment / weight_sum + E * conditional * E.transpose();
+  covariance = moment / weight_sum;
   covariance = (0.5 * (covariance + covariance.transpose())).eval();
   return covariance.allFinite();
 }

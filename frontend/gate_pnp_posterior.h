@@ -21,6 +21,11 @@ using Corners3 = Eigen::Matrix<double, 3, 4>;
 bool residuals(const Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, const GateCornerPixels& pixels,
                const CameraModel& camera, Vector8d& r);
 
+/// J = ∂r/∂ε of se3BoxPlus(camera_T_gate, ε) (ε = [ε_t; ε_θ], m and rad) [px per m, px per rad], analytic
+/// through CameraModel::project's ∂pixel/∂p; false if a corner is not in front of the camera.
+bool jacobian(const Eigen::Isometry3d& camera_T_gate, const Corners3& p_gate, const CameraModel& camera,
+              Matrix86d& J_r_eps);
+
 /// What tiltPosteriorCovariance needs to know about the view.
 struct TiltPosteriorInput {
   Eigen::Isometry3d camera_T_gate;  ///< the maximum-likelihood pose the moment is taken about
@@ -35,10 +40,12 @@ struct TiltPosteriorInput {
 /// chart of se3BoxPlus, [m, rad]) under isotropic pixel noise σ and a flat prior, integrated over the
 /// gate's tilt (the two rotations about axes across the line of sight: the directions a small or far
 /// square's image hardly fixes and whose likelihood is not Gaussian — flat-topped near a frontal view,
-/// two-peaked with the mirrored tilt). The tilt is integrated on a 7 × 7 lattice (±4 Laplace standard
-/// deviations, the second axis sheared along the first's regression; stretched to ≤ 41 columns
-/// reaching the other tilt when that one's likelihood ratio is above e⁻³⁰); the other four coordinates (translation, roll about the line of sight) are Gaussian given the
-/// tilt, their mean re-fitted by Gauss–Newton at each node. False when no node has a finite weight.
+/// two-peaked with the mirrored tilt). The tilt is integrated on an 11 × 11 lattice (±4 Laplace standard
+/// deviations, the second axis sheared along the first's regression; stretched to ≤ 41 columns reaching
+/// the other tilt when that one's likelihood ratio is above e⁻³⁰); the other four coordinates
+/// (translation, roll about the line of sight) are Gaussian given the tilt: their mean re-fitted by
+/// Gauss–Newton at each node, their covariance that node's Laplace one. False when no node has a finite
+/// weight.
 bool tiltPosteriorCovariance(const TiltPosteriorInput& input, const Corners3& p_gate, const GateCornerPixels& pixels,
                              const CameraModel& camera, double pixel_sigma, Matrix6d& covariance);
 

@@ -14,7 +14,7 @@ namespace {
 
 using namespace simtest::nees;
 
-// The other simulated flights: 6.03–6.44 (ellipse seeds 2, 3; lemniscate seeds 1–3). An importance-
+// The other simulated flights: 6.01–6.42 (ellipse seeds 2, 3; lemniscate seeds 1–3). An importance-
 // sampled posterior gives the same (frontend/README.md): what is left is the posterior's own frequentist
 // coverage at this signal-to-noise, not the lattice. A regression bound (within 8 % of 6), not the band.
 TEST(DetectionSimulator, PnpNeesOfTheTiltPosteriorOnOtherFlightsIsWithinEightPercent) {
