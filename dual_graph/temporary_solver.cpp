@@ -131,7 +131,6 @@ void TemporarySolver::linearizeAndAssemble() {
 }
 
 void TemporarySolver::setDamping(bool scaled, double lambda) {
-  damping_is_zero_ = lambda == 0.0;
   for (size_t j = 0; j < active_.size(); ++j) {
     const BlockCholesky::Block& diagonal = h_[cholesky_.diagonalIndex(static_cast<int>(j))];
     for (int c = 0; c < kB; ++c) {
@@ -153,7 +152,7 @@ Status TemporarySolver::solveStep(SolverSummary& summary) {
   ++summary.factorizations;
   undamped_factor_current_ = false;
   DG_RETURN_IF_ERROR(cholesky_.factorize(h_.data(), damping_.data()));
-  undamped_factor_current_ = damping_is_zero_;  // the factor of H itself, at the current estimate
+  undamped_factor_current_ = damping_.isZero(0.0);  // the factor of H itself, at the current estimate
   DG_RETURN_IF_ERROR(cholesky_.solve(rhs_.data(), step_.data()));
   if (!step_.allFinite()) return Status(StatusCode::kNumericalError, "non-finite step");
   return Status();

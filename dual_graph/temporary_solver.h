@@ -105,7 +105,6 @@ class TemporarySolver {
   bool marginals_ready_ = false;
   bool errors_stale_ = false;
   bool errors_current_ = false;  ///< every edge's error is at the current estimate (set by optimize only)
-  bool damping_is_zero_ = false;          ///< the last setDamping's λ was 0
   bool undamped_factor_current_ = false;  ///< cholesky_ holds the factor of the undamped H at the current estimate
 };
 
