@@ -31,6 +31,7 @@ Status TemporarySolver::setProblem(const std::vector<VertexBase*>& vertices, con
   edge_block_.clear();
   pair_begin_.assign(1, 0);
   pair_index_.clear();
+  pair_first_.clear();
   pattern_.clear();
   int max_id = -1;
   for (const VertexBase* v : vertices) {
@@ -98,6 +99,16 @@ Status TemporarySolver::setProblem(const std::vector<VertexBase*>& vertices, con
     pair_begin_.push_back(static_cast<int>(pair_index_.size()));
   }
   h_.resize(cholesky_.numStoredBlocks());
+  std::vector<unsigned char>& touched = touched_work_;
+  touched.assign(h_.size(), 0);
+  pair_first_.resize(pair_index_.size());
+  for (size_t k = 0; k < pair_index_.size(); ++k) {
+    pair_first_[k] = touched[pair_index_[k]] == 0 ? 1 : 0;
+    touched[pair_index_[k]] = 1;
+  }
+  for (size_t p = 0; p < h_.size(); ++p) {
+    if (touched[p] == 0) h_[p].setZero();  // fill: L's pattern only, never assembled
+  }
   rhs_.setZero(kB * num_blocks);
   damping_.setZero(kB * num_blocks);
   step_.setZero(kB * num_blocks);
@@ -117,8 +128,7 @@ double TemporarySolver::evaluateChi2(std::string* first_bad) {
 
 void TemporarySolver::linearizeAndAssemble() {
   undamped_factor_current_ = false;
-  std::fill(h_.begin(), h_.end(), BlockCholesky::Block::Zero());
-  rhs_.setZero();
+  rhs_.setZero();  // H needs no clearing: each block's first contribution assigns (pair_first_)
   const bool avx2 = block_kernels_avx2::enabled();  // once per linearisation, not per edge
   for (size_t k = 0; k < active_edges_.size(); ++k) {
     active_edges_[k]->computeJacobians();

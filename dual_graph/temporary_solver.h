@@ -96,7 +96,11 @@ class TemporarySolver {
   std::vector<int> edge_block_;         ///< per edge slot: block or -1 (fixed)
   std::vector<int> pair_begin_;         ///< per active edge: first entry of pair_index_
   std::vector<int> pair_index_;         ///< per active slot pair (a ≤ b): stored block of (max, min)
+  /// Per entry of pair_index_: 1 when it is the first contribution to its block in an assembly, which
+  /// then assigns instead of adding (so H is not cleared first; blocks no edge touches, the fill, stay zero).
+  std::vector<unsigned char> pair_first_;
   std::vector<std::pair<int, int>> pattern_;
+  std::vector<unsigned char> touched_work_;  ///< setProblem: per stored block, whether an edge assembles it
   BlockCholesky cholesky_;
   BlockCholesky::BlockVector h_;        ///< undamped H in BlockCholesky's storage
   Eigen::VectorXd rhs_;                 ///< b, 6 per block (padded entries zero)

@@ -58,22 +58,27 @@ void TemporarySolver::assembleEdge(size_t k, bool avx2) {
   const int* pair = pair_index_.data() + pair_begin_[k];
   bool uniform = m == kB;
   for (int a = 0; a < slots && uniform; ++a) uniform = blocks[a] < 0 || block_dim_[blocks[a]] == kB;
-  if (uniform && avx2) {  // SE(3) edges, AVX2 + FMA: whole 6×6 products, no masks
+  const unsigned char* first = pair_first_.data() + pair_begin_[k];  // assign, not add (see pair_first_)
+  if (uniform && avx2) {  // SE(3) edges, AVX2 + FMA: P_a = (w Ω J_a)ᵀ once per vertex, H_rc = P_r J_c
     alignas(32) double w_information[36];
     const double* information = edge.informationData();
     for (int i = 0; i < 36; ++i) w_information[i] = weight * information[i];
-    alignas(32) double weighted[kMaxSlots][36];  // G_a = w Ω J_a
+    alignas(32) double transposed[kMaxSlots][36];
+    unsigned masks[kMaxSlots];
     for (int a = 0; a < slots; ++a) {
       if (blocks[a] < 0) continue;
-      block_kernels_avx2::multiply(weighted[a], w_information, edge.jacobianData(a));
-      block_kernels_avx2::subtractTransposedTimesVector(rhs_.data() + kB * blocks[a], weighted[a], edge.errorData());
+      masks[a] = block_kernels_avx2::nonzeroQuadrants(edge.jacobianData(a));
+      block_kernels_avx2::transposedWeightedJacobian(transposed[a], w_information, edge.jacobianData(a), masks[a]);
+      block_kernels_avx2::subtractTimesVector(rhs_.data() + kB * blocks[a], transposed[a], edge.errorData());
     }
     for (int a = 0; a < slots; ++a) {
       if (blocks[a] < 0) continue;
       for (int b = a; b < slots; ++b) {
         if (blocks[b] < 0) continue;
-        const bool lower = blocks[a] >= blocks[b];  // stored block (row, col) = J_rowᵀ G_col
-        block_kernels_avx2::addTransposedProduct(h_[*pair++].data(), edge.jacobianData(lower ? a : b), weighted[lower ? b : a]);
+        const bool lower = blocks[a] >= blocks[b];  // stored block (row, col) = J_rowᵀ W J_col = P_row J_col
+        const int col = lower ? b : a;
+        block_kernels_avx2::addProduct(h_[*pair++].data(), transposed[lower ? a : b], edge.jacobianData(col), masks[col],
+                                       *first++ != 0);
       }
     }
     return;
@@ -96,7 +101,9 @@ void TemporarySolver::assembleEdge(size_t k, bool avx2) {
         if (blocks[b] < 0) continue;
         const bool lower = blocks[a] >= blocks[b];  // stored block (row, col) = J_rowᵀ G_col
         const int row = lower ? a : b;
-        addTransposedProduct(ConstMap6(edge.jacobianData(row)), masks[row], weighted[lower ? b : a], h_[*pair++]);
+        BlockCholesky::Block& h = h_[*pair++];
+        if (*first++ != 0) h.setZero();
+        addTransposedProduct(ConstMap6(edge.jacobianData(row)), masks[row], weighted[lower ? b : a], h);
       }
     }
     return;
@@ -119,7 +126,9 @@ void TemporarySolver::assembleEdge(size_t k, bool avx2) {
       const int col = lower ? b : a;
       const int rows = block_dim_[blocks[row]];
       const int cols = block_dim_[blocks[col]];
-      h_[*pair++].topLeftCorner(rows, cols).noalias() += ConstMap(edge.jacobianData(row), m, rows).transpose() * weighted[col];
+      BlockCholesky::Block& h = h_[*pair++];
+      if (*first++ != 0) h.setZero();
+      h.topLeftCorner(rows, cols).noalias() += ConstMap(edge.jacobianData(row), m, rows).transpose() * weighted[col];
     }
   }
 }

@@ -25,18 +25,30 @@ enum Mode { kAssign, kAdd, kSubtract };
 /// (for updates of a diagonal block of which only the lower triangle is read). `kTransposedA`: the left
 /// factor is Aᵀ, its column k (A's row k) gathered into registers from A's strided entries (no transposed
 /// copy: scalar stores read back by vector loads would stall store forwarding).
-template <Mode kMode, bool kLowerOnly, bool kTransposedA = false, typename S, typename Zero>
-inline __attribute__((always_inline)) void product(double* c, const double* a, S s, Zero zero) {
+/// The six columns of a 6×6 result in registers: rows 0–3 of column j in top[j], rows 4–5 in bottom[j].
+struct Columns {
   __m256d top[6];
   __m128d bottom[6];
+};
+
+/// C (6×6) =, += or −= A · S for a coefficient map S(k, j) (the right-hand factor's entry (k, j)), skipping
+/// the terms `Zero(k, j)` declares exactly zero (triangular factors, an SE(3) Jacobian's zero quadrants;
+/// resolved at compile time), left in registers. Every load of A and C happens here, before any store:
+/// C may be A in kAssign mode. `kLowerOnly` skips rows 0–3 of columns 4 and 5 (for updates of a diagonal
+/// block of which only the lower triangle is read). `kTransposedA`: the left factor is Aᵀ, its column k
+/// (A's row k) gathered into registers from A's strided entries (no transposed copy: scalar stores read
+/// back by vector loads would stall store forwarding).
+template <Mode kMode, bool kLowerOnly, bool kTransposedA, typename S, typename Zero>
+inline __attribute__((always_inline)) Columns accumulate(const double* c, const double* a, S s, Zero zero) {
+  Columns r;
 #pragma GCC unroll 6
   for (int j = 0; j < 6; ++j) {
     if (kMode == kAssign) {
-      top[j] = _mm256_setzero_pd();
-      bottom[j] = _mm_setzero_pd();
+      r.top[j] = _mm256_setzero_pd();
+      r.bottom[j] = _mm_setzero_pd();
     } else {
-      top[j] = _mm256_loadu_pd(c + 6 * j);
-      bottom[j] = _mm_loadu_pd(c + 6 * j + 4);
+      r.top[j] = _mm256_loadu_pd(c + 6 * j);
+      r.bottom[j] = _mm_loadu_pd(c + 6 * j + 4);
     }
   }
 #pragma GCC unroll 6
@@ -50,19 +62,57 @@ inline __attribute__((always_inline)) void product(double* c, const double* a, S
       const __m128d b2 = _mm256_castpd256_pd128(b);
       const bool skip_top = kLowerOnly && j >= 4;
       if (kMode == kSubtract) {
-        if (!skip_top) top[j] = _mm256_fnmadd_pd(a_top, b, top[j]);
-        bottom[j] = _mm_fnmadd_pd(a_bottom, b2, bottom[j]);
+        if (!skip_top) r.top[j] = _mm256_fnmadd_pd(a_top, b, r.top[j]);
+        r.bottom[j] = _mm_fnmadd_pd(a_bottom, b2, r.bottom[j]);
       } else {
-        if (!skip_top) top[j] = _mm256_fmadd_pd(a_top, b, top[j]);
-        bottom[j] = _mm_fmadd_pd(a_bottom, b2, bottom[j]);
+        if (!skip_top) r.top[j] = _mm256_fmadd_pd(a_top, b, r.top[j]);
+        r.bottom[j] = _mm_fmadd_pd(a_bottom, b2, r.bottom[j]);
       }
     }
   }
+  return r;
+}
+
+template <bool kLowerOnly>
+inline __attribute__((always_inline)) void store(double* c, const Columns& r) {
 #pragma GCC unroll 6
   for (int j = 0; j < 6; ++j) {
-    if (!(kLowerOnly && j >= 4)) _mm256_storeu_pd(c + 6 * j, top[j]);
-    _mm_storeu_pd(c + 6 * j + 4, bottom[j]);
+    if (!(kLowerOnly && j >= 4)) _mm256_storeu_pd(c + 6 * j, r.top[j]);
+    _mm_storeu_pd(c + 6 * j + 4, r.bottom[j]);
   }
+}
+
+/// Stores the transpose of the 6×6 matrix in `r` at c, with register shuffles.
+inline __attribute__((always_inline)) void storeTransposed(double* c, const Columns& r) {
+  // Rows 0–3 of columns 0–3 → columns 0–3, rows 0–3 (a 4×4 transpose).
+  const __m256d u0 = _mm256_unpacklo_pd(r.top[0], r.top[1]);  // (0,0) (0,1) (2,0) (2,1)
+  const __m256d u1 = _mm256_unpackhi_pd(r.top[0], r.top[1]);  // (1,0) (1,1) (3,0) (3,1)
+  const __m256d u2 = _mm256_unpacklo_pd(r.top[2], r.top[3]);
+  const __m256d u3 = _mm256_unpackhi_pd(r.top[2], r.top[3]);
+  _mm256_storeu_pd(c + 0, _mm256_permute2f128_pd(u0, u2, 0x20));
+  _mm256_storeu_pd(c + 6, _mm256_permute2f128_pd(u1, u3, 0x20));
+  _mm256_storeu_pd(c + 12, _mm256_permute2f128_pd(u0, u2, 0x31));
+  _mm256_storeu_pd(c + 18, _mm256_permute2f128_pd(u1, u3, 0x31));
+  // Rows 0–3 of columns 4, 5 → rows 4, 5 of columns 0–3.
+  const __m256d v0 = _mm256_unpacklo_pd(r.top[4], r.top[5]);  // (0,4) (0,5) (2,4) (2,5)
+  const __m256d v1 = _mm256_unpackhi_pd(r.top[4], r.top[5]);  // (1,4) (1,5) (3,4) (3,5)
+  _mm_storeu_pd(c + 4, _mm256_castpd256_pd128(v0));
+  _mm_storeu_pd(c + 10, _mm256_castpd256_pd128(v1));
+  _mm_storeu_pd(c + 16, _mm256_extractf128_pd(v0, 1));
+  _mm_storeu_pd(c + 22, _mm256_extractf128_pd(v1, 1));
+  // Rows 4, 5 of every column → columns 4, 5.
+  const __m128d w01 = _mm_unpacklo_pd(r.bottom[0], r.bottom[1]), x01 = _mm_unpackhi_pd(r.bottom[0], r.bottom[1]);
+  const __m128d w23 = _mm_unpacklo_pd(r.bottom[2], r.bottom[3]), x23 = _mm_unpackhi_pd(r.bottom[2], r.bottom[3]);
+  const __m128d w45 = _mm_unpacklo_pd(r.bottom[4], r.bottom[5]), x45 = _mm_unpackhi_pd(r.bottom[4], r.bottom[5]);
+  _mm256_storeu_pd(c + 24, _mm256_insertf128_pd(_mm256_castpd128_pd256(w01), w23, 1));
+  _mm_storeu_pd(c + 28, w45);
+  _mm256_storeu_pd(c + 30, _mm256_insertf128_pd(_mm256_castpd128_pd256(x01), x23, 1));
+  _mm_storeu_pd(c + 34, x45);
+}
+
+template <Mode kMode, bool kLowerOnly, bool kTransposedA = false, typename S, typename Zero>
+inline __attribute__((always_inline)) void product(double* c, const double* a, S s, Zero zero) {
+  store<kLowerOnly>(c, accumulate<kMode, kLowerOnly, kTransposedA>(c, a, s, zero));
 }
 
 struct Never {
@@ -147,23 +197,86 @@ void selectedInverseColumns(const double* factor, const double* diagonal_inverse
   }
 }
 
-void multiply(double* g, const double* w, const double* j) {
-  product<kAssign, false>(g, w, [j](int k, int c) { return j + 6 * c + k; }, Never{});
+namespace {
+
+/// Zero(k, j) of a right-hand factor (a Jacobian) whose 3×3 quadrant (r, c) is exactly zero when bit 2r + c
+/// of kMask is clear.
+template <unsigned kMask>
+struct QuadrantZero {
+  constexpr bool operator()(int k, int j) const { return ((kMask >> (2 * (k / 3) + j / 3)) & 1u) == 0; }
+};
+
+template <unsigned kMask>
+void transposedWeighted(double* p, const double* w, const double* j) {
+  storeTransposed(p, accumulate<kAssign, false, false>(p, w, [j](int k, int c) { return j + 6 * c + k; }, QuadrantZero<kMask>{}));
 }
 
-void addTransposedProduct(double* h, const double* j, const double* g) {
-  product<kAdd, false, true>(h, j, [g](int k, int c) { return g + 6 * c + k; }, Never{});
+template <unsigned kMask, Mode kMode>
+void productWithJacobian(double* h, const double* p, const double* j) {
+  product<kMode, false>(h, p, [j](int k, int c) { return j + 6 * c + k; }, QuadrantZero<kMask>{});
 }
 
-void subtractTransposedTimesVector(double* r, const double* g, const double* e) {
-  const __m256d e_top = _mm256_loadu_pd(e);
-  const __m128d e_bottom = _mm_loadu_pd(e + 4);
-  for (int c = 0; c < 6; ++c) {
-    const __m256d p = _mm256_mul_pd(_mm256_loadu_pd(g + 6 * c), e_top);
-    const __m128d q = _mm_fmadd_pd(_mm_loadu_pd(g + 6 * c + 4), e_bottom,
-                                   _mm_add_pd(_mm256_castpd256_pd128(p), _mm256_extractf128_pd(p, 1)));
-    r[c] -= _mm_cvtsd_f64(_mm_add_sd(q, _mm_unpackhi_pd(q, q)));
+/// The masks of the SE(3) edges' Jacobians get their own code; any other mask is treated as dense (15),
+/// which is exact too.
+template <unsigned kMask>
+void addProductFor(double* h, const double* p, const double* j, bool assign) {
+  if (assign) {
+    productWithJacobian<kMask, kAssign>(h, p, j);
+  } else {
+    productWithJacobian<kMask, kAdd>(h, p, j);
   }
+}
+
+}  // namespace
+
+unsigned nonzeroQuadrants(const double* j) {
+  const __m256d left_top = _mm256_or_pd(_mm256_or_pd(_mm256_loadu_pd(j), _mm256_loadu_pd(j + 6)), _mm256_loadu_pd(j + 12));
+  const __m128d left_bottom = _mm_or_pd(_mm_or_pd(_mm_loadu_pd(j + 4), _mm_loadu_pd(j + 10)), _mm_loadu_pd(j + 16));
+  const __m256d right_top = _mm256_or_pd(_mm256_or_pd(_mm256_loadu_pd(j + 18), _mm256_loadu_pd(j + 24)), _mm256_loadu_pd(j + 30));
+  const __m128d right_bottom = _mm_or_pd(_mm_or_pd(_mm_loadu_pd(j + 22), _mm_loadu_pd(j + 28)), _mm_loadu_pd(j + 34));
+  // The OR of the bit patterns is ±0 only when every entry is ±0 (NaN compares unequal: nonzero).
+  const int lt = _mm256_movemask_pd(_mm256_cmp_pd(left_top, _mm256_setzero_pd(), _CMP_NEQ_UQ));
+  const int lb = _mm_movemask_pd(_mm_cmp_pd(left_bottom, _mm_setzero_pd(), _CMP_NEQ_UQ));
+  const int rt = _mm256_movemask_pd(_mm256_cmp_pd(right_top, _mm256_setzero_pd(), _CMP_NEQ_UQ));
+  const int rb = _mm_movemask_pd(_mm_cmp_pd(right_bottom, _mm_setzero_pd(), _CMP_NEQ_UQ));
+  unsigned mask = 0;
+  if ((lt & 7) != 0) mask |= 1u;
+  if ((rt & 7) != 0) mask |= 2u;
+  if ((lt & 8) != 0 || lb != 0) mask |= 4u;
+  if ((rt & 8) != 0 || rb != 0) mask |= 8u;
+  return mask;
+}
+
+void transposedWeightedJacobian(double* p, const double* w, const double* j, unsigned j_mask) {
+  switch (j_mask) {
+    case 9: return transposedWeighted<9>(p, w, j);
+    case 11: return transposedWeighted<11>(p, w, j);
+    case 13: return transposedWeighted<13>(p, w, j);
+    default: return transposedWeighted<15>(p, w, j);
+  }
+}
+
+void addProduct(double* h, const double* p, const double* j, unsigned j_mask, bool assign) {
+  switch (j_mask) {
+    case 9: return addProductFor<9>(h, p, j, assign);
+    case 11: return addProductFor<11>(h, p, j, assign);
+    case 13: return addProductFor<13>(h, p, j, assign);
+    default: return addProductFor<15>(h, p, j, assign);
+  }
+}
+
+void subtractTimesVector(double* r, const double* p, const double* e) {
+  // Two accumulators (even and odd k) halve the chain of dependent FMAs.
+  __m256d top[2] = {_mm256_loadu_pd(r), _mm256_setzero_pd()};
+  __m128d bottom[2] = {_mm_loadu_pd(r + 4), _mm_setzero_pd()};
+#pragma GCC unroll 6
+  for (int k = 0; k < 6; ++k) {
+    const __m256d b = _mm256_broadcast_sd(e + k);
+    top[k & 1] = _mm256_fnmadd_pd(_mm256_loadu_pd(p + 6 * k), b, top[k & 1]);
+    bottom[k & 1] = _mm_fnmadd_pd(_mm_loadu_pd(p + 6 * k + 4), _mm256_castpd256_pd128(b), bottom[k & 1]);
+  }
+  _mm256_storeu_pd(r, _mm256_add_pd(top[0], top[1]));
+  _mm_storeu_pd(r + 4, _mm_add_pd(bottom[0], bottom[1]));
 }
 
 }  // namespace dualgraph::block_kernels_avx2
@@ -179,9 +292,10 @@ bool factorizeColumns(double*, double*, const int*, const int*, const int*, int,
   return false;
 }
 void selectedInverseColumns(const double*, const double*, double*, double*, const int*, const int*, const int*, int) {}
-void multiply(double*, const double*, const double*) {}
-void addTransposedProduct(double*, const double*, const double*) {}
-void subtractTransposedTimesVector(double*, const double*, const double*) {}
+unsigned nonzeroQuadrants(const double*) { return 15; }
+void transposedWeightedJacobian(double*, const double*, const double*, unsigned) {}
+void addProduct(double*, const double*, const double*, unsigned, bool) {}
+void subtractTimesVector(double*, const double*, const double*) {}
 
 }  // namespace dualgraph::block_kernels_avx2
 

@@ -39,11 +39,18 @@ bool factorizeColumns(double* factor, double* diagonal_inverse, const int* col_b
 void selectedInverseColumns(const double* factor, const double* diagonal_inverse, double* sigma, double* work,
                             const int* col_begin, const int* target, const int* target_begin, int num_blocks);
 
-/// g = w · j (6×6 each; g must not alias w or j).
-void multiply(double* g, const double* w, const double* j);
-/// h += jᵀ · g (6×6 each; h must not alias j or g).
-void addTransposedProduct(double* h, const double* j, const double* g);
-/// r −= gᵀ · e (g 6×6, e and r 6-vectors).
-void subtractTransposedTimesVector(double* r, const double* g, const double* e);
+// The SE(3) edge assembly H_rc += J_rᵀ W J_c, b_r −= J_rᵀ W e (TemporarySolver), with P_r = (W J_r)ᵀ
+// computed once per vertex of the edge and each Jacobian's exactly-zero 3×3 quadrants skipped.
+
+/// Bit 2r + c set when the 3×3 quadrant (r, c) (rows 3r…3r+2, columns 3c…3c+2) of the 6×6 block `j` has
+/// an entry other than ±0 (NaN counts as nonzero).
+unsigned nonzeroQuadrants(const double* j);
+/// p = (w · j)ᵀ, which is jᵀ · w for the symmetric w, skipping the quadrants of j that `j_mask` (from
+/// nonzeroQuadrants, or any superset of it) declares zero. p must not alias w or j.
+void transposedWeightedJacobian(double* p, const double* w, const double* j, unsigned j_mask);
+/// h = p · j (`assign`) or h += p · j, skipping j's zero quadrants as above. h must not alias p or j.
+void addProduct(double* h, const double* p, const double* j, unsigned j_mask, bool assign);
+/// r −= p · e (p 6×6, e and r 6-vectors).
+void subtractTimesVector(double* r, const double* p, const double* e);
 
 }  // namespace dualgraph::block_kernels_avx2

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 namespace dualgraph {
@@ -108,28 +109,63 @@ class BlockKernelsAvx2 : public BlockKernels {
   }
 };
 
-TEST_F(BlockKernelsAvx2, AssemblyProductsMatchEigenAtAnyAlignment) {
+/// A random block whose 3×3 quadrants are exactly zero where bit 2r + c of `mask` is clear (some of
+/// them −0.0).
+Block withZeroQuadrants(Block b, unsigned mask, std::mt19937& rng) {
+  for (int r = 0; r < 2; ++r) {
+    for (int c = 0; c < 2; ++c) {
+      if (((mask >> (2 * r + c)) & 1u) != 0) continue;
+      b.block<3, 3>(3 * r, 3 * c).setZero();
+      if (rng() % 2 == 0) b(3 * r + 1, 3 * c + 2) = -0.0;
+    }
+  }
+  return b;
+}
+
+TEST_F(BlockKernelsAvx2, NonzeroQuadrantsSeesEveryEntryAndTreatsNegativeZeroAsZero) {
+  for (unsigned mask = 0; mask < 16; ++mask) {
+    const Block j = withZeroQuadrants(random(), mask, rng_);
+    EXPECT_EQ(block_kernels_avx2::nonzeroQuadrants(j.data()), mask);
+  }
+  for (int entry = 0; entry < 36; ++entry) {  // one nonzero (or NaN) entry lights exactly its quadrant
+    Block j = Block::Zero();
+    j.data()[entry] = entry % 2 == 0 ? 1e-300 : std::numeric_limits<double>::quiet_NaN();
+    const int row = entry % 6, col = entry / 6;
+    EXPECT_EQ(block_kernels_avx2::nonzeroQuadrants(j.data()), 1u << (2 * (row / 3) + col / 3)) << entry;
+  }
+}
+
+TEST_F(BlockKernelsAvx2, AssemblyProductsMatchEigenForEveryQuadrantMaskAtAnyAlignment) {
   alignas(32) double buffer[4 * 36 + 8];
   for (int offset : {0, 1, 2, 3}) {
-    double* g = buffer + offset;
-    double* h = g + 36;
+    double* p = buffer + offset;
+    double* h = p + 36;
     double* w = h + 36;
     double* j = w + 36;
-    for (int trial = 0; trial < 20; ++trial) {
-      const Block w_block = random(), j_block = random(), h_block = random();
+    for (unsigned mask = 0; mask < 16; ++mask) {
+      const Block root = random();
+      const Block w_block = root * root.transpose() + Block::Identity();  // symmetric, as Ω is
+      const Block j_block = withZeroQuadrants(random(), mask, rng_), h_block = random();
       Eigen::Map<Block> w_map(w), j_map(j), h_map(h);
       w_map = w_block;
       j_map = j_block;
       h_map = h_block;
-      block_kernels_avx2::multiply(g, w, j);
-      const Block g_block = Eigen::Map<const Block>(g);
-      expectNear(g_block, w_block * j_block);
-      block_kernels_avx2::addTransposedProduct(h, j, g);
-      expectNear(Block(h_map), h_block + j_block.transpose() * g_block);
+      const unsigned found = block_kernels_avx2::nonzeroQuadrants(j);
+      for (unsigned used : {found, 15u}) {  // the exact mask and the dense fallback
+        block_kernels_avx2::transposedWeightedJacobian(p, w, j, used);
+        const Block p_block = Eigen::Map<const Block>(p);
+        expectNear(p_block, (w_block * j_block).transpose());
+        h_map = h_block;
+        block_kernels_avx2::addProduct(h, p, j, used, false);
+        expectNear(Block(h_map), h_block + p_block * j_block);
+        block_kernels_avx2::addProduct(h, p, j, used, true);
+        expectNear(Block(h_map), p_block * j_block);
+      }
       Eigen::Matrix<double, 6, 1> e, r;
       for (int i = 0; i < 6; ++i) e[i] = normal_(rng_), r[i] = normal_(rng_);
-      const Eigen::Matrix<double, 6, 1> expected = r - g_block.transpose() * e;
-      block_kernels_avx2::subtractTransposedTimesVector(r.data(), g, e.data());
+      const Block p_block = Eigen::Map<const Block>(p);
+      const Eigen::Matrix<double, 6, 1> expected = r - p_block * e;
+      block_kernels_avx2::subtractTimesVector(r.data(), p, e.data());
       EXPECT_LE((r - expected).lpNorm<Eigen::Infinity>(), 1e-13 * (1.0 + expected.lpNorm<Eigen::Infinity>())) << offset;
     }
   }
