@@ -67,13 +67,18 @@ void setKernel(EdgeBase& edge, const std::shared_ptr<const RobustKernel>& kernel
 
 Status TemporaryProblem::addPoseEdge(int from, int to, const Eigen::Isometry3d& from_T_to,
                                      const Matrix6d& information_g2o) {
+  return addSe3Edge(from, to, from_T_to, information_g2o, nullptr);
+}
+
+Status TemporaryProblem::addSe3Edge(int from, int to, const Eigen::Isometry3d& from_T_to, const Matrix6d& information_g2o,
+                                    const std::shared_ptr<const RobustKernel>& kernel) {
   if (from == to) return Status(StatusCode::kInvalidArgument, "temporary problem: edge from a vertex to itself");
   EdgeSE3* edge = next(pose_edges_, pose_edges_used_);
   DG_RETURN_IF_ERROR(connect(*edge, 0, vertexAt(from), from));
   DG_RETURN_IF_ERROR(connect(*edge, 1, vertexAt(to), to));
   edge->setMeasurement(from_T_to);
   edge->setInformation(information_g2o);
-  setKernel(*edge, nullptr);
+  setKernel(*edge, kernel);
   edges_.push_back(edge);
   return Status();
 }
@@ -81,9 +86,7 @@ Status TemporaryProblem::addPoseEdge(int from, int to, const Eigen::Isometry3d& 
 Status TemporaryProblem::addGateEdge(int node, int gate, const GateEdgeMeasurement& measurement,
                                      const std::shared_ptr<const RobustKernel>& kernel) {
   if (measurement.model == LandmarkModel::kPose) {
-    DG_RETURN_IF_ERROR(addPoseEdge(node, gate, measurement.node_T_gate, measurement.pose_information));
-    setKernel(*edges_.back(), kernel);
-    return Status();
+    return addSe3Edge(node, gate, measurement.node_T_gate, measurement.pose_information, kernel);
   }
   EdgeSE3PointXYZ* edge = next(point_edges_, point_edges_used_);
   DG_RETURN_IF_ERROR(connect(*edge, 0, vertexAt(node), node));

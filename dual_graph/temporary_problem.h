@@ -60,6 +60,10 @@ class TemporaryProblem {
   static T* next(std::vector<std::unique_ptr<T>>& pool, size_t& used);
   Status placeVertex(int id, VertexBase* vertex);
   VertexBase* vertexAt(int id) const;
+  /// addPoseEdge with `kernel` (may be null), set once: a reused edge that keeps its kernel costs no
+  /// reference-count traffic.
+  Status addSe3Edge(int from, int to, const Eigen::Isometry3d& from_T_to, const Matrix6d& information_g2o,
+                    const std::shared_ptr<const RobustKernel>& kernel);
 
   std::vector<std::unique_ptr<VertexSE3>> poses_;
   std::vector<std::unique_ptr<VertexPointXYZ>> points_;

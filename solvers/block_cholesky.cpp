@@ -101,22 +101,33 @@ Status BlockCholesky::analyse(int num_blocks, const std::vector<std::pair<int, i
     col_begin_[j + 1] = static_cast<int>(row_.size());
   }
   num_blocks_ = num_blocks;
-  // Update targets: block (row_a, row_b) for a ≥ b among each column's off-diagonal blocks.
-  target_.clear();
+  // Update targets: block (row_a, row_b) for a ≥ b among each column's off-diagonal blocks, stored a-major
+  // (target[a(a+1)/2 + b] within the column). For a fixed b, the rows row_a (a ≥ b, increasing) are found
+  // in column row_b's sorted rows by one merge instead of a search each.
   target_begin_.assign(num_blocks + 1, 0);
   size_t max_column = 0;
   for (int j = 0; j < num_blocks; ++j) {
+    const size_t m = static_cast<size_t>(col_begin_[j + 1] - col_begin_[j] - 1);
+    max_column = std::max(max_column, m);
+    target_begin_[j + 1] = target_begin_[j] + static_cast<int>(m * (m + 1) / 2);
+  }
+  target_.resize(static_cast<size_t>(target_begin_[num_blocks]));
+  for (int j = 0; j < num_blocks; ++j) {
     const int first = col_begin_[j] + 1;
     const int end = col_begin_[j + 1];
-    max_column = std::max(max_column, static_cast<size_t>(end - first));
-    for (int a = first; a < end; ++a) {
-      for (int b = first; b <= a; ++b) {
-        const int target = blockIndex(row_[a], row_[b]);
-        if (target < 0) return Status(StatusCode::kInvalidArgument, "block Cholesky: fill pattern is not closed");
-        target_.push_back(target);
+    int* column_targets = target_.data() + target_begin_[j];
+    for (int b = first; b < end; ++b) {
+      const int col = row_[b];
+      int p = col_begin_[col];
+      const int col_end = col_begin_[col + 1];
+      for (int a = b; a < end; ++a) {
+        while (p < col_end && row_[p] < row_[a]) ++p;
+        if (p == col_end || row_[p] != row_[a]) {
+          return Status(StatusCode::kInvalidArgument, "block Cholesky: fill pattern is not closed");
+        }
+        column_targets[(a - first) * (a - first + 1) / 2 + (b - first)] = p;
       }
     }
-    target_begin_[j + 1] = static_cast<int>(target_.size());
   }
   // Every entry is written before it is read (factorize copies H; the inverse is filled column by column).
   factor_.resize(row_.size());
@@ -130,6 +141,12 @@ int BlockCholesky::blockIndex(int row, int col) const {
   if (col < 0 || col >= num_blocks_ || row < col || row >= num_blocks_) return -1;
   const auto begin = row_.begin() + col_begin_[col];
   const auto end = row_.begin() + col_begin_[col + 1];
+  if (end - begin <= 16) {  // the usual column: a short scan beats the binary search's branches
+    for (auto it = begin; it != end && *it <= row; ++it) {
+      if (*it == row) return static_cast<int>(it - row_.begin());
+    }
+    return -1;
+  }
   const auto it = std::lower_bound(begin, end, row);
   return it != end && *it == row ? static_cast<int>(it - row_.begin()) : -1;
 }
