@@ -60,16 +60,17 @@ void TemporarySolver::assembleEdge(size_t k, bool avx2) {
   for (int a = 0; a < slots && uniform; ++a) uniform = blocks[a] < 0 || block_dim_[blocks[a]] == kB;
   const unsigned char* first = pair_first_.data() + pair_begin_[k];  // assign, not add (see pair_first_)
   if (uniform && avx2) {  // SE(3) edges, AVX2 + FMA: P_a = (w Ω J_a)ᵀ once per vertex, H_rc = P_r J_c
-    alignas(32) double w_information[36];
     const double* information = edge.informationData();
-    for (int i = 0; i < 36; ++i) w_information[i] = weight * information[i];
+    const double* error = edge.errorData();
     alignas(32) double transposed[kMaxSlots][36];
+    const double* jacobians[kMaxSlots];
     unsigned masks[kMaxSlots];
     for (int a = 0; a < slots; ++a) {
       if (blocks[a] < 0) continue;
-      masks[a] = block_kernels_avx2::nonzeroQuadrants(edge.jacobianData(a));
-      block_kernels_avx2::transposedWeightedJacobian(transposed[a], w_information, edge.jacobianData(a), masks[a]);
-      block_kernels_avx2::subtractTimesVector(rhs_.data() + kB * blocks[a], transposed[a], edge.errorData());
+      jacobians[a] = edge.jacobianData(a);
+      masks[a] = block_kernels_avx2::nonzeroQuadrants(jacobians[a]);
+      block_kernels_avx2::weightedJacobianTransposed(transposed[a], rhs_.data() + kB * blocks[a], information, weight,
+                                                     jacobians[a], masks[a], error);
     }
     for (int a = 0; a < slots; ++a) {
       if (blocks[a] < 0) continue;
@@ -77,7 +78,7 @@ void TemporarySolver::assembleEdge(size_t k, bool avx2) {
         if (blocks[b] < 0) continue;
         const bool lower = blocks[a] >= blocks[b];  // stored block (row, col) = J_rowᵀ W J_col = P_row J_col
         const int col = lower ? b : a;
-        block_kernels_avx2::addProduct(h_[*pair++].data(), transposed[lower ? a : b], edge.jacobianData(col), masks[col],
+        block_kernels_avx2::addProduct(h_[*pair++].data(), transposed[lower ? a : b], jacobians[col], masks[col],
                                        *first++ != 0);
       }
     }

@@ -82,32 +82,51 @@ inline __attribute__((always_inline)) void store(double* c, const Columns& r) {
   }
 }
 
-/// Stores the transpose of the 6×6 matrix in `r` at c, with register shuffles.
-inline __attribute__((always_inline)) void storeTransposed(double* c, const Columns& r) {
+/// Stores the transpose P of the 6×6 matrix in `g` at p, with register shuffles, and subtracts P · e from
+/// the 6-vector r (from P's columns while they are in registers).
+inline __attribute__((always_inline)) void storeTransposedAndSubtractTimesVector(double* p, const Columns& g, const double* e,
+                                                                                double* r) {
+  __m256d top[6];
+  __m128d bottom[6];
   // Rows 0–3 of columns 0–3 → columns 0–3, rows 0–3 (a 4×4 transpose).
-  const __m256d u0 = _mm256_unpacklo_pd(r.top[0], r.top[1]);  // (0,0) (0,1) (2,0) (2,1)
-  const __m256d u1 = _mm256_unpackhi_pd(r.top[0], r.top[1]);  // (1,0) (1,1) (3,0) (3,1)
-  const __m256d u2 = _mm256_unpacklo_pd(r.top[2], r.top[3]);
-  const __m256d u3 = _mm256_unpackhi_pd(r.top[2], r.top[3]);
-  _mm256_storeu_pd(c + 0, _mm256_permute2f128_pd(u0, u2, 0x20));
-  _mm256_storeu_pd(c + 6, _mm256_permute2f128_pd(u1, u3, 0x20));
-  _mm256_storeu_pd(c + 12, _mm256_permute2f128_pd(u0, u2, 0x31));
-  _mm256_storeu_pd(c + 18, _mm256_permute2f128_pd(u1, u3, 0x31));
+  const __m256d u0 = _mm256_unpacklo_pd(g.top[0], g.top[1]);  // (0,0) (0,1) (2,0) (2,1)
+  const __m256d u1 = _mm256_unpackhi_pd(g.top[0], g.top[1]);  // (1,0) (1,1) (3,0) (3,1)
+  const __m256d u2 = _mm256_unpacklo_pd(g.top[2], g.top[3]);
+  const __m256d u3 = _mm256_unpackhi_pd(g.top[2], g.top[3]);
+  top[0] = _mm256_permute2f128_pd(u0, u2, 0x20);
+  top[1] = _mm256_permute2f128_pd(u1, u3, 0x20);
+  top[2] = _mm256_permute2f128_pd(u0, u2, 0x31);
+  top[3] = _mm256_permute2f128_pd(u1, u3, 0x31);
   // Rows 0–3 of columns 4, 5 → rows 4, 5 of columns 0–3.
-  const __m256d v0 = _mm256_unpacklo_pd(r.top[4], r.top[5]);  // (0,4) (0,5) (2,4) (2,5)
-  const __m256d v1 = _mm256_unpackhi_pd(r.top[4], r.top[5]);  // (1,4) (1,5) (3,4) (3,5)
-  _mm_storeu_pd(c + 4, _mm256_castpd256_pd128(v0));
-  _mm_storeu_pd(c + 10, _mm256_castpd256_pd128(v1));
-  _mm_storeu_pd(c + 16, _mm256_extractf128_pd(v0, 1));
-  _mm_storeu_pd(c + 22, _mm256_extractf128_pd(v1, 1));
+  const __m256d v0 = _mm256_unpacklo_pd(g.top[4], g.top[5]);  // (0,4) (0,5) (2,4) (2,5)
+  const __m256d v1 = _mm256_unpackhi_pd(g.top[4], g.top[5]);  // (1,4) (1,5) (3,4) (3,5)
+  bottom[0] = _mm256_castpd256_pd128(v0);
+  bottom[1] = _mm256_castpd256_pd128(v1);
+  bottom[2] = _mm256_extractf128_pd(v0, 1);
+  bottom[3] = _mm256_extractf128_pd(v1, 1);
   // Rows 4, 5 of every column → columns 4, 5.
-  const __m128d w01 = _mm_unpacklo_pd(r.bottom[0], r.bottom[1]), x01 = _mm_unpackhi_pd(r.bottom[0], r.bottom[1]);
-  const __m128d w23 = _mm_unpacklo_pd(r.bottom[2], r.bottom[3]), x23 = _mm_unpackhi_pd(r.bottom[2], r.bottom[3]);
-  const __m128d w45 = _mm_unpacklo_pd(r.bottom[4], r.bottom[5]), x45 = _mm_unpackhi_pd(r.bottom[4], r.bottom[5]);
-  _mm256_storeu_pd(c + 24, _mm256_insertf128_pd(_mm256_castpd128_pd256(w01), w23, 1));
-  _mm_storeu_pd(c + 28, w45);
-  _mm256_storeu_pd(c + 30, _mm256_insertf128_pd(_mm256_castpd128_pd256(x01), x23, 1));
-  _mm_storeu_pd(c + 34, x45);
+  const __m128d w01 = _mm_unpacklo_pd(g.bottom[0], g.bottom[1]), x01 = _mm_unpackhi_pd(g.bottom[0], g.bottom[1]);
+  const __m128d w23 = _mm_unpacklo_pd(g.bottom[2], g.bottom[3]), x23 = _mm_unpackhi_pd(g.bottom[2], g.bottom[3]);
+  top[4] = _mm256_insertf128_pd(_mm256_castpd128_pd256(w01), w23, 1);
+  top[5] = _mm256_insertf128_pd(_mm256_castpd128_pd256(x01), x23, 1);
+  bottom[4] = _mm_unpacklo_pd(g.bottom[4], g.bottom[5]);
+  bottom[5] = _mm_unpackhi_pd(g.bottom[4], g.bottom[5]);
+  // r −= P e with two accumulators (even and odd k), then the stores.
+  __m256d r_top[2] = {_mm256_loadu_pd(r), _mm256_setzero_pd()};
+  __m128d r_bottom[2] = {_mm_loadu_pd(r + 4), _mm_setzero_pd()};
+#pragma GCC unroll 6
+  for (int k = 0; k < 6; ++k) {
+    const __m256d b = _mm256_broadcast_sd(e + k);
+    r_top[k & 1] = _mm256_fnmadd_pd(top[k], b, r_top[k & 1]);
+    r_bottom[k & 1] = _mm_fnmadd_pd(bottom[k], _mm256_castpd256_pd128(b), r_bottom[k & 1]);
+  }
+#pragma GCC unroll 6
+  for (int k = 0; k < 6; ++k) {
+    _mm256_storeu_pd(p + 6 * k, top[k]);
+    _mm_storeu_pd(p + 6 * k + 4, bottom[k]);
+  }
+  _mm256_storeu_pd(r, _mm256_add_pd(r_top[0], r_top[1]));
+  _mm_storeu_pd(r + 4, _mm_add_pd(r_bottom[0], r_bottom[1]));
 }
 
 template <Mode kMode, bool kLowerOnly, bool kTransposedA = false, typename S, typename Zero>
@@ -207,8 +226,17 @@ struct QuadrantZero {
 };
 
 template <unsigned kMask>
-void transposedWeighted(double* p, const double* w, const double* j) {
-  storeTransposed(p, accumulate<kAssign, false, false>(p, w, [j](int k, int c) { return j + 6 * c + k; }, QuadrantZero<kMask>{}));
+void weightedJacobianTransposed(double* p, double* r, const double* information, double weight, const double* j,
+                                const double* e) {
+  Columns g = accumulate<kAssign, false, false>(p, information, [j](int k, int c) { return j + 6 * c + k; },
+                                                QuadrantZero<kMask>{});
+  const __m256d w = _mm256_set1_pd(weight);
+#pragma GCC unroll 6
+  for (int c = 0; c < 6; ++c) {
+    g.top[c] = _mm256_mul_pd(g.top[c], w);
+    g.bottom[c] = _mm_mul_pd(g.bottom[c], _mm256_castpd256_pd128(w));
+  }
+  storeTransposedAndSubtractTimesVector(p, g, e, r);
 }
 
 template <unsigned kMask, Mode kMode>
@@ -247,12 +275,13 @@ unsigned nonzeroQuadrants(const double* j) {
   return mask;
 }
 
-void transposedWeightedJacobian(double* p, const double* w, const double* j, unsigned j_mask) {
+void weightedJacobianTransposed(double* p, double* r, const double* information, double weight, const double* j,
+                                unsigned j_mask, const double* e) {
   switch (j_mask) {
-    case 9: return transposedWeighted<9>(p, w, j);
-    case 11: return transposedWeighted<11>(p, w, j);
-    case 13: return transposedWeighted<13>(p, w, j);
-    default: return transposedWeighted<15>(p, w, j);
+    case 9: return weightedJacobianTransposed<9>(p, r, information, weight, j, e);
+    case 11: return weightedJacobianTransposed<11>(p, r, information, weight, j, e);
+    case 13: return weightedJacobianTransposed<13>(p, r, information, weight, j, e);
+    default: return weightedJacobianTransposed<15>(p, r, information, weight, j, e);
   }
 }
 
@@ -263,20 +292,6 @@ void addProduct(double* h, const double* p, const double* j, unsigned j_mask, bo
     case 13: return addProductFor<13>(h, p, j, assign);
     default: return addProductFor<15>(h, p, j, assign);
   }
-}
-
-void subtractTimesVector(double* r, const double* p, const double* e) {
-  // Two accumulators (even and odd k) halve the chain of dependent FMAs.
-  __m256d top[2] = {_mm256_loadu_pd(r), _mm256_setzero_pd()};
-  __m128d bottom[2] = {_mm_loadu_pd(r + 4), _mm_setzero_pd()};
-#pragma GCC unroll 6
-  for (int k = 0; k < 6; ++k) {
-    const __m256d b = _mm256_broadcast_sd(e + k);
-    top[k & 1] = _mm256_fnmadd_pd(_mm256_loadu_pd(p + 6 * k), b, top[k & 1]);
-    bottom[k & 1] = _mm_fnmadd_pd(_mm_loadu_pd(p + 6 * k + 4), _mm256_castpd256_pd128(b), bottom[k & 1]);
-  }
-  _mm256_storeu_pd(r, _mm256_add_pd(top[0], top[1]));
-  _mm_storeu_pd(r + 4, _mm_add_pd(bottom[0], bottom[1]));
 }
 
 }  // namespace dualgraph::block_kernels_avx2
@@ -293,9 +308,8 @@ bool factorizeColumns(double*, double*, const int*, const int*, const int*, int,
 }
 void selectedInverseColumns(const double*, const double*, double*, double*, const int*, const int*, const int*, int) {}
 unsigned nonzeroQuadrants(const double*) { return 15; }
-void transposedWeightedJacobian(double*, const double*, const double*, unsigned) {}
+void weightedJacobianTransposed(double*, double*, const double*, double, const double*, unsigned, const double*) {}
 void addProduct(double*, const double*, const double*, unsigned, bool) {}
-void subtractTimesVector(double*, const double*, const double*) {}
 
 }  // namespace dualgraph::block_kernels_avx2
 

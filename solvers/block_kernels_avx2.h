@@ -45,12 +45,12 @@ void selectedInverseColumns(const double* factor, const double* diagonal_inverse
 /// Bit 2r + c set when the 3×3 quadrant (r, c) (rows 3r…3r+2, columns 3c…3c+2) of the 6×6 block `j` has
 /// an entry other than ±0 (NaN counts as nonzero).
 unsigned nonzeroQuadrants(const double* j);
-/// p = (w · j)ᵀ, which is jᵀ · w for the symmetric w, skipping the quadrants of j that `j_mask` (from
-/// nonzeroQuadrants, or any superset of it) declares zero. p must not alias w or j.
-void transposedWeightedJacobian(double* p, const double* w, const double* j, unsigned j_mask);
+/// p = weight · (Ω · j)ᵀ, which is weight · jᵀ Ω for the symmetric information Ω, skipping the quadrants
+/// of j that `j_mask` (from nonzeroQuadrants, or any superset of it) declares zero; then r −= p · e (the
+/// 6-vectors e, the edge's error, and r, its vertex's block of b). p must not alias anything.
+void weightedJacobianTransposed(double* p, double* r, const double* information, double weight, const double* j,
+                                unsigned j_mask, const double* e);
 /// h = p · j (`assign`) or h += p · j, skipping j's zero quadrants as above. h must not alias p or j.
 void addProduct(double* h, const double* p, const double* j, unsigned j_mask, bool assign);
-/// r −= p · e (p 6×6, e and r 6-vectors).
-void subtractTimesVector(double* r, const double* p, const double* e);
 
 }  // namespace dualgraph::block_kernels_avx2
