@@ -191,6 +191,11 @@ Status BlockCholesky::solve(const double* b, double* x) const {
   if (!factorized_) return Status(StatusCode::kFailedPrecondition, "block Cholesky: solve before a successful factorize");
   const int n = 6 * num_blocks_;
   if (x != b) std::copy(b, b + n, x);
+  if (num_blocks_ > 0 && block_kernels_avx2::enabled()) {
+    block_kernels_avx2::solveColumns(factor_.data()->data(), diagonal_inverse_.data()->data(), col_begin_.data(),
+                                     row_.data(), num_blocks_, x);
+    return Status();
+  }
   for (int j = 0; j < num_blocks_; ++j) {
     Eigen::Map<Vector6> x_j(x + 6 * j);
     const Vector6 y = diagonal_inverse_[j] * x_j;

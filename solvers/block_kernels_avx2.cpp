@@ -186,6 +186,81 @@ bool factorizeColumns(double* factor, double* diagonal_inverse, const int* col_b
   return true;
 }
 
+namespace {
+
+/// y = A x (kAssign) or y −= A x (kSubtract) for a 6×6 A and 6-vectors (y may be x in kAssign mode).
+template <Mode kMode>
+inline __attribute__((always_inline)) void matrixVector(double* y, const double* a, const double* x) {
+  __m256d top[2] = {kMode == kAssign ? _mm256_setzero_pd() : _mm256_loadu_pd(y), _mm256_setzero_pd()};
+  __m128d bottom[2] = {kMode == kAssign ? _mm_setzero_pd() : _mm_loadu_pd(y + 4), _mm_setzero_pd()};
+#pragma GCC unroll 6
+  for (int k = 0; k < 6; ++k) {
+    const __m256d b = _mm256_broadcast_sd(x + k);
+    if (kMode == kAssign) {
+      top[k & 1] = _mm256_fmadd_pd(_mm256_loadu_pd(a + 6 * k), b, top[k & 1]);
+      bottom[k & 1] = _mm_fmadd_pd(_mm_loadu_pd(a + 6 * k + 4), _mm256_castpd256_pd128(b), bottom[k & 1]);
+    } else {
+      top[k & 1] = _mm256_fnmadd_pd(_mm256_loadu_pd(a + 6 * k), b, top[k & 1]);
+      bottom[k & 1] = _mm_fnmadd_pd(_mm_loadu_pd(a + 6 * k + 4), _mm256_castpd256_pd128(b), bottom[k & 1]);
+    }
+  }
+  _mm256_storeu_pd(y, _mm256_add_pd(top[0], top[1]));
+  _mm_storeu_pd(y + 4, _mm_add_pd(bottom[0], bottom[1]));
+}
+
+/// The six dot products of A's columns with x, in registers: rows 0–3 of Aᵀ x in `top`, rows 4–5 in
+/// `bottom` (products per column, then a horizontal-add network).
+inline __attribute__((always_inline)) void transposedTimesVector(const double* a, const double* x, __m256d& top,
+                                                                 __m128d& bottom) {
+  const __m256d x_top = _mm256_loadu_pd(x);
+  const __m128d x_bottom = _mm_loadu_pd(x + 4);
+  __m256d p[6];
+#pragma GCC unroll 6
+  for (int c = 0; c < 6; ++c) {
+    // Column c's four upper products with its two lower ones added into lanes 0 and 1.
+    const __m256d upper = _mm256_mul_pd(_mm256_loadu_pd(a + 6 * c), x_top);
+    const __m128d lower = _mm_mul_pd(_mm_loadu_pd(a + 6 * c + 4), x_bottom);
+    p[c] = _mm256_add_pd(upper, _mm256_castpd128_pd256(lower));  // upper lanes of the cast are undefined…
+    p[c] = _mm256_blend_pd(upper, p[c], 0x3);                     // …so only lanes 0, 1 take the sum
+  }
+  const __m256d h01 = _mm256_hadd_pd(p[0], p[1]);  // c0: 0+1, c1: 0+1, c0: 2+3, c1: 2+3
+  const __m256d h23 = _mm256_hadd_pd(p[2], p[3]);
+  const __m256d h45 = _mm256_hadd_pd(p[4], p[5]);
+  top = _mm256_add_pd(_mm256_permute2f128_pd(h01, h23, 0x20), _mm256_permute2f128_pd(h01, h23, 0x31));
+  bottom = _mm_add_pd(_mm256_castpd256_pd128(h45), _mm256_extractf128_pd(h45, 1));
+}
+
+}  // namespace
+
+void solveColumns(const double* factor, const double* diagonal_inverse, const int* col_begin, const int* row,
+                  int num_blocks, double* x) {
+  for (int j = 0; j < num_blocks; ++j) {  // L y = b, column by column
+    double* x_j = x + 6 * j;
+    matrixVector<kAssign>(x_j, diagonal_inverse + 36 * j, x_j);
+    for (int p = col_begin[j] + 1; p < col_begin[j + 1]; ++p) matrixVector<kSubtract>(x + 6 * row[p], factor + 36 * p, x_j);
+  }
+  for (int j = num_blocks - 1; j >= 0; --j) {  // Lᵀ x = y, row by row
+    double* x_j = x + 6 * j;
+    __m256d r_top = _mm256_loadu_pd(x_j);
+    __m128d r_bottom = _mm_loadu_pd(x_j + 4);
+    for (int p = col_begin[j] + 1; p < col_begin[j + 1]; ++p) {
+      __m256d top;
+      __m128d bottom;
+      transposedTimesVector(factor + 36 * p, x + 6 * row[p], top, bottom);
+      r_top = _mm256_sub_pd(r_top, top);
+      r_bottom = _mm_sub_pd(r_bottom, bottom);
+    }
+    alignas(32) double r[6];
+    _mm256_store_pd(r, r_top);
+    _mm_store_pd(r + 4, r_bottom);
+    __m256d top;
+    __m128d bottom;
+    transposedTimesVector(diagonal_inverse + 36 * j, r, top, bottom);
+    _mm256_storeu_pd(x_j, top);
+    _mm_storeu_pd(x_j + 4, bottom);
+  }
+}
+
 void selectedInverseColumns(const double* factor, const double* diagonal_inverse, double* sigma, double* work,
                             const int* col_begin, const int* target, const int* target_begin, int num_blocks) {
   for (int j = num_blocks - 1; j >= 0; --j) {
@@ -307,6 +382,7 @@ bool factorizeColumns(double*, double*, const int*, const int*, const int*, int,
   return false;
 }
 void selectedInverseColumns(const double*, const double*, double*, double*, const int*, const int*, const int*, int) {}
+void solveColumns(const double*, const double*, const int*, const int*, int, double*) {}
 unsigned nonzeroQuadrants(const double*) { return 15; }
 void weightedJacobianTransposed(double*, double*, const double*, double, const double*, unsigned, const double*) {}
 void addProduct(double*, const double*, const double*, unsigned, bool) {}

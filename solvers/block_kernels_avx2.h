@@ -39,6 +39,11 @@ bool factorizeColumns(double* factor, double* diagonal_inverse, const int* col_b
 void selectedInverseColumns(const double* factor, const double* diagonal_inverse, double* sigma, double* work,
                             const int* col_begin, const int* target, const int* target_begin, int num_blocks);
 
+/// BlockCholesky::solve's substitutions on x in place (b in, H⁻¹ b out): L y = b column by column, then
+/// Lᵀ x = y (`row`: BlockCholesky's block row of every stored block).
+void solveColumns(const double* factor, const double* diagonal_inverse, const int* col_begin, const int* row,
+                  int num_blocks, double* x);
+
 // The SE(3) edge assembly H_rc += J_rᵀ W J_c, b_r −= J_rᵀ W e (TemporarySolver), with P_r = (W J_r)ᵀ
 // computed once per vertex of the edge and each Jacobian's exactly-zero 3×3 quadrants skipped.
 
