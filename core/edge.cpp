@@ -81,8 +81,9 @@ std::string describeEdge(const EdgeBase& edge) {
   return name;
 }
 
-double optimizerChi2(const EdgeBase& edge, std::string* first_bad) {
-  double chi2 = edge.chi2();
+double optimizerChi2(const EdgeBase& edge, std::string* first_bad) { return optimizerChi2(edge, edge.chi2(), first_bad); }
+
+double optimizerChi2(const EdgeBase& edge, double chi2, std::string* first_bad) {
   const RobustKernel* kernel = edge.robustKernel();
   if (kernel != nullptr && std::isfinite(chi2)) chi2 = kernel->robustify(chi2)[0];
   if (!std::isfinite(chi2) && first_bad != nullptr && first_bad->empty()) {

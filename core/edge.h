@@ -210,6 +210,8 @@ std::string describeEdge(const EdgeBase& edge);
 /// that is empty) when the value is not finite. A kernel can map an infinite eᵀΩe to a finite ρ (Tukey's
 /// plateau); the error is still unusable (its weight 0 times ∞ poisons b), so the plain χ² decides finiteness.
 double optimizerChi2(const EdgeBase& edge, std::string* first_bad);
+/// The same from the edge's plain eᵀΩe computed by the caller (`chi2`, e.g. by a vectorised kernel).
+double optimizerChi2(const EdgeBase& edge, double chi2, std::string* first_bad);
 /// After a failed solve: kNumericalError naming the first of `edges` whose Jacobian with respect to a free
 /// vertex has a non-finite entry; OK when there is none.
 Status findNonFiniteJacobian(const std::vector<EdgeBase*>& edges);

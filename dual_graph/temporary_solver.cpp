@@ -27,6 +27,7 @@ Status TemporarySolver::setProblem(const std::vector<VertexBase*>& vertices, con
   active_.clear();
   block_dim_.clear();
   active_edges_.clear();
+  active_source_.clear();
   edge_begin_.assign(1, 0);
   edge_block_.clear();
   pair_begin_.assign(1, 0);
@@ -62,7 +63,8 @@ Status TemporarySolver::setProblem(const std::vector<VertexBase*>& vertices, con
     active_.push_back(vertex);
     block_dim_.push_back(vertex->tangentDim());
   }
-  for (EdgeBase* edge : edges) {
+  for (size_t source = 0; source < edges.size(); ++source) {
+    EdgeBase* edge = edges[source];
     const size_t first = edge_block_.size();
     for (const VertexBase* v : edge->vertices()) {
       const int block = v->fixed() ? -1 : block_by_id_[v->id()];
@@ -76,6 +78,7 @@ Status TemporarySolver::setProblem(const std::vector<VertexBase*>& vertices, con
       continue;
     }
     active_edges_.push_back(edge);
+    active_source_.push_back(static_cast<int>(source));
     edge_begin_.push_back(static_cast<int>(edge_block_.size()));
     for (size_t a = first; a < edge_block_.size(); ++a) {
       for (size_t b = a + 1; b < edge_block_.size(); ++b) {
@@ -113,15 +116,20 @@ Status TemporarySolver::setProblem(const std::vector<VertexBase*>& vertices, con
   damping_.setZero(kB * num_blocks);
   step_.setZero(kB * num_blocks);
   edges_.assign(edges.begin(), edges.end());
+  plain_chi2_.assign(edges_.size(), 0.0);
   has_problem_ = true;
   return Status();
 }
 
 double TemporarySolver::evaluateChi2(std::string* first_bad) {
+  const bool avx2 = block_kernels_avx2::enabled();
   double sum = 0.0;
-  for (EdgeBase* edge : edges_) {
-    edge->computeError();
-    sum += optimizerChi2(*edge, first_bad);
+  for (size_t k = 0; k < edges_.size(); ++k) {
+    EdgeBase& edge = *edges_[k];
+    edge.computeError();
+    plain_chi2_[k] = avx2 && edge.errorDim() == kB ? block_kernels_avx2::quadraticForm(edge.informationData(), edge.errorData())
+                                                   : edge.chi2();
+    sum += optimizerChi2(edge, plain_chi2_[k], first_bad);
   }
   return sum;
 }

@@ -55,7 +55,8 @@ class TemporarySolver {
  private:
   static constexpr int kMaxSlots = 4;                     ///< vertices per edge (the assembly's stack arrays)
   static constexpr int kB = BlockCholesky::kBlockDim;     ///< every block is kB × kB (smaller ones padded)
-  /// Σ ρ(eᵀΩe) over every edge after computing its error; names the first non-finite edge in `first_bad`.
+  /// Σ ρ(eᵀΩe) over every edge after computing its error (keeping each eᵀΩe in plain_chi2_); names the
+  /// first non-finite edge in `first_bad`.
   double evaluateChi2(std::string* first_bad);
   /// H and b from the active edges' Jacobians (their errors must be current).
   void linearizeAndAssemble();
@@ -92,6 +93,8 @@ class TemporarySolver {
   std::vector<int> block_dim_;          ///< per block: tangent dimension (≤ 6)
   std::vector<int> block_by_id_;        ///< vertex id → block, -1 when not in the system
   std::vector<EdgeBase*> active_edges_; ///< edges with at least one free vertex, graph order
+  std::vector<int> active_source_;      ///< per active edge: its index in edges_
+  std::vector<double> plain_chi2_;      ///< per edge of edges_: eᵀΩe from the last evaluateChi2 (the robust weight's argument)
   std::vector<int> edge_begin_;         ///< per active edge: first entry of edge_block_ (+ one past the end)
   std::vector<int> edge_block_;         ///< per edge slot: block or -1 (fixed)
   std::vector<int> pair_begin_;         ///< per active edge: first entry of pair_index_

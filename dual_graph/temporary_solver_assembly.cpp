@@ -52,7 +52,8 @@ void TemporarySolver::assembleEdge(size_t k, bool avx2) {
   const EdgeBase& edge = *active_edges_[k];
   const int m = edge.errorDim();
   const RobustKernel* kernel = edge.robustKernel();
-  const double weight = kernel != nullptr ? kernel->robustify(edge.chi2())[1] : 1.0;
+  // The errors are those of the last evaluateChi2, whose eᵀΩe is kept.
+  const double weight = kernel != nullptr ? kernel->robustify(plain_chi2_[active_source_[k]])[1] : 1.0;
   const int* blocks = edge_block_.data() + edge_begin_[k];
   const int slots = edge_begin_[k + 1] - edge_begin_[k];
   const int* pair = pair_index_.data() + pair_begin_[k];

@@ -332,6 +332,15 @@ void addProductFor(double* h, const double* p, const double* j, bool assign) {
 
 }  // namespace
 
+double quadraticForm(const double* information, const double* e) {
+  double product[6];
+  matrixVector<kAssign>(product, information, e);
+  const __m256d top = _mm256_mul_pd(_mm256_loadu_pd(product), _mm256_loadu_pd(e));
+  const __m128d bottom = _mm_fmadd_pd(_mm_loadu_pd(product + 4), _mm_loadu_pd(e + 4),
+                                      _mm_add_pd(_mm256_castpd256_pd128(top), _mm256_extractf128_pd(top, 1)));
+  return _mm_cvtsd_f64(_mm_add_sd(bottom, _mm_unpackhi_pd(bottom, bottom)));
+}
+
 unsigned nonzeroQuadrants(const double* j) {
   const __m256d left_top = _mm256_or_pd(_mm256_or_pd(_mm256_loadu_pd(j), _mm256_loadu_pd(j + 6)), _mm256_loadu_pd(j + 12));
   const __m128d left_bottom = _mm_or_pd(_mm_or_pd(_mm_loadu_pd(j + 4), _mm_loadu_pd(j + 10)), _mm_loadu_pd(j + 16));
@@ -383,6 +392,7 @@ bool factorizeColumns(double*, double*, const int*, const int*, const int*, int,
 }
 void selectedInverseColumns(const double*, const double*, double*, double*, const int*, const int*, const int*, int) {}
 void solveColumns(const double*, const double*, const int*, const int*, int, double*) {}
+double quadraticForm(const double*, const double*) { return 0.0; }
 unsigned nonzeroQuadrants(const double*) { return 15; }
 void weightedJacobianTransposed(double*, double*, const double*, double, const double*, unsigned, const double*) {}
 void addProduct(double*, const double*, const double*, unsigned, bool) {}

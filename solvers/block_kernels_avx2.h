@@ -55,6 +55,8 @@ unsigned nonzeroQuadrants(const double* j);
 /// 6-vectors e, the edge's error, and r, its vertex's block of b). p must not alias anything.
 void weightedJacobianTransposed(double* p, double* r, const double* information, double weight, const double* j,
                                 unsigned j_mask, const double* e);
+/// eᵀ Ω e for a 6×6 Ω (the edge's χ² without robust kernel).
+double quadraticForm(const double* information, const double* e);
 /// h = p · j (`assign`) or h += p · j, skipping j's zero quadrants as above. h must not alias p or j.
 void addProduct(double* h, const double* p, const double* j, unsigned j_mask, bool assign);
 

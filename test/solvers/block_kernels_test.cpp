@@ -135,7 +135,7 @@ TEST_F(BlockKernelsAvx2, NonzeroQuadrantsSeesEveryEntryAndTreatsNegativeZeroAsZe
   }
 }
 
-TEST_F(BlockKernelsAvx2, AssemblyProductsMatchEigenForEveryQuadrantMaskAtAnyAlignment) {
+TEST_F(BlockKernelsAvx2, AssemblyKernelsMatchEigenForEveryQuadrantMaskAtAnyAlignment) {
   alignas(32) double buffer[4 * 36 + 8];
   for (int offset : {0, 1, 2, 3}) {
     double* p = buffer + offset;
@@ -161,6 +161,8 @@ TEST_F(BlockKernelsAvx2, AssemblyProductsMatchEigenForEveryQuadrantMaskAtAnyAlig
         const Block p_block = Eigen::Map<const Block>(p);
         expectNear(p_block, expected_p);
         EXPECT_LE((r - expected_r).lpNorm<Eigen::Infinity>(), 1e-13 * (1.0 + expected_r.lpNorm<Eigen::Infinity>()));
+        const double chi2 = e.dot(w_block * e);
+        EXPECT_NEAR(block_kernels_avx2::quadraticForm(w, e.data()), chi2, 1e-13 * (1.0 + std::abs(chi2)));
         h_map = h_block;
         block_kernels_avx2::addProduct(h, p, j, used, false);
         expectNear(Block(h_map), h_block + p_block * j_block);
