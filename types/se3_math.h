@@ -107,9 +107,30 @@ Matrix6d covarianceG2oToMetric(const Matrix6d& covariance_g2o);
 // ---------------------------------------------------------------------------------------------
 
 inline Eigen::Quaterniond quatFromRotation(const Eigen::Matrix3d& rotation) {
-  Eigen::Quaterniond q(rotation);
-  q.normalize();
-  return q;
+  // For a rotation, (1 + tr R, R21 − R12, R02 − R20, R10 − R01) = 4w · (w, x, y, z), and likewise with
+  // 4x, 4y or 4z for the other three rows of the classic construction: the largest of the four
+  // multipliers is picked as Eigen's Quaternion(Matrix3) picks it (trace > 0, else the largest diagonal
+  // entry), and one normalisation gives the unit quaternion (one square root and one division, where
+  // constructing and then normalising took two of each on this hot path).
+  const Eigen::Matrix3d& r = rotation;
+  const double trace = r.trace();
+  Eigen::Vector4d v;  // (w, x, y, z)
+  if (trace > 0.0) {
+    v << 1.0 + trace, r(2, 1) - r(1, 2), r(0, 2) - r(2, 0), r(1, 0) - r(0, 1);
+  } else {
+    int i = 0;
+    if (r(1, 1) > r(0, 0)) i = 1;
+    if (r(2, 2) > r(i, i)) i = 2;
+    if (i == 0) {
+      v << r(2, 1) - r(1, 2), 1.0 + r(0, 0) - r(1, 1) - r(2, 2), r(0, 1) + r(1, 0), r(0, 2) + r(2, 0);
+    } else if (i == 1) {
+      v << r(0, 2) - r(2, 0), r(0, 1) + r(1, 0), 1.0 + r(1, 1) - r(0, 0) - r(2, 2), r(1, 2) + r(2, 1);
+    } else {
+      v << r(1, 0) - r(0, 1), r(0, 2) + r(2, 0), r(1, 2) + r(2, 1), 1.0 + r(2, 2) - r(0, 0) - r(1, 1);
+    }
+  }
+  v /= v.norm();
+  return Eigen::Quaterniond(v[0], v[1], v[2], v[3]);
 }
 
 inline Vector6d g2oChart(const Eigen::Isometry3d& pose, double& w) {

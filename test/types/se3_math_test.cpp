@@ -196,6 +196,34 @@ TEST(G2oChart, IncrementAndChartAreInverseWithWNonNegative) {
   }
 }
 
+TEST(QuatFromRotation, MatchesEigensConstructionInEveryBranchUpToSign) {
+  // Each branch: positive trace, and the largest diagonal entry at x, y or z (angles near π about
+  // axes near each coordinate axis, including exactly π), plus random rotations of every size.
+  std::vector<Eigen::Matrix3d> rotations;
+  const std::vector<Eigen::Vector3d> axes = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ(),
+                                             Eigen::Vector3d(1.0, 0.2, -0.1).normalized(), Eigen::Vector3d(0.1, -1.0, 0.3).normalized(),
+                                             Eigen::Vector3d(-0.2, 0.1, 1.0).normalized()};
+  for (const Eigen::Vector3d& axis : axes) {
+    for (double angle : {0.0, 1e-9, 0.3, 2.0, 3.0, M_PI - 1e-7, M_PI}) {
+      rotations.push_back(Eigen::AngleAxisd(angle, axis).toRotationMatrix());
+    }
+  }
+  Rng rng(testing::kSeed + 31);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int k = 0; k < 200; ++k) {
+    const Eigen::Vector3d axis = Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng)).normalized();
+    rotations.push_back(Eigen::AngleAxisd(M_PI * std::fabs(uniform(rng)), axis).toRotationMatrix());
+  }
+  for (const Eigen::Matrix3d& r : rotations) {
+    const Eigen::Quaterniond q = quatFromRotation(r);
+    const Eigen::Quaterniond eigen = Eigen::Quaterniond(r).normalized();
+    const double sign = q.coeffs().dot(eigen.coeffs()) < 0.0 ? -1.0 : 1.0;
+    EXPECT_NEAR(q.norm(), 1.0, 1e-15);
+    EXPECT_LT((q.coeffs() - sign * eigen.coeffs()).lpNorm<Eigen::Infinity>(), 1e-14) << r;
+    EXPECT_LT((q.toRotationMatrix() - r).lpNorm<Eigen::Infinity>(), 1e-14) << r;
+  }
+}
+
 TEST(G2oChart, FlipsTheQuaternionSoThatWIsNonNegative) {
   // −3 rad about z has the unit quaternions ±(cos 1.5, 0, 0, −sin 1.5) (Eigen extracts the one
   // with w < 0 here); the chart must pick w ≥ 0, i.e. the vector part (0, 0, −sin 1.5).
