@@ -11,10 +11,11 @@ namespace dualgraph::block_factor {
 namespace {
 
 /// In-place Cholesky of the symmetric 6×6 block `a` (column-major, 36 doubles; lower triangle read, strict
-/// upper zeroed) and L⁻¹ into `inverse` (the six reciprocals of the diagonal first, so no division sits on
-/// a column's dependency chain). Returns -1, or the row 0…5 of the first pivot that is not positive and
-/// finite, with its value in `pivot` (the block is then unusable).
+/// upper zeroed) and L⁻¹ into `inverse` (from the six reciprocals of the diagonal the factorisation
+/// computed, so no division sits on the inverse's dependency chain). Returns -1, or the row 0…5 of the
+/// first pivot that is not positive and finite, with its value in `pivot` (the block is then unusable).
 inline int choleskyAndInverse(double* a, double* inverse, double& pivot) {
+  double reciprocal[6];  // 1 / L_kk
   for (int k = 0; k < 6; ++k) {
     double d = a[7 * k];
     for (int m = 0; m < k; ++m) d -= a[6 * m + k] * a[6 * m + k];
@@ -22,9 +23,12 @@ inline int choleskyAndInverse(double* a, double* inverse, double& pivot) {
       pivot = d;
       return k;
     }
+    // 1/√d as √d · (1/d): the square root and the division run side by side instead of one after the
+    // other on the column's dependency chain (each pivot waits for the previous column).
     const double l = __builtin_sqrt(d);
+    const double r = d > 1e-290 ? l * (1.0 / d) : 1.0 / l;  // (1/d would overflow for subnormal d)
     a[7 * k] = l;
-    const double r = 1.0 / l;
+    reciprocal[k] = r;
     for (int i = k + 1; i < 6; ++i) {
       double s = a[6 * k + i];
       for (int m = 0; m < k; ++m) s -= a[6 * m + i] * a[6 * m + k];
@@ -34,8 +38,6 @@ inline int choleskyAndInverse(double* a, double* inverse, double& pivot) {
   for (int col = 1; col < 6; ++col) {
     for (int row = 0; row < col; ++row) a[6 * col + row] = 0.0;
   }
-  double reciprocal[6];
-  for (int c = 0; c < 6; ++c) reciprocal[c] = 1.0 / a[7 * c];
   for (int i = 0; i < 36; ++i) inverse[i] = 0.0;
   for (int c = 0; c < 6; ++c) {
     inverse[7 * c] = reciprocal[c];
