@@ -31,26 +31,9 @@ struct Columns {
   __m128d bottom[6];
 };
 
-/// C (6×6) =, += or −= A · S for a coefficient map S(k, j) (the right-hand factor's entry (k, j)), skipping
-/// the terms `Zero(k, j)` declares exactly zero (triangular factors, an SE(3) Jacobian's zero quadrants;
-/// resolved at compile time), left in registers. Every load of A and C happens here, before any store:
-/// C may be A in kAssign mode. `kLowerOnly` skips rows 0–3 of columns 4 and 5 (for updates of a diagonal
-/// block of which only the lower triangle is read). `kTransposedA`: the left factor is Aᵀ, its column k
-/// (A's row k) gathered into registers from A's strided entries (no transposed copy: scalar stores read
-/// back by vector loads would stall store forwarding).
+/// acc ∘= A · S (∘: kAdd or kSubtract, kAssign as kAdd) on 6×6 columns kept in registers; see accumulate.
 template <Mode kMode, bool kLowerOnly, bool kTransposedA, typename S, typename Zero>
-inline __attribute__((always_inline)) Columns accumulate(const double* c, const double* a, S s, Zero zero) {
-  Columns r;
-#pragma GCC unroll 6
-  for (int j = 0; j < 6; ++j) {
-    if (kMode == kAssign) {
-      r.top[j] = _mm256_setzero_pd();
-      r.bottom[j] = _mm_setzero_pd();
-    } else {
-      r.top[j] = _mm256_loadu_pd(c + 6 * j);
-      r.bottom[j] = _mm_loadu_pd(c + 6 * j + 4);
-    }
-  }
+inline __attribute__((always_inline)) void accumulateInto(Columns& r, const double* a, S s, Zero zero) {
 #pragma GCC unroll 6
   for (int k = 0; k < 6; ++k) {
     const __m256d a_top = kTransposedA ? _mm256_set_pd(a[18 + k], a[12 + k], a[6 + k], a[k]) : _mm256_loadu_pd(a + 6 * k);
@@ -70,6 +53,36 @@ inline __attribute__((always_inline)) Columns accumulate(const double* c, const 
       }
     }
   }
+}
+
+inline __attribute__((always_inline)) Columns zeroColumns() {
+  Columns r;
+#pragma GCC unroll 6
+  for (int j = 0; j < 6; ++j) {
+    r.top[j] = _mm256_setzero_pd();
+    r.bottom[j] = _mm_setzero_pd();
+  }
+  return r;
+}
+
+/// C (6×6) =, += or −= A · S for a coefficient map S(k, j) (the right-hand factor's entry (k, j)), skipping
+/// the terms `Zero(k, j)` declares exactly zero (triangular factors, an SE(3) Jacobian's zero quadrants;
+/// resolved at compile time), left in registers. Every load of A and C happens here, before any store:
+/// C may be A in kAssign mode. `kLowerOnly` skips rows 0–3 of columns 4 and 5 (for updates of a diagonal
+/// block of which only the lower triangle is read). `kTransposedA`: the left factor is Aᵀ, its column k
+/// (A's row k) gathered into registers from A's strided entries (no transposed copy: scalar stores read
+/// back by vector loads would stall store forwarding).
+template <Mode kMode, bool kLowerOnly, bool kTransposedA, typename S, typename Zero>
+inline __attribute__((always_inline)) Columns accumulate(const double* c, const double* a, S s, Zero zero) {
+  Columns r = zeroColumns();
+  if (kMode != kAssign) {
+#pragma GCC unroll 6
+    for (int j = 0; j < 6; ++j) {
+      r.top[j] = _mm256_loadu_pd(c + 6 * j);
+      r.bottom[j] = _mm_loadu_pd(c + 6 * j + 4);
+    }
+  }
+  accumulateInto<kMode, kLowerOnly, kTransposedA>(r, a, s, zero);
   return r;
 }
 
@@ -145,14 +158,6 @@ inline void subtractProductTransposed(double* c, const double* a, const double* 
 /// Lower triangle (and part of the upper) of C −= A · Aᵀ.
 inline void subtractGramLower(double* c, const double* a) {
   product<kSubtract, true>(c, a, [a](int k, int j) { return a + 6 * k + j; }, Never{});
-}
-/// C −= A · B.
-inline void subtractProduct(double* c, const double* a, const double* b) {
-  product<kSubtract, false>(c, a, [b](int k, int j) { return b + 6 * j + k; }, Never{});
-}
-/// C −= Aᵀ · B.
-inline void subtractTransposedProduct(double* c, const double* a, const double* b) {
-  product<kSubtract, false, true>(c, a, [b](int k, int j) { return b + 6 * j + k; }, Never{});
 }
 /// X ← X · Lᵀ in place (L lower triangular).
 inline void multiplyTransposedLowerInPlace(double* x, const double* l) {
@@ -269,21 +274,31 @@ void selectedInverseColumns(const double* factor, const double* diagonal_inverse
     const double* inverse = diagonal_inverse + 36 * j;
     for (int i = 0; i < m; ++i) multiplyLower(work + 36 * i, factor + 36 * (first + i), inverse);
     const int* t = target + target_begin[j];  // (a, b), a ≥ b: t[a(a+1)/2 + b]
+    // Each Σ_aj = −Σ_i Σ(a, i) W_i summed in registers, stored once.
     for (int a = 0; a < m; ++a) {
-      double* sigma_aj = sigma + 36 * (first + a);
-      for (int e = 0; e < 36; ++e) sigma_aj[e] = 0.0;
+      Columns sum = zeroColumns();
       for (int i = 0; i < m; ++i) {
+        const double* w = work + 36 * i;
+        const auto s = [w](int k, int c) { return w + 6 * c + k; };
         if (i <= a) {
-          subtractProduct(sigma_aj, sigma + 36 * t[a * (a + 1) / 2 + i], work + 36 * i);
-        } else {
-          subtractTransposedProduct(sigma_aj, sigma + 36 * t[i * (i + 1) / 2 + a], work + 36 * i);
+          accumulateInto<kSubtract, false, false>(sum, sigma + 36 * t[a * (a + 1) / 2 + i], s, Never{});
+        } else {  // Σ(row a, row i) = Σ(row i, row a)ᵀ, the stored block
+          accumulateInto<kSubtract, false, true>(sum, sigma + 36 * t[i * (i + 1) / 2 + a], s, Never{});
         }
       }
+      store<false>(sigma + 36 * (first + a), sum);
     }
-    double diagonal[36];  // L_jj⁻ᵀ L_jj⁻¹ (L_jj⁻¹ is lower triangular: its transpose's column k is zero above row k)
-    product<kAssign, false, true>(diagonal, inverse, [inverse](int k, int c) { return inverse + 6 * c + k; },
-                                  [](int k, int c) { return k < c; });
-    for (int a = 0; a < m; ++a) subtractTransposedProduct(diagonal, work + 36 * a, sigma + 36 * (first + a));
+    // L_jj⁻ᵀ L_jj⁻¹ (L_jj⁻¹ is lower triangular: its transpose's column k is zero above row k) − Σ_a W_aᵀ Σ_aj.
+    Columns diagonal_sum = zeroColumns();
+    accumulateInto<kAdd, false, true>(diagonal_sum, inverse, [inverse](int k, int c) { return inverse + 6 * c + k; },
+                                      [](int k, int c) { return k < c; });
+    for (int a = 0; a < m; ++a) {
+      const double* sigma_aj = sigma + 36 * (first + a);
+      accumulateInto<kSubtract, false, true>(diagonal_sum, work + 36 * a, [sigma_aj](int k, int c) { return sigma_aj + 6 * c + k; },
+                                             Never{});
+    }
+    double diagonal[36];
+    store<false>(diagonal, diagonal_sum);
     double* sigma_jj = sigma + 36 * col_begin[j];
     for (int c = 0; c < 6; ++c) {
       for (int r = 0; r < 6; ++r) sigma_jj[6 * c + r] = 0.5 * (diagonal[6 * c + r] + diagonal[6 * r + c]);
