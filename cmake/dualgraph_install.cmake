@@ -31,11 +31,11 @@ foreach(_name ${DUALGRAPH_EXPORTED_LIBRARIES})
   list(APPEND _dualgraph_install_targets dualgraph_${_name})
   # Headers keep the repository's include layout. The private ones include yaml-cpp or OpenCV, which the
   # package does not promise its users (.ci/install-example fails if an installed header includes them);
-  # gate_pnp_posterior.h is gate_pnp.cpp's own.
+  # gate_pnp_posterior.h is gate_pnp.cpp's own; block_product_avx2.h compiles only with -mavx2 -mfma.
   install(DIRECTORY "${PROJECT_SOURCE_DIR}/${_name}/"
           DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/dualgraph/${_name}"
           FILES_MATCHING PATTERN "*.h" PATTERN "yaml_fields.h" EXCLUDE PATTERN "yaml_document.h" EXCLUDE
-          PATTERN "gate_pnp_posterior.h" EXCLUDE)
+          PATTERN "gate_pnp_posterior.h" EXCLUDE PATTERN "block_product_avx2.h" EXCLUDE)
 endforeach()
 
 install(TARGETS ${_dualgraph_install_targets}

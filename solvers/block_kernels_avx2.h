@@ -5,10 +5,11 @@ namespace dualgraph::block_kernels_avx2 {
 
 /// The 6×6 block loops of BlockCholesky and the SE(3) edge assembly of the temporary graph's solver in
 /// AVX2 + FMA (four doubles per instruction, fused multiply-add), chosen at run time: the library keeps
-/// the baseline x86-64 flags (SSE2, solvers/block_kernels.h) so that it runs on any x86-64 CPU, and this
-/// one translation unit is compiled with -mavx2 -mfma and only called when the CPU and the OS support
-/// both (`enabled()`). It includes no Eigen and no standard-library header, so no inline function compiled
-/// for AVX2 can be shared with (and picked by the linker for) the baseline code.
+/// the baseline x86-64 flags (SSE2, solvers/block_kernels.h) so that it runs on any x86-64 CPU, and two
+/// translation units (block_kernels_avx2.cpp, block_kernels_avx2_edges.cpp, sharing the internal-linkage
+/// products of block_product_avx2.h) are compiled with -mavx2 -mfma and only called when the CPU and the
+/// OS support both (`enabled()`). They include no Eigen and no standard-library header, so no inline
+/// function compiled for AVX2 can be shared with (and picked by the linker for) the baseline code.
 ///
 /// Blocks are 6×6 column-major arrays of 36 doubles (`Eigen::Matrix<double, 6, 6>`'s storage; any 8-byte
 /// alignment), stored one after another. The arithmetic is that of the baseline kernels; the order of
