@@ -14,6 +14,27 @@ namespace dualgraph::block_kernels_avx2 {
 
 extern const bool kCompiledWithAvx2 = true;
 
+namespace {
+
+/// C −= A · Bᵀ.
+inline void subtractProductTransposed(double* c, const double* a, const double* b) {
+  product<kSubtract, false>(c, a, [b](int k, int j) { return b + 6 * k + j; }, Never{});
+}
+/// Lower triangle (and part of the upper) of C −= A · Aᵀ.
+inline void subtractGramLower(double* c, const double* a) {
+  product<kSubtract, true>(c, a, [a](int k, int j) { return a + 6 * k + j; }, Never{});
+}
+/// X ← X · Lᵀ in place (L lower triangular).
+inline void multiplyTransposedLowerInPlace(double* x, const double* l) {
+  product<kAssign, false>(x, x, [l](int k, int j) { return l + 6 * k + j; }, [](int k, int j) { return k > j; });
+}
+/// W = X · L (L lower triangular).
+inline void multiplyLower(double* w, const double* x, const double* l) {
+  product<kAssign, false>(w, x, [l](int k, int j) { return l + 6 * j + k; }, [](int k, int j) { return k < j; });
+}
+
+}  // namespace
+
 bool factorizeColumns(double* factor, double* diagonal_inverse, const int* col_begin, const int* target,
                       const int* target_begin, int num_blocks, PivotFailure& failure) {
   for (int j = 0; j < num_blocks; ++j) {

@@ -140,23 +140,6 @@ struct Never {
   constexpr bool operator()(int, int) const { return false; }
 };
 
-/// C −= A · Bᵀ.
-inline void subtractProductTransposed(double* c, const double* a, const double* b) {
-  product<kSubtract, false>(c, a, [b](int k, int j) { return b + 6 * k + j; }, Never{});
-}
-/// Lower triangle (and part of the upper) of C −= A · Aᵀ.
-inline void subtractGramLower(double* c, const double* a) {
-  product<kSubtract, true>(c, a, [a](int k, int j) { return a + 6 * k + j; }, Never{});
-}
-/// X ← X · Lᵀ in place (L lower triangular).
-inline void multiplyTransposedLowerInPlace(double* x, const double* l) {
-  product<kAssign, false>(x, x, [l](int k, int j) { return l + 6 * k + j; }, [](int k, int j) { return k > j; });
-}
-/// W = X · L (L lower triangular).
-inline void multiplyLower(double* w, const double* x, const double* l) {
-  product<kAssign, false>(w, x, [l](int k, int j) { return l + 6 * j + k; }, [](int k, int j) { return k < j; });
-}
-
 /// y = A x (kAssign) or y −= A x (kSubtract) for a 6×6 A and 6-vectors (y may be x in kAssign mode).
 template <Mode kMode>
 inline __attribute__((always_inline)) void matrixVector(double* y, const double* a, const double* x) {
