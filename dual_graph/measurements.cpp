@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "dual_graph/measurements.h"
 
+#include "solvers/block_diagonal_factor.h"
+
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <sstream>
@@ -68,30 +70,16 @@ template <int N>
 bool wellConditionedByNormBound(const Eigen::MatrixXd& m, Eigen::MatrixXd* inverse_out) {
   using Matrix = Eigen::Matrix<double, N, N>;
   const Matrix symmetric = 0.5 * (m + m.transpose());
-  // S = L Lᵀ and S⁻¹ = L⁻ᵀ L⁻¹ in fixed-size loops: Eigen's LLT::solve goes through its dynamic-size
+  // S = L Lᵀ and S⁻¹ = L⁻ᵀ L⁻¹ by BlockCholesky's diagonal-block factorisation (a 3×3 padded with an
+  // identity, which leaves its factor and inverse exact): Eigen's LLT::solve goes through its dynamic-size
   // triangular kernels, which made this check most of the cost of recording a detection.
-  Matrix l = Matrix::Zero();
-  for (int k = 0; k < N; ++k) {
-    double d = symmetric(k, k);
-    for (int c = 0; c < k; ++c) d -= l(k, c) * l(k, c);
-    if (!std::isfinite(d) || !(d > 0.0)) return false;  // not positive definite (or NaN)
-    l(k, k) = std::sqrt(d);
-    for (int i = k + 1; i < N; ++i) {
-      double v = symmetric(i, k);
-      for (int c = 0; c < k; ++c) v -= l(i, c) * l(k, c);
-      l(i, k) = v / l(k, k);
-    }
-  }
-  Matrix l_inverse = Matrix::Zero();
-  for (int c = 0; c < N; ++c) {
-    l_inverse(c, c) = 1.0 / l(c, c);
-    for (int i = c + 1; i < N; ++i) {
-      double v = 0.0;
-      for (int k = c; k < i; ++k) v += l(i, k) * l_inverse(k, c);
-      l_inverse(i, c) = -v / l(i, i);
-    }
-  }
-  const Matrix inverse = l_inverse.transpose() * l_inverse;
+  using Block = Eigen::Matrix<double, 6, 6>;
+  Block padded = Block::Identity();
+  padded.template topLeftCorner<N, N>() = symmetric;
+  Block l_inverse;
+  double pivot = 0.0;
+  if (block_factor::choleskyAndInverse(padded.data(), l_inverse.data(), pivot) >= 0) return false;
+  const Matrix inverse = l_inverse.template topLeftCorner<N, N>().transpose() * l_inverse.template topLeftCorner<N, N>();
   if (!inverse.allFinite()) return false;
   const double norm = symmetric.cwiseAbs().rowwise().sum().maxCoeff();
   const double inverse_norm = inverse.cwiseAbs().rowwise().sum().maxCoeff();

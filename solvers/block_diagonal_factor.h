@@ -2,9 +2,9 @@
 #pragma once
 
 // The factorisation of one diagonal 6×6 block of BlockCholesky, written once for both of its numeric
-// loops: block_cholesky.cpp (baseline flags) and block_kernels_avx2.cpp (-mavx2 -mfma). Internal linkage on
-// purpose: each of the two translation units keeps its own copy, so the AVX2 build of this function can
-// never be the one the linker picks for baseline code. No includes (compiler builtins only), as the AVX2
+// loops: block_cholesky.cpp (baseline flags) and block_kernels_avx2.cpp (-mavx2 -mfma); also the covariance
+// check's fast path (dual_graph/measurements.cpp). Internal linkage on purpose: each translation unit keeps
+// its own copy, so the AVX2 build of this function can never be the one the linker picks for baseline code. No includes (compiler builtins only), as the AVX2
 // file requires.
 
 namespace dualgraph::block_factor {
