@@ -198,7 +198,7 @@ Status TemporaryGraph::optimizeWithBlocks(const std::vector<int>& gate_vertices,
   const SolverSummary summary = solver_.optimize(lmParams());
   result.iterations = summary.iterations;
   if (!summary.usable()) return optimizationFailure(summary);
-  DG_RETURN_IF_ERROR(solver_.computeMarginals());
+  DG_RETURN_IF_ERROR(solver_.computeMarginals(gate_vertices));
   for (int vertex : gate_vertices) {
     covariances.push_back(solver_.marginal(vertex));
     gate_estimates.push_back(problem_.gateEstimate(vertex));

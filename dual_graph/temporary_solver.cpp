@@ -225,10 +225,24 @@ SolverSummary TemporarySolver::optimize(const OptimizerParams& params) {
   return summary;
 }
 
-Status TemporarySolver::computeMarginals() {
+Status TemporarySolver::computeMarginals() { return computeMarginalsOf(nullptr); }
+
+Status TemporarySolver::computeMarginals(const std::vector<int>& ids) { return computeMarginalsOf(&ids); }
+
+Status TemporarySolver::computeMarginalsOf(const std::vector<int>* ids) {
   marginals_ready_ = false;
   if (!has_problem_) return Status(StatusCode::kFailedPrecondition, "temporary solver: setGraph was not called");
   if (active_.empty()) return Status(StatusCode::kFailedPrecondition, "no free vertex in the system");
+  if (ids != nullptr) {
+    marginal_blocks_.clear();
+    for (int id : *ids) {
+      if (id < 0 || id >= static_cast<int>(block_by_id_.size()) || block_by_id_[id] < 0) {
+        return Status(StatusCode::kFailedPrecondition,
+                      "marginal covariance: vertex " + std::to_string(id) + " is not free in the system");
+      }
+      marginal_blocks_.push_back(block_by_id_[id]);
+    }
+  }
   // optimize ended on the model check (OptimizerParams::model_decrease_stop): the factor of the undamped
   // H at this estimate is in cholesky_ already.
   const bool reuse = errors_current_ && undamped_factor_current_;
@@ -239,7 +253,7 @@ Status TemporarySolver::computeMarginals() {
     DG_RETURN_IF_ERROR(cholesky_.factorize(h_.data()));
   }
   undamped_factor_current_ = false;
-  DG_RETURN_IF_ERROR(cholesky_.selectedInverse());
+  DG_RETURN_IF_ERROR(ids == nullptr ? cholesky_.selectedInverse() : cholesky_.selectedInverse(marginal_blocks_));
   marginals_ready_ = true;
   return Status();
 }
@@ -250,6 +264,10 @@ Result<Eigen::MatrixXd> TemporarySolver::marginal(int id) const {
     return Status(StatusCode::kFailedPrecondition, "marginal covariance: vertex " + std::to_string(id) + " is not free in the system");
   }
   const int block = block_by_id_[id];
+  if (!cholesky_.inverseComputed(block)) {
+    return Status(StatusCode::kFailedPrecondition,
+                  "marginal covariance: vertex " + std::to_string(id) + " was not asked of computeMarginals");
+  }
   const int d = block_dim_[block];
   return Eigen::MatrixXd(cholesky_.inverseDiagonal(block).topLeftCorner(d, d));
 }

@@ -48,8 +48,13 @@ class TemporarySolver {
   /// (`model_decrease_stop`) also the factor of that H it left. Errors: the factorisation's status (kNotPositiveDefinite, kNumericalError),
   /// kFailedPrecondition when no free vertex is attached to an edge.
   Status computeMarginals();
+  /// The same for the free vertices `ids` only (BlockCholesky::selectedInverse of their blocks: the columns
+  /// on their elimination-tree paths to the root, which for the temporary graph's order skips every column
+  /// before the first gate's). Their covariances equal computeMarginals()'s bit for bit. kFailedPrecondition
+  /// also for an id that is not a free vertex of the system (nothing computed then).
+  Status computeMarginals(const std::vector<int>& ids);
   /// Covariance of free vertex `id` (tangentDim square) from the last successful `computeMarginals`;
-  /// kFailedPrecondition when there is none or `id` is not in the system.
+  /// kFailedPrecondition when there is none, `id` is not in the system or its marginal was not computed.
   Result<Eigen::MatrixXd> marginal(int id) const;
 
  private:
@@ -69,6 +74,8 @@ class TemporarySolver {
   void setDamping(bool scaled, double lambda);
   double dampingEnergy() const;
   void applyStep();
+  /// computeMarginals for every block (`ids` null) or the blocks of `ids`.
+  Status computeMarginalsOf(const std::vector<int>* ids);
   void runLevenbergMarquardt(const OptimizerParams& params, double start_ms, SolverSummary& summary);
   // The steps of runLevenbergMarquardtLoop (core/lm_loop.h, shared with Optimizer): temporary_solver_lm.cpp.
   template <typename System>
@@ -104,6 +111,7 @@ class TemporarySolver {
   std::vector<unsigned char> pair_first_;
   std::vector<std::pair<int, int>> pattern_;
   std::vector<unsigned char> touched_work_;  ///< setProblem: per stored block, whether an edge assembles it
+  std::vector<int> marginal_blocks_;          ///< computeMarginals(ids): the blocks of ids
   BlockCholesky cholesky_;
   BlockCholesky::BlockVector h_;        ///< undamped H in BlockCholesky's storage
   Eigen::VectorXd rhs_;                 ///< b, 6 per block (padded entries zero)

@@ -213,16 +213,45 @@ Status BlockCholesky::solve(const double* b, double* x) const {
 }
 
 Status BlockCholesky::selectedInverse() {
+  sigma_column_.assign(static_cast<size_t>(num_blocks_), factorized_ ? 1 : 0);
   if (!factorized_) {
     return Status(StatusCode::kFailedPrecondition, "block Cholesky: selected inverse before a successful factorize");
   }
+  selectedInverseOfMarkedColumns();
+  return Status();
+}
+
+Status BlockCholesky::selectedInverse(const std::vector<int>& blocks) {
+  sigma_column_.assign(static_cast<size_t>(num_blocks_), 0);
+  if (!factorized_) {
+    return Status(StatusCode::kFailedPrecondition, "block Cholesky: selected inverse before a successful factorize");
+  }
+  for (int j : blocks) {
+    if (j < 0 || j >= num_blocks_) {
+      sigma_column_.assign(sigma_column_.size(), 0);
+      return Status(StatusCode::kInvalidArgument, "block Cholesky: selected inverse of block " + std::to_string(j) +
+                                                      " of " + std::to_string(num_blocks_));
+    }
+    sigma_column_[j] = 1;
+  }
+  // Ancestor closure, in increasing column order: column j's parent is its first off-diagonal row.
+  for (int j = 0; j < num_blocks_; ++j) {
+    if (sigma_column_[j] != 0 && col_begin_[j + 1] > col_begin_[j] + 1) sigma_column_[row_[col_begin_[j] + 1]] = 1;
+  }
+  selectedInverseOfMarkedColumns();
+  return Status();
+}
+
+void BlockCholesky::selectedInverseOfMarkedColumns() {
   if (num_blocks_ > 0 && block_kernels_avx2::enabled()) {
     block_kernels_avx2::selectedInverseColumns(factor_.data()->data(), diagonal_inverse_.data()->data(),
                                                sigma_.data()->data(), work_.empty() ? nullptr : work_.data()->data(),
-                                               col_begin_.data(), target_.data(), target_begin_.data(), num_blocks_);
-    return Status();
+                                               col_begin_.data(), target_.data(), target_begin_.data(),
+                                               sigma_column_.data(), num_blocks_);
+    return;
   }
   for (int j = num_blocks_ - 1; j >= 0; --j) {
+    if (sigma_column_[j] == 0) continue;
     const int first = col_begin_[j] + 1;
     const int m = col_begin_[j + 1] - first;
     const Block& inverse = diagonal_inverse_[j];
@@ -245,7 +274,6 @@ Status BlockCholesky::selectedInverse() {
     for (int a = 0; a < m; ++a) block_kernels::subtractTransposedProduct(diagonal, work_[a], sigma_[first + a]);
     sigma_[col_begin_[j]] = 0.5 * (diagonal + diagonal.transpose());
   }
-  return Status();
 }
 
 }  // namespace dualgraph

@@ -50,8 +50,18 @@ class BlockCholesky {
   Status factorize(const Block* h, const double* diagonal_add = nullptr);
   /// x = H⁻¹ b (6·numBlocks() scalars each; may alias).
   Status solve(const double* b, double* x) const;
-  /// Σ = H⁻¹ on the pattern of L from the last factorisation; then `inverseDiagonal(j)` = Σ_jj.
+  /// Σ = H⁻¹ on the pattern of L from the last factorisation; then `inverseDiagonal(j)` = Σ_jj for every j.
   Status selectedInverse();
+  /// Σ on the columns of `blocks` and of their elimination-tree ancestors only: column j's recursion reads
+  /// Σ on its rows S_j, which are ancestors of j, so nothing else is needed (the Bayes-tree marginal's
+  /// path to the root). Then `inverseDiagonal(j)` = Σ_jj for j in `blocks`; `inverseComputed` tells which
+  /// columns were done. The columns done get the same values, bit for bit, as from `selectedInverse()`.
+  /// kInvalidArgument for a block out of range (nothing computed then).
+  Status selectedInverse(const std::vector<int>& blocks);
+  /// Whether the last selected inverse computed column j (Σ_jj and the column's off-diagonal blocks).
+  bool inverseComputed(int j) const {
+    return j >= 0 && j < static_cast<int>(sigma_column_.size()) && sigma_column_[j] != 0;
+  }
   const Block& inverseDiagonal(int j) const { return sigma_[col_begin_[j]]; }
   bool factorized() const { return factorized_; }
 
@@ -67,9 +77,13 @@ class BlockCholesky {
   BlockVector diagonal_inverse_; ///< per column: L_jj⁻¹
   BlockVector sigma_;            ///< the selected inverse
   BlockVector work_;             ///< per off-diagonal block of a column: W_i
+  std::vector<unsigned char> sigma_column_;      ///< per column: whether the last selected inverse computed it
   std::vector<std::vector<int>> rows_work_;      ///< analyse: per column, its rows (reused)
   std::vector<std::vector<int>> children_work_;  ///< analyse: per column, its elimination-tree children
   bool factorized_ = false;
+
+  /// Takahashi's recursion over the columns marked in sigma_column_ (their ancestors must be marked).
+  void selectedInverseOfMarkedColumns();
 };
 
 }  // namespace dualgraph

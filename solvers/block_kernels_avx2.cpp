@@ -112,8 +112,10 @@ void solveColumns(const double* factor, const double* diagonal_inverse, const in
 }
 
 void selectedInverseColumns(const double* factor, const double* diagonal_inverse, double* sigma, double* work,
-                            const int* col_begin, const int* target, const int* target_begin, int num_blocks) {
+                            const int* col_begin, const int* target, const int* target_begin,
+                            const unsigned char* wanted, int num_blocks) {
   for (int j = num_blocks - 1; j >= 0; --j) {
+    if (wanted[j] == 0) continue;
     const int first = col_begin[j] + 1;
     const int m = col_begin[j + 1] - first;
     const double* inverse = diagonal_inverse + 36 * j;
@@ -163,7 +165,8 @@ bool factorizeColumns(double*, double*, const int*, const int*, const int*, int,
   failure.row = -1;
   return false;
 }
-void selectedInverseColumns(const double*, const double*, double*, double*, const int*, const int*, const int*, int) {}
+void selectedInverseColumns(const double*, const double*, double*, double*, const int*, const int*, const int*,
+                            const unsigned char*, int) {}
 void solveColumns(const double*, const double*, const int*, const int*, int, double*) {}
 
 }  // namespace dualgraph::block_kernels_avx2

@@ -36,9 +36,11 @@ bool factorizeColumns(double* factor, double* diagonal_inverse, const int* col_b
                       const int* target_begin, int num_blocks, PivotFailure& failure);
 
 /// BlockCholesky::selectedInverse's recursion (Takahashi), last column first, into `sigma` (same layout
-/// as `factor`); `work` holds at least the largest column's off-diagonal block count.
+/// as `factor`), for the columns j with `wanted[j]` ≠ 0 (whose ancestors must be wanted too); `work` holds at
+/// least the largest column's off-diagonal block count.
 void selectedInverseColumns(const double* factor, const double* diagonal_inverse, double* sigma, double* work,
-                            const int* col_begin, const int* target, const int* target_begin, int num_blocks);
+                            const int* col_begin, const int* target, const int* target_begin,
+                            const unsigned char* wanted, int num_blocks);
 
 /// BlockCholesky::solve's substitutions on x in place (b in, H⁻¹ b out): L y = b column by column, then
 /// Lᵀ x = y (`row`: BlockCholesky's block row of every stored block).

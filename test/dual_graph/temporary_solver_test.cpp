@@ -254,6 +254,39 @@ TEST(TemporarySolver, TakesTheGenericOptimizersStepsAndMarginals) {
   }
 }
 
+// computeMarginals(ids): the chain's elimination tree is the path 0 → 1 → … → 5, so vertex 3's marginal
+// needs Σ of 3, 4 and 5 only; those equal the full computation's bit for bit, the others are not there.
+TEST(TemporarySolver, MarginalsOfChosenVerticesEqualTheFullOnesAndSkipTheRest) {
+  Graph reference_graph, graph;  // the subset on a solver that never computed the rest
+  buildChain(reference_graph, 5);
+  buildChain(graph, 5);
+  TemporarySolver reference, solver;
+  ASSERT_TRUE(reference.setGraph(reference_graph).ok());
+  ASSERT_TRUE(solver.setGraph(graph).ok());
+  OptimizerParams params;
+  params.max_iterations = 30;
+  ASSERT_TRUE(reference.optimize(params).usable());
+  ASSERT_TRUE(solver.optimize(params).usable());
+  ASSERT_TRUE(reference.computeMarginals().ok());
+  std::vector<Eigen::MatrixXd> full;
+  for (int id = 0; id < 6; ++id) full.push_back(*reference.marginal(id));
+  ASSERT_TRUE(solver.computeMarginals({3}).ok());
+  for (int id = 0; id < 6; ++id) {
+    SCOPED_TRACE("vertex " + std::to_string(id));
+    const Result<Eigen::MatrixXd> marginal = solver.marginal(id);
+    if (id < 3) {
+      EXPECT_EQ(marginal.status().code(), StatusCode::kFailedPrecondition);
+      continue;
+    }
+    ASSERT_TRUE(marginal.ok()) << marginal.status().message();
+    EXPECT_TRUE((marginal->array() == full[id].array()).all()) << *marginal << "\nfull:\n" << full[id];
+  }
+  for (const int bad : {6, 7, -1}) {  // fixed, unknown, negative: a status, and no marginals left
+    EXPECT_EQ(solver.computeMarginals({3, bad}).code(), StatusCode::kFailedPrecondition) << bad;
+    EXPECT_EQ(solver.marginal(3).status().code(), StatusCode::kFailedPrecondition) << bad;
+  }
+}
+
 // OptimizerParams::model_decrease_stop: the run ends one iteration earlier, at the estimate before the
 // confirming step, in both solvers alike; the block solver's marginals then reuse the undamped factor the
 // check left, and equal a fresh linearisation's at the same estimate.

@@ -134,6 +134,56 @@ TEST_P(BlockCholeskyKernels, ChainWithGatesMatchesDenseSolveAndInverse) {
   expectMatchesDense(randomProblem(blocks, pairs, rng), blocks);
 }
 
+// Two elimination trees (chains 0-…-5 with a chord 1-4, and 6-…-9): Σ of blocks {2, 7} needs the columns
+// on their paths to the roots, {2, 3, 4, 5} and {7, 8, 9}; those equal the full recursion's bit for bit,
+// and the others are not computed.
+TEST_P(BlockCholeskyKernels, SubsetInverseComputesThePathsToTheRootsOnlyWithTheSameValues) {
+  std::mt19937 rng(9);
+  const Pairs pairs = {{0, 1}, {1, 2}, {2, 3}, {3, 4}, {4, 5}, {1, 4}, {6, 7}, {7, 8}, {8, 9}};
+  const Problem problem = randomProblem(10, pairs, rng);
+  BlockCholesky reference, solver;  // the subset on a solver that never computed the rest
+  for (BlockCholesky* s : {&reference, &solver}) {
+    ASSERT_TRUE(s->analyse(10, pairs).ok());
+    ASSERT_TRUE(s->factorize(toBlocks(*s, problem.dense).data()).ok());
+  }
+  ASSERT_TRUE(reference.selectedInverse().ok());
+  std::vector<Block, Eigen::aligned_allocator<Block>> full;
+  for (int j = 0; j < 10; ++j) {
+    EXPECT_TRUE(reference.inverseComputed(j));
+    full.push_back(reference.inverseDiagonal(j));
+  }
+  ASSERT_TRUE(solver.selectedInverse({7, 2}).ok());
+  const std::vector<bool> expected = {false, false, true, true, true, true, false, true, true, true};
+  const Eigen::MatrixXd inverse = problem.dense.inverse();
+  for (int j = 0; j < 10; ++j) {
+    SCOPED_TRACE("block " + std::to_string(j));
+    EXPECT_EQ(solver.inverseComputed(j), expected[j]);
+    if (!expected[j]) continue;
+    EXPECT_TRUE((solver.inverseDiagonal(j).array() == full[j].array()).all());
+    const Eigen::MatrixXd dense_block = inverse.block<6, 6>(6 * j, 6 * j);
+    EXPECT_LE((solver.inverseDiagonal(j) - dense_block).norm(), 1e-10 * dense_block.norm());
+  }
+  EXPECT_FALSE(solver.inverseComputed(10));
+  EXPECT_FALSE(solver.inverseComputed(-1));
+}
+
+TEST_P(BlockCholeskyKernels, SubsetInverseRejectsBlocksOutOfRangeAndAnUnfactorisedMatrix) {
+  std::mt19937 rng(10);
+  const Pairs pairs = {{0, 1}, {1, 2}};
+  const Problem problem = randomProblem(3, pairs, rng);
+  BlockCholesky solver;
+  ASSERT_TRUE(solver.analyse(3, pairs).ok());
+  EXPECT_EQ(solver.selectedInverse({0}).code(), StatusCode::kFailedPrecondition);
+  ASSERT_TRUE(solver.factorize(toBlocks(solver, problem.dense).data()).ok());
+  for (const int bad : {3, -1}) {
+    ASSERT_TRUE(solver.selectedInverse().ok());
+    EXPECT_EQ(solver.selectedInverse({1, bad}).code(), StatusCode::kInvalidArgument);
+    for (int j = 0; j < 3; ++j) EXPECT_FALSE(solver.inverseComputed(j)) << "block " << j;
+  }
+  ASSERT_TRUE(solver.selectedInverse({}).ok());  // nothing asked, nothing computed
+  for (int j = 0; j < 3; ++j) EXPECT_FALSE(solver.inverseComputed(j)) << "block " << j;
+}
+
 TEST_P(BlockCholeskyKernels, PaddedBlocksLeaveTheRealPartExact) {
   std::mt19937 rng(4);
   int blocks = 0;
