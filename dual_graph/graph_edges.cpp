@@ -55,12 +55,16 @@ Result<EdgePointXYZPrior*> addPointPriorEdge(Graph& graph, int point_id, const E
 }
 
 Result<Matrix6d> poseInformationFromMetricCovariance(const Matrix6d& covariance_metric, const std::string& what) {
+  Matrix6d fast;
+  if (informationFromWellConditionedCovariance<6>(covariance_metric, fast)) return informationMetricToG2o(fast);
   Result<Eigen::MatrixXd> information = informationFromCovariance(covariance_metric, what);
   if (!information.ok()) return information.status();
   return informationMetricToG2o(Matrix6d(*information));
 }
 
 Result<Eigen::Matrix3d> pointInformationFromCovariance(const Eigen::Matrix3d& covariance, const std::string& what) {
+  Eigen::Matrix3d fast;
+  if (informationFromWellConditionedCovariance<3>(covariance, fast)) return fast;
   Result<Eigen::MatrixXd> information = informationFromCovariance(covariance, what);
   if (!information.ok()) return information.status();
   return Eigen::Matrix3d(*information);

@@ -59,15 +59,26 @@ void eigenvalueRange(const Eigen::MatrixXd& m, double& smallest, double& largest
   largest = eigen.eigenvalues().maxCoeff();
 }
 
-/// True when ‖S‖∞ · ‖S⁻¹‖∞ < 1e11 for the symmetric `m` (N = 6 or 3): then S is positive definite (its
-/// Cholesky succeeded) and λ_min / λ_max ≥ 1 / (‖S‖∞ ‖S⁻¹‖∞) > 1e-11, since every eigenvalue is bounded by
-/// any induced norm (λ_max ≤ ‖S‖∞, 1/λ_min ≤ ‖S⁻¹‖∞). The factor 10 over checkCovariance's 1e-12 covers
-/// the round-off of the computed inverse (relative ≈ κ·ε ≤ 1e-5 here). False means "not decided": the
-/// exact eigenvalues are computed. ≈ 5× cheaper than the eigenvalues, and the answer for every covariance
-/// of the hot paths (detections, odometry, distilled marginals). When true and `inverse_out` is given, S⁻¹
-/// is stored there.
+/// inverseOfWellConditionedCovariance (below) for a dynamic-size `m` of N rows: false means "not decided",
+/// and the caller computes the exact eigenvalues. When true and `inverse_out` is given, S⁻¹ is stored there.
 template <int N>
 bool wellConditionedByNormBound(const Eigen::MatrixXd& m, Eigen::MatrixXd* inverse_out) {
+  using Matrix = Eigen::Matrix<double, N, N>;
+  Matrix inverse;
+  if (!inverseOfWellConditionedCovariance<N>(Matrix(m), inverse)) return false;
+  if (inverse_out != nullptr) *inverse_out = inverse;
+  return true;
+}
+
+}  // namespace
+
+/// checkCovariance's norm bound: ‖S‖∞ · ‖S⁻¹‖∞ < 1e11 for the
+/// symmetric part S of `m` means that S is positive definite (its Cholesky succeeded) and λ_min / λ_max ≥
+/// 1 / (‖S‖∞ ‖S⁻¹‖∞) > 1e-11, since every eigenvalue is bounded by any induced norm (λ_max ≤ ‖S‖∞,
+/// 1/λ_min ≤ ‖S⁻¹‖∞). The factor 10 over checkCovariance's 1e-12 covers the round-off of the computed
+/// inverse (relative ≈ κ·ε ≤ 1e-5 here). ≈ 5× cheaper than the eigenvalues.
+template <int N>
+bool inverseOfWellConditionedCovariance(const Eigen::Matrix<double, N, N>& m, Eigen::Matrix<double, N, N>& inverse) {
   using Matrix = Eigen::Matrix<double, N, N>;
   const Matrix symmetric = 0.5 * (m + m.transpose());
   // S = L Lᵀ and S⁻¹ = L⁻ᵀ L⁻¹ by BlockCholesky's diagonal-block factorisation (a 3×3 padded with an
@@ -79,16 +90,16 @@ bool wellConditionedByNormBound(const Eigen::MatrixXd& m, Eigen::MatrixXd* inver
   Block l_inverse;
   double pivot = 0.0;
   if (block_factor::choleskyAndInverse(padded.data(), l_inverse.data(), pivot) >= 0) return false;
-  const Matrix inverse = l_inverse.template topLeftCorner<N, N>().transpose() * l_inverse.template topLeftCorner<N, N>();
-  if (!inverse.allFinite()) return false;
+  const Matrix candidate = l_inverse.template topLeftCorner<N, N>().transpose() * l_inverse.template topLeftCorner<N, N>();
+  if (!candidate.allFinite()) return false;
   const double norm = symmetric.cwiseAbs().rowwise().sum().maxCoeff();
-  const double inverse_norm = inverse.cwiseAbs().rowwise().sum().maxCoeff();
+  const double inverse_norm = candidate.cwiseAbs().rowwise().sum().maxCoeff();
   if (!(norm * inverse_norm < 1e11)) return false;
-  if (inverse_out != nullptr) *inverse_out = inverse;
+  inverse = candidate;
   return true;
 }
-
-}  // namespace
+template bool inverseOfWellConditionedCovariance<6>(const Matrix6d&, Matrix6d&);
+template bool inverseOfWellConditionedCovariance<3>(const Eigen::Matrix3d&, Eigen::Matrix3d&);
 
 Status checkCovariance(const Eigen::MatrixXd& m, const std::string& what) { return checkCovariance(m, what, nullptr); }
 

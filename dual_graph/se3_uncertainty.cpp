@@ -48,6 +48,21 @@ Result<Eigen::MatrixXd> inverseSpd(const Eigen::MatrixXd& symmetric) {
 
 }  // namespace
 
+template <int N>
+bool informationFromWellConditionedCovariance(const Eigen::Matrix<double, N, N>& covariance,
+                                              Eigen::Matrix<double, N, N>& information) {
+  using Matrix = Eigen::Matrix<double, N, N>;
+  const Matrix symmetric = 0.5 * (covariance + covariance.transpose());
+  Matrix inverse;
+  if (!inverseOfWellConditionedCovariance<N>(symmetric, inverse)) return false;
+  const Matrix candidate = 0.5 * (inverse + inverse.transpose());  // as informationFromCovariance symmetrises it
+  if (!candidate.allFinite()) return false;
+  information = candidate;
+  return true;
+}
+template bool informationFromWellConditionedCovariance<6>(const Matrix6d&, Matrix6d&);
+template bool informationFromWellConditionedCovariance<3>(const Eigen::Matrix3d&, Eigen::Matrix3d&);
+
 Result<Eigen::MatrixXd> informationFromCovariance(const Eigen::MatrixXd& covariance, const std::string& what) {
   const Eigen::MatrixXd symmetric = 0.5 * (covariance + covariance.transpose());
   Eigen::MatrixXd checked_inverse;  // the check's own Cholesky inverse, when it computed one

@@ -29,5 +29,12 @@ Matrix6d odometryModelCovariance(const Eigen::Isometry3d& increment, double sigm
 
 /// Ω = Σ⁻¹, symmetrised; kNotPositiveDefinite when Σ (or Ω) is not usable.
 Result<Eigen::MatrixXd> informationFromCovariance(const Eigen::MatrixXd& covariance, const std::string& what);
+/// Its fast path for a 6×6 or 3×3 (N = 6, 3), without heap allocation and without a message to build: true
+/// with Ω in `information` (equal to informationFromCovariance's, bit for bit) when Σ is well conditioned
+/// (inverseOfWellConditionedCovariance, measurements.h), the case of every covariance of the hot paths;
+/// false when it cannot decide, and informationFromCovariance then gives the result or the error.
+template <int N>
+bool informationFromWellConditionedCovariance(const Eigen::Matrix<double, N, N>& covariance,
+                                              Eigen::Matrix<double, N, N>& information);
 
 }  // namespace dualgraph

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // checkCovariance decides exactly as its eigenvalue criterion (λ_min > 1e-12 · λ_max, λ_max > 0) whether the
 // cheap norm bound settles it or the eigenvalues are computed: random symmetric matrices with condition
-// numbers on both sides of the bound (1e11) and of the criterion (1e12), and indefinite ones.
+// numbers on both sides of the bound (1e11) and of the criterion (1e12), and indefinite ones. The
+// fixed-size fast path (informationFromWellConditionedCovariance) gives informationFromCovariance's Ω bit for
+// bit whenever it decides, and leaves every other matrix to it.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -10,6 +12,7 @@
 #include <random>
 
 #include "dual_graph/measurements.h"
+#include "dual_graph/se3_uncertainty.h"
 
 namespace dualgraph {
 namespace {
@@ -75,6 +78,42 @@ TEST(CheckCovariance, RejectsIndefiniteAndNegativeDefiniteMatrices) {
     EXPECT_EQ(checkCovariance(negative, "negative").code(), StatusCode::kNotPositiveDefinite);
     EXPECT_EQ(checkCovariance(Eigen::MatrixXd::Zero(n, n), "zero").code(), StatusCode::kNotPositiveDefinite);
   }
+}
+
+template <int N>
+void expectFastPathAgrees(const Eigen::MatrixXd& m, bool expect_decided, const std::string& label) {
+  using Matrix = Eigen::Matrix<double, N, N>;
+  Matrix fast = Matrix::Constant(-7.0);
+  const bool decided = informationFromWellConditionedCovariance<N>(Matrix(m), fast);
+  EXPECT_EQ(decided, expect_decided) << label;
+  const Result<Eigen::MatrixXd> checked = informationFromCovariance(m, "covariance");
+  if (!decided) {
+    EXPECT_TRUE((fast.array() == -7.0).all()) << label << ": output written without a decision";
+    return;
+  }
+  ASSERT_TRUE(checked.ok()) << label << ": " << checked.status().message();
+  EXPECT_TRUE((fast.array() == checked->array()).all()) << label << "\nfast:\n" << fast << "\nchecked:\n" << *checked;
+}
+
+TEST(InformationFromWellConditionedCovariance, EqualsTheCheckedPathOrLeavesTheMatrixToIt) {
+  std::mt19937 rng(13);
+  // κ up to 1e8 is decided by the norm bound (‖S‖∞‖S⁻¹‖∞ ≤ n κ); κ = 1e13 fails the criterion itself.
+  for (double log_condition : {0.0, 3.0, 8.0, 13.0}) {
+    const bool decided = log_condition < 12.0;
+    for (int trial = 0; trial < 10; ++trial) {
+      const std::string label = "log κ " + std::to_string(log_condition);
+      // Scaled like a covariance (σ² ≈ 1e-4), and unsymmetric at round-off, as a computed marginal is.
+      Eigen::MatrixXd m6 = 1e-4 * withEigenvalues(6, std::pow(10.0, -log_condition), rng);
+      m6(0, 1) += 1e-20;
+      expectFastPathAgrees<6>(m6, decided, label);
+      expectFastPathAgrees<3>(1e-4 * withEigenvalues(3, std::pow(10.0, -log_condition), rng), decided, label);
+    }
+  }
+  Eigen::MatrixXd nan = withEigenvalues(6, 0.1, rng);
+  nan(2, 2) = std::nan("");
+  expectFastPathAgrees<6>(nan, false, "NaN");
+  expectFastPathAgrees<3>(-withEigenvalues(3, 0.1, rng), false, "negative definite");
+  expectFastPathAgrees<6>(withEigenvalues(6, -1e-3, rng), false, "indefinite");
 }
 
 }  // namespace
