@@ -2,7 +2,6 @@
 #include "dual_graph/temporary_graph.h"
 
 #include <algorithm>
-#include <map>
 
 #include "core/optimizer.h"
 #include "core/wall_clock.h"
@@ -68,36 +67,46 @@ Result<Matrix6d> TemporaryGraph::odometryInformation(double t_from, double t_to,
   return poseInformationFromMetricCovariance(*covariance, "temporary odometry covariance");
 }
 
-std::vector<int> TemporaryGraph::distinctGates() const {
-  std::vector<int> gates;
+TemporaryGraph::VertexIds TemporaryGraph::assignVertexIds(double t_keyframe) const {
+  VertexIds ids;
+  std::vector<size_t> last_node;  // per gate entry: the last node observing it
+  ids.entry.reserve(observations_.size());
   for (const NodeObservation& observation : observations_) {
     const int gate = observation.measurement.gate_id;
-    if (std::find(gates.begin(), gates.end(), gate) == gates.end()) gates.push_back(gate);
+    const auto found = std::find(ids.gates.begin(), ids.gates.end(), gate);
+    const size_t entry = static_cast<size_t>(found - ids.gates.begin());
+    if (found == ids.gates.end()) {
+      ids.gates.push_back(gate);
+      ids.gate_observations.push_back(0);
+      last_node.push_back(observation.node);
+    }
+    ids.entry.push_back(static_cast<int>(entry));
+    ++ids.gate_observations[entry];
+    last_node[entry] = observation.node;
   }
-  return gates;
-}
-
-TemporaryGraph::VertexIds TemporaryGraph::assignVertexIds(double t_keyframe) const {
-  std::map<int, size_t> last_node;  // gate → last node observing it
-  for (const NodeObservation& observation : observations_) last_node[observation.measurement.gate_id] = observation.node;
-  std::vector<std::vector<int>> closing(nodes_.size());  // per node: gates it is the last to observe
-  for (const auto& [gate, node] : last_node) closing[node].push_back(gate);
-  VertexIds ids;
+  // The gates each node is the last to observe, in increasing gate id: entries by (last node, gate id).
+  std::vector<int> closing(ids.gates.size());
+  for (size_t e = 0; e < closing.size(); ++e) closing[e] = static_cast<int>(e);
+  std::sort(closing.begin(), closing.end(), [&](int a, int b) {
+    return last_node[a] != last_node[b] ? last_node[a] < last_node[b] : ids.gates[a] < ids.gates[b];
+  });
   ids.node.assign(nodes_.size(), -1);
+  ids.gate_vertex.assign(ids.gates.size(), -1);
   int next = 0;
   std::vector<int> at_keyframe;  // gates last seen from the fixed keyframe: after every node
+  size_t c = 0;
   for (size_t j = 0; j < nodes_.size(); ++j) {
     const bool free = nodes_[j].t < t_keyframe;
     if (free) ids.node[j] = next++;
-    for (int gate : closing[j]) {
+    for (; c < closing.size() && last_node[closing[c]] == j; ++c) {
       if (free) {
-        ids.gate[gate] = next++;
+        ids.gate_vertex[closing[c]] = next++;
       } else {
-        at_keyframe.push_back(gate);
+        at_keyframe.push_back(closing[c]);
       }
     }
   }
-  for (int gate : at_keyframe) ids.gate[gate] = next++;
+  for (int entry : at_keyframe) ids.gate_vertex[entry] = next++;
   // The fixed keyframe after the free vertices, on purpose: block lookup must not assume it comes first.
   ids.keyframe = next;
   for (int& vertex : ids.node) vertex = vertex < 0 ? ids.keyframe : vertex;
@@ -105,10 +114,8 @@ TemporaryGraph::VertexIds TemporaryGraph::assignVertexIds(double t_keyframe) con
 }
 
 Status TemporaryGraph::buildProblem(double t_keyframe, const Eigen::Isometry3d& odom_T_keyframe,
-                                    const OdometryHistory& history, std::vector<int>& gate_ids,
-                                    std::vector<int>& gate_vertices, DistillationResult& result) {
+                                    const OdometryHistory& history, const VertexIds& ids, DistillationResult& result) {
   problem_.clear();
-  const VertexIds ids = assignVertexIds(t_keyframe);
   const int keyframe_id = ids.keyframe;
   DG_RETURN_IF_ERROR(problem_.addPose(keyframe_id, odom_T_keyframe, true));
   // Node j is its own vertex, or the keyframe itself when it was taken at the keyframe instant.
@@ -130,20 +137,21 @@ Status TemporaryGraph::buildProblem(double t_keyframe, const Eigen::Isometry3d& 
     if (!information.ok()) return information.status();
     DG_RETURN_IF_ERROR(problem_.addPoseEdge(from, to, nodes_[j].odom_T_body.inverse() * to_pose, *information));
   }
-  // Gates: created at their first observation, one edge per observation.
-  for (const NodeObservation& observation : observations_) {
-    const int gate = observation.measurement.gate_id;
-    const int gate_vertex = ids.gate.at(gate);
-    if (std::find(gate_ids.begin(), gate_ids.end(), gate) == gate_ids.end()) {
+  // Gates: created at their first observation (entries come in that order), one edge per observation.
+  size_t gates_added = 0;
+  for (size_t k = 0; k < observations_.size(); ++k) {
+    const NodeObservation& observation = observations_[k];
+    const size_t entry = static_cast<size_t>(ids.entry[k]);
+    const int gate_vertex = ids.gate_vertex[entry];
+    if (entry == gates_added) {
       const Eigen::Isometry3d& odom_T_node =
           node_vertex[observation.node] == keyframe_id ? odom_T_keyframe : nodes_[observation.node].odom_T_body;
       DG_RETURN_IF_ERROR(problem_.addGate(gate_vertex, params_.landmark, gateFromNode(odom_T_node, observation.measurement)));
-      gate_ids.push_back(gate);
-      gate_vertices.push_back(gate_vertex);
+      ++gates_added;
     }
     DG_RETURN_IF_ERROR(problem_.addGateEdge(node_vertex[observation.node], gate_vertex, observation.measurement, kernel_));
   }
-  result.nodes = static_cast<int>(problem_.vertices().size() - ids.gate.size());
+  result.nodes = static_cast<int>(problem_.vertices().size() - ids.gates.size());
   result.edges = static_cast<int>(problem_.edges().size());
   return Status();
 }
@@ -158,6 +166,19 @@ OptimizerParams TemporaryGraph::lmParams() const {
 }
 
 namespace {
+
+/// Ω = Σ⁻¹ of gate `gate_id`'s distilled marginal (N×N): the allocation-free path for the usual well-conditioned
+/// Σ, else informationFromCovariance's, whose error names the gate.
+template <int N>
+Status distilledInformation(const Eigen::Matrix<double, N, N>& covariance, int gate_id,
+                            Eigen::Matrix<double, N, N>& information) {
+  if (informationFromWellConditionedCovariance<N>(covariance, information)) return Status();
+  Result<Eigen::MatrixXd> checked =
+      informationFromCovariance(covariance, "distilled covariance of gate " + std::to_string(gate_id));
+  if (!checked.ok()) return checked.status();
+  information = *checked;
+  return Status();
+}
 
 Status optimizationFailure(const SolverSummary& summary) {
   return Status(StatusCode::kNumericalError, std::string("temporary graph optimisation failed (") +
@@ -211,10 +232,14 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
   DistillationResult result;
   if (nodes_.empty()) return result;
   const double start_ms = nowMs();
-  std::vector<int> gate_ids, gate_vertices;
+  const VertexIds ids = assignVertexIds(t_keyframe);
+  const std::vector<int>& gate_ids = ids.gates;
+  const std::vector<int>& gate_vertices = ids.gate_vertex;
   std::vector<Result<Eigen::MatrixXd>> covariances;
   GatePoses gate_estimates;  // odom_T_gate (a point: its translation)
-  Status built = buildProblem(t_keyframe, odom_T_keyframe, history, gate_ids, gate_vertices, result);
+  covariances.reserve(gate_ids.size());
+  gate_estimates.reserve(gate_ids.size());
+  Status built = buildProblem(t_keyframe, odom_T_keyframe, history, ids, result);
   const bool blocks =
       params_.temp_solver == TemporarySolverKind::kBlock && params_.linear_solver != LinearSolverKind::kCholmod;
   if (built.ok()) {
@@ -222,38 +247,30 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
                    : optimizeWithGraph(gate_vertices, covariances, gate_estimates, result);
   }
   if (!built.ok()) {
-    result.skipped_gates = static_cast<int>(distinctGates().size());
+    result.skipped_gates = static_cast<int>(ids.gates.size());
     result.skip_reason = built.message();
     result.optimize_ms = nowMs() - start_ms;
     clear();
     return result;
   }
   const Eigen::Isometry3d keyframe_T_odom = odom_T_keyframe.inverse();
+  result.gates.reserve(gate_ids.size());
   for (size_t g = 0; g < gate_ids.size(); ++g) {
     GateEdgeMeasurement distilled;
     distilled.gate_id = gate_ids[g];
     distilled.model = params_.landmark;
-    distilled.observations = 0;
-    for (const NodeObservation& observation : observations_) {
-      distilled.observations += observation.measurement.gate_id == gate_ids[g] ? 1 : 0;
-    }
+    distilled.observations = ids.gate_observations[g];
     const Result<Eigen::MatrixXd>& covariance = covariances[g];
     Status usable = covariance.ok() ? Status() : covariance.status();
-    const std::string what = "distilled covariance of gate " + std::to_string(gate_ids[g]);
     if (usable.ok() && params_.landmark == LandmarkModel::kPose) {
       distilled.node_T_gate = keyframe_T_odom * gate_estimates[g];
-      Result<Eigen::MatrixXd> information = informationFromCovariance(*covariance, what);
-      usable = information.ok() ? Status() : information.status();
-      if (usable.ok()) distilled.pose_information = Matrix6d(*information);
+      usable = distilledInformation<6>(*covariance, gate_ids[g], distilled.pose_information);
     } else if (usable.ok()) {
       distilled.p_node = keyframe_T_odom * gate_estimates[g].translation();
       distilled.node_T_gate.translation() = distilled.p_node;
       // The point's covariance is in odometry axes; the edge's error is in the keyframe's axes.
       const Eigen::Matrix3d rotation = keyframe_T_odom.linear();
-      Result<Eigen::MatrixXd> information =
-          informationFromCovariance(rotation * *covariance * rotation.transpose(), what);
-      usable = information.ok() ? Status() : information.status();
-      if (usable.ok()) distilled.point_information = Eigen::Matrix3d(*information);
+      usable = distilledInformation<3>(rotation * *covariance * rotation.transpose(), gate_ids[g], distilled.point_information);
     }
     if (!usable.ok()) {
       if (result.skipped_gates++ == 0) result.skip_reason = usable.message();

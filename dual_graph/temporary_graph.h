@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -71,17 +70,20 @@ class TemporaryGraph {
   };
   /// Vertex ids, chosen so that increasing id (the linear system's order) is a good elimination order.
   struct VertexIds {
-    std::vector<int> node;          ///< per node: its vertex, or `keyframe` for a node at the keyframe instant
-    std::map<int, int> gate;        ///< gate id → vertex
-    int keyframe = 0;               ///< the fixed keyframe, after every free vertex
+    std::vector<int> node;               ///< per node: its vertex, or `keyframe` for a node at the keyframe instant
+    std::vector<int> gates;              ///< the gate ids, in order of first observation
+    std::vector<int> gate_vertex;        ///< per entry of `gates`: its vertex
+    std::vector<int> gate_observations;  ///< per entry of `gates`: its number of observations
+    std::vector<int> entry;              ///< per observation: its gate's entry in `gates`
+    int keyframe = 0;                    ///< the fixed keyframe, after every free vertex
   };
   /// Nodes in time order, each gate right after the last node that observes it (so at most the gates
   /// still in view are coupled to a node while the chain is eliminated), then the keyframe.
   VertexIds assignVertexIds(double t_keyframe) const;
-  /// Builds the graph into `problem_` (nodes, fixed keyframe, gates, odometry and detection edges); fills
-  /// `result`'s sizes; `gate_ids` in order of first observation, `gate_vertices` their vertices.
+  /// Builds the graph into `problem_` (nodes, fixed keyframe, gates, odometry and detection edges) with the
+  /// vertex ids `ids` (assignVertexIds); fills `result`'s sizes.
   Status buildProblem(double t_keyframe, const Eigen::Isometry3d& odom_T_keyframe, const OdometryHistory& history,
-                      std::vector<int>& gate_ids, std::vector<int>& gate_vertices, DistillationResult& result);
+                      const VertexIds& ids, DistillationResult& result);
   OptimizerParams lmParams() const;
   using GatePoses = std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>>;
   /// Optimises `problem_` and appends each gate vertex's marginal covariance (or why it has none) to
@@ -92,8 +94,6 @@ class TemporaryGraph {
   /// … or with the block solver (temp_solver: block) on `problem_` itself.
   Status optimizeWithBlocks(const std::vector<int>& gate_vertices, std::vector<Result<Eigen::MatrixXd>>& covariances,
                             GatePoses& gate_estimates, DistillationResult& result);
-  /// Gate ids observed in the interval, in order of first observation.
-  std::vector<int> distinctGates() const;
 
   const LocalizerParams params_;
   std::shared_ptr<const RobustKernel> kernel_;
