@@ -15,9 +15,13 @@ namespace {
 /// computed, so no division sits on the inverse's dependency chain). Returns -1, or the row 0…5 of the
 /// first pivot that is not positive and finite, with its value in `pivot` (the block is then unusable).
 inline int choleskyAndInverse(double* a, double* inverse, double& pivot) {
+  // Every loop fully unrolled (constant indices, no loop control; the zeroing without `rep stos`, whose
+  // start-up cost a 36-entry block does not amortise): the block is on the factorisation's critical path.
   double reciprocal[6];  // 1 / L_kk
+#pragma GCC unroll 6
   for (int k = 0; k < 6; ++k) {
     double d = a[7 * k];
+#pragma GCC unroll 6
     for (int m = 0; m < k; ++m) d -= a[6 * m + k] * a[6 * m + k];
     if (!__builtin_isfinite(d) || !(d > 0.0)) {
       pivot = d;
@@ -29,20 +33,28 @@ inline int choleskyAndInverse(double* a, double* inverse, double& pivot) {
     const double r = d > 1e-290 ? l * (1.0 / d) : 1.0 / l;  // (1/d would overflow for subnormal d)
     a[7 * k] = l;
     reciprocal[k] = r;
+#pragma GCC unroll 6
     for (int i = k + 1; i < 6; ++i) {
       double s = a[6 * k + i];
+#pragma GCC unroll 6
       for (int m = 0; m < k; ++m) s -= a[6 * m + i] * a[6 * m + k];
       a[6 * k + i] = s * r;
     }
   }
+#pragma GCC unroll 6
   for (int col = 1; col < 6; ++col) {
+#pragma GCC unroll 6
     for (int row = 0; row < col; ++row) a[6 * col + row] = 0.0;
   }
-  for (int i = 0; i < 36; ++i) inverse[i] = 0.0;
+#pragma GCC unroll 6
   for (int c = 0; c < 6; ++c) {
+#pragma GCC unroll 6
+    for (int row = 0; row < c; ++row) inverse[6 * c + row] = 0.0;
     inverse[7 * c] = reciprocal[c];
+#pragma GCC unroll 6
     for (int i = c + 1; i < 6; ++i) {
       double s = 0.0;
+#pragma GCC unroll 6
       for (int k = c; k < i; ++k) s += a[6 * k + i] * inverse[6 * c + k];
       inverse[6 * c + i] = -s * reciprocal[i];
     }
