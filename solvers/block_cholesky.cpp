@@ -59,6 +59,7 @@ Status pivotFailure(int row, double d) {
 
 Status BlockCholesky::analyse(int num_blocks, const std::vector<std::pair<int, int>>& pairs) {
   factorized_ = false;
+  sigma_column_.clear();
   num_blocks_ = 0;
   col_begin_.assign(1, 0);
   row_.clear();
@@ -132,6 +133,7 @@ Status BlockCholesky::analyse(int num_blocks, const std::vector<std::pair<int, i
   // Every entry is written before it is read (factorize copies H; the inverse is filled column by column).
   factor_.resize(row_.size());
   sigma_.resize(row_.size());
+  sigma_column_.assign(static_cast<size_t>(num_blocks), 0);
   diagonal_inverse_.resize(num_blocks);
   work_.resize(max_column);
   return Status();
@@ -153,6 +155,7 @@ int BlockCholesky::blockIndex(int row, int col) const {
 
 Status BlockCholesky::factorize(const Block* h, const double* diagonal_add) {
   factorized_ = false;
+  std::fill(sigma_column_.begin(), sigma_column_.end(), 0);  // no Σ of this factor yet
   std::copy(h, h + row_.size(), factor_.begin());
   if (diagonal_add != nullptr) {
     for (int j = 0; j < num_blocks_; ++j) {

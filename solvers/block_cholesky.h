@@ -58,7 +58,8 @@ class BlockCholesky {
   /// columns were done. The columns done get the same values, bit for bit, as from `selectedInverse()`.
   /// kInvalidArgument for a block out of range (nothing computed then).
   Status selectedInverse(const std::vector<int>& blocks);
-  /// Whether the last selected inverse computed column j (Σ_jj and the column's off-diagonal blocks).
+  /// Whether column j of Σ (Σ_jj and the column's off-diagonal blocks) has been computed from the current
+  /// factor (false for every column after `analyse` or `factorize`, until a selected inverse).
   bool inverseComputed(int j) const {
     return j >= 0 && j < static_cast<int>(sigma_column_.size()) && sigma_column_[j] != 0;
   }

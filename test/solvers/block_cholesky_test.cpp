@@ -165,6 +165,12 @@ TEST_P(BlockCholeskyKernels, SubsetInverseComputesThePathsToTheRootsOnlyWithTheS
   }
   EXPECT_FALSE(solver.inverseComputed(10));
   EXPECT_FALSE(solver.inverseComputed(-1));
+  // A new factor has no Σ until the next selected inverse.
+  ASSERT_TRUE(solver.factorize(toBlocks(solver, problem.dense).data()).ok());
+  for (int j = 0; j < 10; ++j) EXPECT_FALSE(solver.inverseComputed(j)) << "block " << j;
+  ASSERT_TRUE(solver.analyse(10, pairs).ok());
+  ASSERT_TRUE(solver.selectedInverse({2}).code() == StatusCode::kFailedPrecondition);
+  for (int j = 0; j < 10; ++j) EXPECT_FALSE(solver.inverseComputed(j)) << "block " << j;
 }
 
 TEST_P(BlockCholeskyKernels, SubsetInverseRejectsBlocksOutOfRangeAndAnUnfactorisedMatrix) {
