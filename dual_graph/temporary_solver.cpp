@@ -53,6 +53,15 @@ Status TemporarySolver::setProblem(const std::vector<VertexBase*>& vertices, con
       }
       if (!v->fixed()) block_by_id_[v->id()] = 0;  // attached and free
     }
+    const std::vector<VertexBase*>& slots = edge->vertices();
+    for (size_t a = 0; a < slots.size(); ++a) {
+      for (size_t b = a + 1; b < slots.size(); ++b) {
+        if (slots[a] == slots[b] && !slots[a]->fixed()) {  // the assembly has one H block per pair of blocks
+          return Status(StatusCode::kInvalidArgument, "temporary solver: " + describeEdge(*edge) + " uses free vertex " +
+                                                          std::to_string(slots[a]->id()) + " in two slots");
+        }
+      }
+    }
   }
   for (VertexBase* vertex : vertices) {
     if (vertex == nullptr || block_by_id_[vertex->id()] < 0) continue;

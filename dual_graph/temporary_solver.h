@@ -38,7 +38,8 @@ class TemporarySolver {
   /// The same for a graph given as its vertices in strictly increasing id order (null entries are
   /// skipped; every vertex an edge refers to must be among them) and its edges: the vertices and edges
   /// are kept by pointer until the next call (TemporaryProblem reuses them between keyframes).
-  /// kFailedPrecondition also for ids out of order.
+  /// kFailedPrecondition also for ids out of order; kInvalidArgument for an edge that uses one free vertex
+  /// in two slots (its Jᵀ W J would need two cross terms in one block).
   Status setProblem(const std::vector<VertexBase*>& vertices, const std::vector<EdgeBase*>& edges);
   /// LM from the current estimate; the estimate is left at the last accepted state.
   SolverSummary optimize(const OptimizerParams& params);

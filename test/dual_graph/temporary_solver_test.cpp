@@ -19,6 +19,7 @@
 #include "solvers/eigen_solver.h"
 #include "solvers/marginal_covariance.h"
 #include "test/dual_graph/distillation_fixtures.h"
+#include "types/edge_se3.h"
 #include "types/vertex_se3.h"
 
 namespace dualgraph {
@@ -382,6 +383,18 @@ TEST(TemporarySolver, SetProblemRejectsVerticesOutOfOrderOrNotGiven) {
   std::vector<VertexBase*> missing_last(vertices.begin(), vertices.end() - 1);
   EXPECT_EQ(solver.setProblem(missing_last, edges).code(), StatusCode::kFailedPrecondition);
   EXPECT_EQ(solver.optimize(OptimizerParams{}).termination, TerminationReason::kLinearSolverFailure);  // none kept
+  // An edge from a free vertex to itself: refused (a fixed one would be harmless, and is accepted).
+  EdgeSE3 loop;
+  ASSERT_TRUE(loop.setVertex(0, vertices[2]).ok());
+  ASSERT_TRUE(loop.setVertex(1, vertices[2]).ok());
+  std::vector<EdgeBase*> with_loop = edges;
+  with_loop.push_back(&loop);
+  const Status twice = solver.setProblem(vertices, with_loop);
+  EXPECT_EQ(twice.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(twice.message().find("uses free vertex 2 in two slots"), std::string::npos) << twice.message();
+  ASSERT_TRUE(loop.setVertex(0, vertices.back()).ok());
+  ASSERT_TRUE(loop.setVertex(1, vertices.back()).ok());
+  EXPECT_TRUE(solver.setProblem(vertices, with_loop).ok());
 }
 
 }  // namespace
