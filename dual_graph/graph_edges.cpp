@@ -55,19 +55,15 @@ Result<EdgePointXYZPrior*> addPointPriorEdge(Graph& graph, int point_id, const E
 }
 
 Result<Matrix6d> poseInformationFromMetricCovariance(const Matrix6d& covariance_metric, const std::string& what) {
-  Matrix6d fast;
-  if (informationFromWellConditionedCovariance<6>(covariance_metric, fast)) return informationMetricToG2o(fast);
-  Result<Eigen::MatrixXd> information = informationFromCovariance(covariance_metric, what);
-  if (!information.ok()) return information.status();
-  return informationMetricToG2o(Matrix6d(*information));
+  Matrix6d information;
+  DG_RETURN_IF_ERROR(informationFromFixedCovariance<6>(covariance_metric, [&] { return what; }, information));
+  return informationMetricToG2o(information);
 }
 
 Result<Eigen::Matrix3d> pointInformationFromCovariance(const Eigen::Matrix3d& covariance, const std::string& what) {
-  Eigen::Matrix3d fast;
-  if (informationFromWellConditionedCovariance<3>(covariance, fast)) return fast;
-  Result<Eigen::MatrixXd> information = informationFromCovariance(covariance, what);
-  if (!information.ok()) return information.status();
-  return Eigen::Matrix3d(*information);
+  Eigen::Matrix3d information;
+  DG_RETURN_IF_ERROR(informationFromFixedCovariance<3>(covariance, [&] { return what; }, information));
+  return information;
 }
 
 }  // namespace dualgraph

@@ -36,5 +36,16 @@ Result<Eigen::MatrixXd> informationFromCovariance(const Eigen::MatrixXd& covaria
 template <int N>
 bool informationFromWellConditionedCovariance(const Eigen::Matrix<double, N, N>& covariance,
                                               Eigen::Matrix<double, N, N>& information);
+/// Ω = Σ⁻¹ of a 6×6 or 3×3 Σ into `information`: that fast path when it decides, else informationFromCovariance,
+/// whose error message starts with `what()`. `what` is called only then, so the hot paths build no message.
+template <int N, typename What>
+Status informationFromFixedCovariance(const Eigen::Matrix<double, N, N>& covariance, const What& what,
+                                      Eigen::Matrix<double, N, N>& information) {
+  if (informationFromWellConditionedCovariance<N>(covariance, information)) return Status();
+  Result<Eigen::MatrixXd> checked = informationFromCovariance(covariance, what());
+  if (!checked.ok()) return checked.status();
+  information = *checked;
+  return Status();
+}
 
 }  // namespace dualgraph

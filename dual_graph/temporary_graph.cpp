@@ -167,19 +167,6 @@ OptimizerParams TemporaryGraph::lmParams() const {
 
 namespace {
 
-/// Ω = Σ⁻¹ of gate `gate_id`'s distilled marginal (N×N): the allocation-free path for the usual well-conditioned
-/// Σ, else informationFromCovariance's, whose error names the gate.
-template <int N>
-Status distilledInformation(const Eigen::Matrix<double, N, N>& covariance, int gate_id,
-                            Eigen::Matrix<double, N, N>& information) {
-  if (informationFromWellConditionedCovariance<N>(covariance, information)) return Status();
-  Result<Eigen::MatrixXd> checked =
-      informationFromCovariance(covariance, "distilled covariance of gate " + std::to_string(gate_id));
-  if (!checked.ok()) return checked.status();
-  information = *checked;
-  return Status();
-}
-
 Status optimizationFailure(const SolverSummary& summary) {
   return Status(StatusCode::kNumericalError, std::string("temporary graph optimisation failed (") +
                                                  terminationReasonName(summary.termination) + "): " + summary.message);
@@ -262,15 +249,16 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
     distilled.observations = ids.gate_observations[g];
     const Result<Eigen::MatrixXd>& covariance = covariances[g];
     Status usable = covariance.ok() ? Status() : covariance.status();
+    const auto what = [&] { return "distilled covariance of gate " + std::to_string(gate_ids[g]); };
     if (usable.ok() && params_.landmark == LandmarkModel::kPose) {
       distilled.node_T_gate = keyframe_T_odom * gate_estimates[g];
-      usable = distilledInformation<6>(*covariance, gate_ids[g], distilled.pose_information);
+      usable = informationFromFixedCovariance<6>(*covariance, what, distilled.pose_information);
     } else if (usable.ok()) {
       distilled.p_node = keyframe_T_odom * gate_estimates[g].translation();
       distilled.node_T_gate.translation() = distilled.p_node;
       // The point's covariance is in odometry axes; the edge's error is in the keyframe's axes.
       const Eigen::Matrix3d rotation = keyframe_T_odom.linear();
-      usable = distilledInformation<3>(rotation * *covariance * rotation.transpose(), gate_ids[g], distilled.point_information);
+      usable = informationFromFixedCovariance<3>(rotation * *covariance * rotation.transpose(), what, distilled.point_information);
     }
     if (!usable.ok()) {
       if (result.skipped_gates++ == 0) result.skip_reason = usable.message();
