@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include "solvers/block_cholesky.h"
-#include "solvers/block_kernels_avx2.h"
+#include "solvers/block/block_cholesky.h"
+#include "solvers/block/block_kernels_avx2.h"
 
 namespace dualgraph {
 namespace {

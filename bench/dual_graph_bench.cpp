@@ -11,7 +11,7 @@
 #include "bench/bench_data.h"
 #include "bench/race_fixture.h"
 #include "bench/temporary_fixture.h"
-#include "solvers/block_kernels_avx2.h"
+#include "solvers/block/block_kernels_avx2.h"
 #include "solvers/linear_solver_factory.h"
 #include "solvers/marginal_covariance.h"
 

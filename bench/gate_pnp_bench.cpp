@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Gate PnP (frontend/gate_pnp.h) per detection on the simulated RATM ellipse flight (seed 1, the
+// Gate PnP (frontend/gates/gate_pnp.h) per detection on the simulated RATM ellipse flight (seed 1, the
 // default detector noise): the true detections of one flight, solved in turn, with each covariance
 // model. Arguments: covariance model (0 tilt posterior, 1 Laplace), range bin (0 all, 1 below 6 m,
 // 2 at 6 m and beyond). Reports the views per iteration and how many were accepted.
@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "bench/bench_data.h"
-#include "frontend/camera_io.h"
-#include "frontend/gate_pnp.h"
-#include "frontend/race_simulator.h"
-#include "frontend/track_io.h"
+#include "frontend/io/camera_io.h"
+#include "frontend/gates/gate_pnp.h"
+#include "frontend/simulation/race_simulator.h"
+#include "frontend/io/track_io.h"
 
 namespace dualgraph {
 namespace {

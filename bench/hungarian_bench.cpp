@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Minimum-cost assignment (frontend/hungarian.h) on square cost matrices from 4×4 (one RATM frame's
+// Minimum-cost assignment (frontend/gates/hungarian.h) on square cost matrices from 4×4 (one RATM frame's
 // gates) to 32×32, uniform random costs with a fixed seed and 10 % forbidden cells (gates outside the
 // association gate), as the detection-to-gate association produces them.
 #include <benchmark/benchmark.h>
@@ -7,7 +7,7 @@
 #include <limits>
 #include <random>
 
-#include "frontend/hungarian.h"
+#include "frontend/gates/hungarian.h"
 
 namespace dualgraph {
 namespace {

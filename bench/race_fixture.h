@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The simulated race the dual-graph benchmarks run on: the RATM ellipse (data/tracks/ratm_ellipse.yaml,
 // 12 laps, ≈ 448 m, ≈ 95 s) flown by the race simulator with seed 1 and the RATM piloted camera
-// (corner detections through PnP, as `dualgraph simulate` + `dualgraph run` do), written once per
-// process into a temporary folder and read back with loadSequence.
+// (corner detections through PnP, as `dualgraph simulate` + `dualgraph run` do), made once per process
+// in memory (raceSequence).
 #pragma once
 
 #include <memory>
@@ -10,7 +10,7 @@
 
 #include "core/status.h"
 #include "dual_graph/localizer.h"
-#include "frontend/sequence_reader.h"
+#include "frontend/io/sequence_folder.h"
 #include "frontend/sequence_run.h"
 
 namespace dualgraph::bench {
@@ -21,16 +21,15 @@ constexpr double kDMain250 = 2.8;
 constexpr double kDMain1000 = 0.43;
 constexpr double kDMain1800 = 0.225;
 
-/// The sequence, simulated on first use (kept for the process; the folder is removed at exit).
+/// The sequence, simulated on first use (kept for the process).
 const Result<Sequence>& ratmSequence();
 
 /// `dualgraph run`'s configuration (data/config/default.yaml) with d_main set, and main_window set when
 /// `main_window` ≥ 0 (−1 keeps the configuration's).
 Result<SequenceRunParams> raceRunParams(double d_main, int main_window);
 
-/// The causal run of runSequence (frontend at the corrected pose of each detection instant, then the
-/// Localizer), written out here because runSequence does not hand back the Localizer: returns it after
-/// `finish`, so its main graph can be taken. Same inputs in the same order as runSequence.
+/// runSequence's run (runSequenceWith) with a Localizer made here and returned after `finish`, so that its
+/// main graph can be taken.
 Result<std::unique_ptr<Localizer>> runRaceLocalizer(const Sequence& sequence, const SequenceRunParams& params);
 
 }  // namespace dualgraph::bench

@@ -34,7 +34,7 @@ foreach(_name ${DUALGRAPH_EXPORTED_LIBRARIES})
   # gate_pnp_posterior.h is gate_pnp.cpp's own; block_product_avx2.h compiles only with -mavx2 -mfma.
   install(DIRECTORY "${PROJECT_SOURCE_DIR}/${_name}/"
           DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/dualgraph/${_name}"
-          FILES_MATCHING PATTERN "*.h" PATTERN "yaml_fields.h" EXCLUDE PATTERN "yaml_document.h" EXCLUDE
+          FILES_MATCHING PATTERN "*.h" PATTERN "yaml_fields.h" EXCLUDE PATTERN "localizer_params_node.h" EXCLUDE
           PATTERN "gate_pnp_posterior.h" EXCLUDE PATTERN "block_product_avx2.h" EXCLUDE)
 endforeach()
 

@@ -11,7 +11,7 @@
 namespace dualgraph {
 
 /// The Levenberg–Marquardt loop, written once for every system it runs on: `Optimizer` (the scalar
-/// sparse system) and the temporary graph's 6×6 block solver (dual_graph/temporary_solver.h), so both
+/// sparse system) and the temporary graph's 6×6 block solver (solvers/block/block_lm_solver.h), so both
 /// take exactly the same steps. It starts with H and b assembled at the current estimate, whose χ² is
 /// `summary.initial_chi2`, and leaves the estimate at the last accepted state.
 ///

@@ -28,7 +28,7 @@ enum class LmDamping {
 const char* lmDampingName(LmDamping damping);
 
 /// The constants of the LM loop, shared by `Optimizer` and the temporary graph's block solver
-/// (dual_graph/temporary_solver.h), so both take the same steps.
+/// (solvers/block/block_lm_solver.h), so both take the same steps.
 namespace lm_constants {
 /// LmDamping::kDiagonal: Ceres' defaults (1 / initial_trust_region_radius, min/max_lm_diagonal).
 inline constexpr double kInitialScaledLambda = 1e-4;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/status.h"
 
+#include <sstream>
+
 namespace dualgraph {
 
 const char* statusCodeName(StatusCode code) {
@@ -21,6 +23,13 @@ const char* statusCodeName(StatusCode code) {
 std::string Status::toString() const {
   if (ok()) return "OK";
   return std::string(statusCodeName(code_)) + ": " + message_;
+}
+
+std::string formatTimestamp(double t) {
+  std::ostringstream text;
+  text.precision(17);
+  text << t;
+  return text.str();
 }
 
 }  // namespace dualgraph

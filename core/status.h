@@ -24,6 +24,9 @@ enum class StatusCode {
 /// Name of a code, e.g. "ParseError".
 const char* statusCodeName(StatusCode code);
 
+/// A time stamp [s] with 17 significant digits, for messages (round-trips exactly).
+std::string formatTimestamp(double t);
+
 /// Result of a fallible call: a code and a human-readable message naming the file, line, tag or
 /// id at fault. Library code returns these instead of printing, throwing on input errors or aborting.
 class [[nodiscard]] Status {

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "dual_graph/gate_edge.h"
 
-#include "dual_graph/graph_edges.h"
+#include "dual_graph/edge_factories.h"
 #include "types/vertex_point_xyz.h"
 #include "types/vertex_se3.h"
+#include "types/se3_covariance.h"
 
 namespace dualgraph {
 

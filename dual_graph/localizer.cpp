@@ -3,7 +3,7 @@
 
 
 #include "core/wall_clock.h"
-#include "dual_graph/se3_uncertainty.h"
+#include "types/se3_covariance.h"
 
 namespace dualgraph {
 namespace {
@@ -41,12 +41,17 @@ double Localizer::openIntervalStart() const {
   return main_->keyframes().empty() ? -std::numeric_limits<double>::infinity() : main_->keyframes().back().t;
 }
 
-Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
-  Status valid = validateOdometrySample(sample);
-  if (valid.ok() && !history_.empty() && !(sample.t > history_.newest().t)) {
-    valid = Status(StatusCode::kInvalidArgument, "odometry sample at t=" + formatTimestamp(sample.t) +
-                                                     " is not after the previous one at t=" + formatTimestamp(history_.newest().t));
+Status Localizer::checkOdometry(const OdometrySample& sample) const {
+  DG_RETURN_IF_ERROR(validateOdometrySample(sample));
+  if (!history_.empty() && !(sample.t > history_.newest().t)) {
+    return Status(StatusCode::kInvalidArgument, "odometry sample at t=" + formatTimestamp(sample.t) +
+                                                    " is not after the previous one at t=" + formatTimestamp(history_.newest().t));
   }
+  return Status();
+}
+
+Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
+  const Status valid = checkOdometry(sample);
   if (!valid.ok()) {
     ++counters_.odometry_rejected;
     counters_.last_error = valid.message();
@@ -90,17 +95,22 @@ Status Localizer::checkObservation(const GateObservation& observation) const {
     return Status(StatusCode::kInvalidArgument, what + " is older than the previous observation at t=" +
                                                     formatTimestamp(last_observation_t_));
   }
-  if (observation.t < openIntervalStart() || observation.t < history_.oldestTime()) {
+  if (tooLate(observation)) {
     return Status(StatusCode::kFailedPrecondition, what + " arrived after the keyframe at t=" +
                                                        formatTimestamp(openIntervalStart()) + " that closed its interval");
   }
   return Status();
 }
 
+bool Localizer::tooLate(const GateObservation& observation) const {
+  return !history_.empty() && (observation.t < openIntervalStart() || observation.t < history_.oldestTime());
+}
+
 Status Localizer::addObservation(const GateObservation& observation) {
   const Status valid = checkObservation(observation);
   if (!valid.ok()) {
     ++counters_.observations_rejected;
+    if (valid.code() == StatusCode::kFailedPrecondition && tooLate(observation)) ++counters_.observations_too_late;
     counters_.last_error = valid.message();
     return valid;
   }

@@ -50,6 +50,9 @@ struct LocalizerCounters {
   int odometry_rejected = 0;
   int observations_accepted = 0;
   int observations_rejected = 0;       ///< invalid, unknown gate, out of order, too late, before odometry
+  /// Of the rejected: older than the keyframe (or node) that had already closed their interval. A caller
+  /// that hands each observation over before the odometry sample that covers it never sees one.
+  int observations_too_late = 0;
   int observations_failed = 0;         ///< accepted but could not be attached when processed
   int observations_never_processed = 0;///< newer than the last odometry sample at `finish`
   /// Single mode with `single_all_detections` false: detections after a node's instant that did not start
@@ -73,6 +76,9 @@ class Localizer {
   /// kInvalidArgument for invalid parameters, or localization mode with an empty map.
   static Result<std::unique_ptr<Localizer>> create(const LocalizerParams& params, GateMap map);
 
+  /// OK when addOdometry would accept `sample` (valid, and newer than the newest accepted sample);
+  /// otherwise the Status it would reject it with. Changes nothing.
+  Status checkOdometry(const OdometrySample& sample) const;
   /// The corrected pose at this sample, or why the sample was rejected (the state is unchanged then).
   Result<CorrectedPose> addOdometry(const OdometrySample& sample);
   /// OK when accepted (used now or queued until odometry covers its time).
@@ -93,6 +99,8 @@ class Localizer {
  private:
   Localizer(const LocalizerParams& params, GateMap map, std::shared_ptr<const RobustKernel> kernel);
   Status checkObservation(const GateObservation& observation) const;
+  /// True when the interval `observation` belongs to was closed already (checkObservation's last check).
+  bool tooLate(const GateObservation& observation) const;
   Status processObservation(const GateObservation& observation);
   Status processSingleObservation(const GateObservation& observation, const Eigen::Isometry3d& odom_T_body);
   /// Dual mode: keyframe at the newest sample (unless it is one already), distillation, optimisation.

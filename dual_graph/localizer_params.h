@@ -24,7 +24,7 @@ enum class LandmarkModel {
 
 /// Which solver optimises a temporary graph and computes its gates' marginals.
 enum class TemporarySolverKind {
-  kBlock,  ///< TemporarySolver: LM and the selected inverse on 6×6 blocks (dual_graph/temporary_solver.h)
+  kBlock,  ///< BlockLmSolver: LM and the selected inverse on 6×6 blocks (solvers/block/block_lm_solver.h)
   kGraph,  ///< the generic Optimizer + MarginalCovariance (the oracle; always used with linear_solver: cholmod)
 };
 
@@ -107,7 +107,7 @@ struct LocalizerParams {
   /// Temporary graphs: kBlock (default) runs LM and the marginals on 6×6 blocks in the graph's id order
   /// (about 10× faster at 11 gates / 50 poses, bench/README.md); kGraph the generic Optimizer with Eigen
   /// in that order (or CHOLMOD when `linear_solver` is kCholmod, which always takes this path). Both
-  /// give the same distilled edges to round-off (test/dual_graph/temporary_solver_test.cpp).
+  /// give the same distilled edges to round-off (test/dual_graph/block_lm_solver_test.cpp).
   TemporarySolverKind temp_solver = TemporarySolverKind::kBlock;
   /// Main and temporary graphs: Levenberg–Marquardt's damping (core/optimizer.h). kDiagonal: the gate
   /// priors and detections make max diag(H) far larger than a keyframe's own curvature, so g2o's λI

@@ -4,9 +4,9 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 
-#include "dual_graph/graph_edges.h"
+#include "dual_graph/edge_factories.h"
 #include "dual_graph/marginal_prior.h"
-#include "dual_graph/se3_uncertainty.h"
+#include "types/se3_covariance.h"
 #include "solvers/marginal_covariance.h"
 #include "types/vertex_se3.h"
 

@@ -53,29 +53,10 @@ struct GateObservation {
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
-/// A time stamp [s] with 17 significant digits, for messages (round-trips exactly).
-std::string formatTimestamp(double t);
-
 /// kInvalidArgument naming the field when `t` or the pose is not finite, the rotation is not
 /// orthonormal (|RᵀR − I| > 1e-6 or det ≤ 0), or the covariance is not finite, symmetric and positive definite.
 Status validateOdometrySample(const OdometrySample& sample);
 /// The same checks for an observation, plus gate_id ≥ 0.
 Status validateGateObservation(const GateObservation& observation);
-
-/// OK when `m` is finite, symmetric to 1e-9 relative and positive definite (Cholesky succeeds and the
-/// smallest eigenvalue is above 1e-12 of the largest); otherwise kNotPositiveDefinite / kInvalidArgument
-/// with a message starting with `what`.
-Status checkCovariance(const Eigen::MatrixXd& m, const std::string& what);
-/// The same; when the check itself inverted the symmetric part of `m` (6×6 and 3×3, decided by the norm bound),
-/// that inverse is left in `inverse` (else it is emptied), so a caller that needs it does not factorise twice.
-Status checkCovariance(const Eigen::MatrixXd& m, const std::string& what, Eigen::MatrixXd* inverse);
-/// checkCovariance's fast path for a 6×6 or 3×3 (N = 6, 3), without heap allocation: true when the
-/// symmetric part S of `m` passes checkCovariance by the norm bound ‖S‖∞·‖S⁻¹‖∞ < 1e11 (the answer for
-/// every covariance of the hot paths), with S⁻¹ in `inverse`; false when that test does not decide (a
-/// NaN, an indefinite or ill-conditioned S): checkCovariance then gives the verdict and its message.
-template <int N>
-bool inverseOfWellConditionedCovariance(const Eigen::Matrix<double, N, N>& m, Eigen::Matrix<double, N, N>& inverse);
-/// kInvalidArgument when the pose has a non-finite entry or a rotation that is not a rotation.
-Status checkRigidTransform(const Eigen::Isometry3d& pose, const std::string& what);
 
 }  // namespace dualgraph

@@ -3,34 +3,27 @@
 
 #include <algorithm>
 
-#include "dual_graph/se3_uncertainty.h"
+#include "types/se3_covariance.h"
 
 namespace dualgraph {
-namespace {
 
-Status notCovered(double t, double oldest, double newest) {
-  return Status(StatusCode::kFailedPrecondition, "time " + formatTimestamp(t) + " is outside the odometry history [" +
-                                                     formatTimestamp(oldest) + ", " + formatTimestamp(newest) + "]");
+Eigen::Isometry3d interpolateOdometry(const OdometrySample& before, const OdometrySample& after, double t) {
+  if (!(t > before.t) || !(after.t > before.t)) return before.odom_T_body;
+  return interpolatePose(before.odom_T_body, after.odom_T_body, (t - before.t) / (after.t - before.t));
 }
 
-}  // namespace
+Matrix6d odometryModelCovariance(const Eigen::Isometry3d& increment, double sigma_t, double sigma_r,
+                                 double min_distance) {
+  const double d = std::max(translationOf(increment), min_distance);
+  Vector6d variances;
+  variances << Eigen::Vector3d::Constant(sigma_t * sigma_t * d), Eigen::Vector3d::Constant(sigma_r * sigma_r * d);
+  return variances.asDiagonal();
+}
 
 size_t OdometryHistory::indexAtOrBefore(double t) const {
   const auto after = std::upper_bound(samples_.begin(), samples_.end(), t,
                                       [](double value, const OdometrySample& s) { return value < s.t; });
   return static_cast<size_t>(std::max<std::ptrdiff_t>(0, (after - samples_.begin()) - 1));
-}
-
-Result<Eigen::Isometry3d> OdometryHistory::poseAt(double t) const {
-  if (samples_.empty() || t < samples_.front().t || t > samples_.back().t) {
-    return samples_.empty() ? Status(StatusCode::kFailedPrecondition, "no odometry yet")
-                            : notCovered(t, samples_.front().t, samples_.back().t);
-  }
-  const size_t k = indexAtOrBefore(t);
-  const OdometrySample& before = samples_[k];
-  if (before.t == t || k + 1 == samples_.size()) return before.odom_T_body;
-  const OdometrySample& after = samples_[k + 1];
-  return interpolatePose(before.odom_T_body, after.odom_T_body, (t - before.t) / (after.t - before.t));
 }
 
 Result<Matrix6d> OdometryHistory::relativeCovariance(double t_a, double t_b, const OdometryNoiseModel& model) const {

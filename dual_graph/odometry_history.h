@@ -1,11 +1,39 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <algorithm>
 #include <deque>
 
 #include "dual_graph/measurements.h"
 
 namespace dualgraph {
+
+/// The per-metre odometry model: σ_t·√d and σ_r·√d with d = max(|translation|, min_distance), i.e.
+/// diag(σ_t² d I₃, σ_r² d I₃), metric [t; θ].
+Matrix6d odometryModelCovariance(const Eigen::Isometry3d& increment, double sigma_t, double sigma_r,
+                                 double min_distance);
+
+/// odom_T_body at `t` between two consecutive samples, along the geodesic (interpolatePose): `before`'s pose
+/// for t ≤ before.t or when both share a stamp, `after`'s for t ≥ after.t. The one odometry interpolation of
+/// the project (OdometryHistory, the run loop, odometry_io's increments).
+Eigen::Isometry3d interpolateOdometry(const OdometrySample& before, const OdometrySample& after, double t);
+
+/// odom_T_body at `t` from `samples` in increasing time (a std::vector or std::deque of OdometrySample),
+/// interpolated between the two around t; kFailedPrecondition "time T is outside the odometry [first, last]"
+/// (or "no odometry") when t is not inside their span.
+template <typename Samples>
+Result<Eigen::Isometry3d> odometryPoseAt(const Samples& samples, double t) {
+  if (samples.empty()) return Status(StatusCode::kFailedPrecondition, "no odometry");
+  if (!(t >= samples.front().t) || !(t <= samples.back().t)) {
+    return Status(StatusCode::kFailedPrecondition, "time " + formatTimestamp(t) + " is outside the odometry [" +
+                                                       formatTimestamp(samples.front().t) + ", " +
+                                                       formatTimestamp(samples.back().t) + "]");
+  }
+  const auto after = std::upper_bound(samples.begin(), samples.end(), t,
+                                      [](double value, const OdometrySample& sample) { return value < sample.t; });
+  const OdometrySample& before = *(after - 1);
+  return after == samples.end() ? before.odom_T_body : interpolateOdometry(before, *after, t);
+}
 
 /// How the covariance of an odometry increment is obtained (see LocalizerParams).
 struct OdometryNoiseModel {
@@ -25,8 +53,8 @@ class OdometryHistory {
   const OdometrySample& newest() const { return samples_.back(); }
   double oldestTime() const { return samples_.front().t; }
 
-  /// odom_T_body at `t`; kFailedPrecondition when t lies outside [oldest, newest].
-  Result<Eigen::Isometry3d> poseAt(double t) const;
+  /// odom_T_body at `t` (odometryPoseAt); kFailedPrecondition when t lies outside [oldest, newest].
+  Result<Eigen::Isometry3d> poseAt(double t) const { return odometryPoseAt(samples_, t); }
 
   /// Metric [t; θ] covariance of odom_T_body(t_a)⁻¹ · odom_T_body(t_b) (t_a ≤ t_b, both covered):
   /// the samples' own relative covariances composed with adjoints (a partial step contributes its

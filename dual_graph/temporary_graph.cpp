@@ -5,8 +5,8 @@
 
 #include "core/optimizer.h"
 #include "core/wall_clock.h"
-#include "dual_graph/graph_edges.h"
-#include "dual_graph/se3_uncertainty.h"
+#include "dual_graph/edge_factories.h"
+#include "types/se3_covariance.h"
 #include "solvers/eigen_solver.h"
 #include "solvers/marginal_covariance.h"
 #include "types/vertex_point_xyz.h"

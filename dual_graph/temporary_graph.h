@@ -8,8 +8,8 @@
 #include "dual_graph/gate_edge.h"
 #include "dual_graph/localizer_params.h"
 #include "dual_graph/odometry_history.h"
-#include "dual_graph/temporary_problem.h"
-#include "dual_graph/temporary_solver.h"
+#include "dual_graph/temporary_pool.h"
+#include "solvers/block/block_lm_solver.h"
 
 namespace dualgraph {
 
@@ -32,7 +32,7 @@ struct DistillationResult {
 /// turns each gate L into one edge K → L with measurement K⁻¹·L and information Σ_L⁻¹, Σ_L the
 /// marginal covariance of L (its own tangent space, which is exactly the tangent of that edge's error;
 /// for a point the world-axes covariance is rotated into K's axes). A detection at the keyframe instant
-/// attaches to K itself. The graph is optimised by `TemporarySolver` (6×6 blocks, the default) or the generic
+/// attaches to K itself. The graph is optimised by `BlockLmSolver` (6×6 blocks, the default) or the generic
 /// Optimizer (`temp_solver: graph` or `linear_solver: cholmod`); both give the same edges to round-off.
 class TemporaryGraph {
  public:
@@ -99,8 +99,8 @@ class TemporaryGraph {
   std::shared_ptr<const RobustKernel> kernel_;
   std::vector<Node, Eigen::aligned_allocator<Node>> nodes_;
   std::vector<NodeObservation, Eigen::aligned_allocator<NodeObservation>> observations_;
-  TemporaryProblem problem_;  ///< the vertices and edges of the graph being distilled, reused between keyframes
-  TemporarySolver solver_;    ///< work buffers of the block solver, reused between keyframes
+  TemporaryPool problem_;  ///< the vertices and edges of the graph being distilled, reused between keyframes
+  BlockLmSolver solver_;    ///< work buffers of the block solver, reused between keyframes
 };
 
 /// The per-metre model and input-covariance choice of `params`.

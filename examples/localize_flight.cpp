@@ -2,14 +2,14 @@
 // The Localizer from an external project: three laps of a 10 m circle at 5 m/s through four gates, with an
 // odometry whose yaw drifts by 0.02 rad/s, and gate pose detections (seeded noise) whenever a gate is
 // 1–8 m ahead. Prints the corrected and the raw odometry error at the end and, given a path, writes the
-// corrected trajectory as TUM (frontend/trajectory_io.h). Exit code 0 when the correction beats the drift.
+// corrected trajectory as TUM (frontend/io/trajectory_io.h). Exit code 0 when the correction beats the drift.
 #include <cmath>
 #include <iostream>
 #include <random>
 #include <vector>
 
 #include "dual_graph/localizer.h"
-#include "frontend/trajectory_io.h"
+#include "frontend/io/trajectory_io.h"
 #include "types/se3_math.h"
 
 namespace {

@@ -2,97 +2,125 @@
 #include "frontend/sequence_run.h"
 
 #include <chrono>
+#include <optional>
 
-#include "frontend/odometry_io.h"
+#include "dual_graph/odometry_history.h"
 
 namespace dualgraph {
 namespace {
 
-// The detections of one instant: [begin, end) with equal time stamps.
-template <typename Detection>
-size_t instantEnd(const std::vector<Detection>& detections, size_t begin) {
-  size_t end = begin + 1;
-  while (end < detections.size() && detections[end].t == detections[begin].t) ++end;
-  return end;
+/// The sequence's detections (corners or poses) in time order, handed out one instant at a time.
+class DetectionFeed {
+ public:
+  explicit DetectionFeed(const Sequence& sequence)
+      : sequence_(sequence),
+        size_(sequence.has_corners ? sequence.corners.size() : sequence.pose_detections.size()) {}
+
+  bool done() const { return next_ >= size_; }
+  size_t remaining() const { return size_ - next_; }
+  /// Time stamp of the next detection (not done()).
+  double nextTime() const { return sequence_.has_corners ? sequence_.corners[next_].t : sequence_.pose_detections[next_].t; }
+  /// Skips the next instant's detections; returns how many.
+  size_t skipInstant() {
+    const size_t begin = next_;
+    next_ = instantEnd();
+    return next_ - begin;
+  }
+  /// The next instant's detections through the frontend at `world_T_body`.
+  Result<std::vector<GateObservation>> processInstant(GateFrontend& frontend, const Eigen::Isometry3d& world_T_body) {
+    const auto begin = static_cast<long>(next_);
+    const auto end = static_cast<long>(next_ = instantEnd());
+    if (sequence_.has_corners) {
+      return frontend.processCorners({sequence_.corners.begin() + begin, sequence_.corners.begin() + end}, world_T_body);
+    }
+    return frontend.processPoses({sequence_.pose_detections.begin() + begin, sequence_.pose_detections.begin() + end},
+                                 world_T_body);
+  }
+
+ private:
+  size_t instantEnd() const {
+    size_t end = next_ + 1;
+    while (end < size_ && (sequence_.has_corners ? sequence_.corners[end].t : sequence_.pose_detections[end].t) == nextTime()) {
+      ++end;
+    }
+    return end;
+  }
+
+  const Sequence& sequence_;
+  const size_t size_;
+  size_t next_ = 0;
+};
+
+/// Hands every instant up to `until` [s] to the frontend and its observations to the Localizer, the pose of
+/// an instant interpolated between `before` and `after` (instants older than `before` cannot be placed:
+/// counted as rejected).
+Status handDetectionsUpTo(double until, const OdometrySample& before, const OdometrySample& after, DetectionFeed& feed,
+                          GateFrontend& frontend, Localizer& localizer, SequenceRunResult& result) {
+  while (!feed.done() && feed.nextTime() <= until) {
+    const double t = feed.nextTime();
+    if (t < before.t) {
+      result.observations_rejected += static_cast<int>(feed.skipInstant());
+      continue;
+    }
+    const Eigen::Isometry3d world_T_body = localizer.mapTOdom() * interpolateOdometry(before, after, t);
+    Result<std::vector<GateObservation>> observations = feed.processInstant(frontend, world_T_body);
+    if (!observations.ok()) return observations.status();
+    for (const GateObservation& observation : *observations) {
+      if (!localizer.addObservation(observation).ok()) ++result.observations_rejected;
+    }
+  }
+  return Status();
 }
 
 }  // namespace
 
-Matrix6d SequenceRunParams::defaultPoseDetectionCovariance() const {
-  Vector6d variance;
-  variance << Eigen::Vector3d::Constant(pose_detection_sigma_t * pose_detection_sigma_t),
-      Eigen::Vector3d::Constant(pose_detection_sigma_r * pose_detection_sigma_r);
-  return variance.asDiagonal();
-}
-
 Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRunParams& params,
                                       const RunProgress& progress) {
-  const auto start = std::chrono::steady_clock::now();
-  const std::vector<OdometrySample>& samples = sequence.odometry.samples;
-  if (samples.empty()) return Status(StatusCode::kInvalidArgument, sequence.dir + ": no odometry samples");
+  if (sequence.odometry.samples.empty()) return Status(StatusCode::kInvalidArgument, sequence.dir + ": no odometry samples");
   auto known_map = sequence.map.gateMap();
   if (!known_map.ok()) return Status(known_map.status().code(), sequence.dir + ": " + known_map.status().message());
-  GateMap localizer_map = params.localizer.mapping ? GateMap{} : *known_map;
-  auto localizer = Localizer::create(params.localizer, localizer_map);
+  auto localizer = Localizer::create(params.localizer, params.localizer.mapping ? GateMap{} : *known_map);
   if (!localizer.ok()) return localizer.status();
   GateFrontendParams frontend_params = params.frontend;
   frontend_params.mapping = params.localizer.mapping;
   auto frontend = GateFrontend::create(frontend_params, sequence.map, sequence.camera);
   if (!frontend.ok()) return frontend.status();
+  return runSequenceWith(**localizer, *frontend, sequence, progress);
+}
 
+Result<SequenceRunResult> runSequenceWith(Localizer& localizer, GateFrontend& frontend, const Sequence& sequence,
+                                          const RunProgress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<OdometrySample>& samples = sequence.odometry.samples;
+  if (samples.empty()) return Status(StatusCode::kInvalidArgument, sequence.dir + ": no odometry samples");
   SequenceRunResult result;
-  const size_t detections = sequence.has_corners ? sequence.corners.size() : sequence.pose_detections.size();
-  auto detectionTime = [&](size_t i) {
-    return sequence.has_corners ? sequence.corners[i].t : sequence.pose_detections[i].t;
-  };
-  size_t next = 0;
-  while (next < detections && detectionTime(next) < samples.front().t) {
-    ++result.detections_before_odometry;
-    ++next;
+  DetectionFeed feed(sequence);
+  while (!feed.done() && feed.nextTime() < samples.front().t) {
+    result.detections_before_odometry += static_cast<int>(feed.skipInstant());
   }
-  size_t accepted_samples = 0;  // prefix of `samples` the Localizer took, for interpolation
-  std::vector<OdometrySample> accepted;
-  accepted.reserve(samples.size());
+  std::optional<OdometrySample> newest;  // the newest sample the Localizer accepted
   for (size_t k = 0; k < samples.size(); ++k) {
-    auto corrected = (*localizer)->addOdometry(samples[k]);
+    const OdometrySample& sample = samples[k];
+    // The detections this sample covers go first: if it closes a keyframe interval, they are in it.
+    if (newest && localizer.checkOdometry(sample).ok()) {
+      DG_RETURN_IF_ERROR(handDetectionsUpTo(sample.t, *newest, sample, feed, frontend, localizer, result));
+    }
+    Result<CorrectedPose> corrected = localizer.addOdometry(sample);
     if (corrected.ok()) {
       result.estimate.push_back(*corrected);
-      accepted.push_back(samples[k]);
-      ++accepted_samples;
+      if (!newest) {  // the first accepted sample: the detections at its own instant (earlier ones cannot be placed)
+        DG_RETURN_IF_ERROR(handDetectionsUpTo(sample.t, sample, sample, feed, frontend, localizer, result));
+      }
+      newest = sample;
     }
     if (progress) progress(k + 1, samples.size());
-    if (accepted_samples == 0) continue;
-    while (next < detections && detectionTime(next) <= accepted.back().t) {
-      const size_t end = sequence.has_corners ? instantEnd(sequence.corners, next) : instantEnd(sequence.pose_detections, next);
-      const double t = detectionTime(next);
-      auto odom_T_body = odometryIncrementBetween(accepted, accepted.front().t, t);
-      if (!odom_T_body.ok()) {  // cannot happen for t inside the accepted span; counted all the same
-        result.observations_rejected += static_cast<int>(end - next);
-        next = end;
-        continue;
-      }
-      const Eigen::Isometry3d world_T_body = (*localizer)->mapTOdom() * accepted.front().odom_T_body * *odom_T_body;
-      Result<std::vector<GateObservation>> observations =
-          sequence.has_corners
-              ? frontend->processCorners({sequence.corners.begin() + static_cast<long>(next),
-                                          sequence.corners.begin() + static_cast<long>(end)},
-                                         world_T_body)
-              : frontend->processPoses({sequence.pose_detections.begin() + static_cast<long>(next),
-                                        sequence.pose_detections.begin() + static_cast<long>(end)},
-                                       world_T_body);
-      if (!observations.ok()) return observations.status();
-      for (const GateObservation& observation : *observations) {
-        if (!(*localizer)->addObservation(observation).ok()) ++result.observations_rejected;
-      }
-      next = end;
-    }
   }
-  result.detections_after_odometry = static_cast<int>(detections - next);
-  DG_RETURN_IF_ERROR((*localizer)->finish());
-  result.keyframes = (*localizer)->keyframeTrajectory();
-  result.stats = (*localizer)->keyframeStats();
-  result.localizer_counters = (*localizer)->counters();
-  result.frontend_counters = frontend->counters();
+  result.detections_after_odometry = static_cast<int>(feed.remaining());
+  DG_RETURN_IF_ERROR(localizer.finish());
+  result.keyframes = localizer.keyframeTrajectory();
+  result.stats = localizer.keyframeStats();
+  result.localizer_counters = localizer.counters();
+  result.frontend_counters = frontend.counters();
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

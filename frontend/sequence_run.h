@@ -6,22 +6,11 @@
 
 #include "core/status.h"
 #include "dual_graph/localizer.h"
-#include "dual_graph/localizer_params.h"
-#include "frontend/gate_frontend.h"
-#include "frontend/sequence_reader.h"
+#include "frontend/gates/gate_frontend.h"
+#include "frontend/io/run_config.h"
+#include "frontend/io/sequence_folder.h"
 
 namespace dualgraph {
-
-/// Everything `dualgraph run` configures.
-struct SequenceRunParams {
-  LocalizerParams localizer;
-  GateFrontendParams frontend;
-  double pose_detection_sigma_t = 0.1;   ///< covariance of detections.csv rows without one: σ [m]
-  double pose_detection_sigma_r = 0.05;  ///< and [rad] (diagonal, metric [t; θ])
-
-  /// The diagonal covariance from the two sigmas above.
-  Matrix6d defaultPoseDetectionCovariance() const;
-};
 
 /// The outputs of one run over a sequence.
 struct SequenceRunResult {
@@ -41,12 +30,20 @@ struct SequenceRunResult {
 /// Called after every odometry sample with (samples done, samples in total); may be empty.
 using RunProgress = std::function<void(size_t done, size_t total)>;
 
-/// Runs the frontend and the Localizer over a sequence in time order, as onboard: each odometry
-/// sample is added; then every detection with a time stamp up to that sample's, grouped by instant,
-/// goes through the GateFrontend at the corrected pose of its instant (map_T_odom · odom_T_body(t),
-/// odometry interpolated) and its observations to the Localizer; `finish` at the end. Errors only for
-/// invalid parameters or a sequence without odometry; bad samples and detections are counted.
+/// Runs the frontend and the Localizer over a sequence in time order, as onboard. For each odometry
+/// sample the Localizer would accept, the detections up to its time stamp come first, grouped by instant:
+/// each instant goes through the GateFrontend at its corrected pose map_T_odom · odom_T_body(t) (odometry
+/// interpolated between the newest accepted sample and this one, `interpolateOdometry`) and its
+/// observations go to the Localizer, which holds them until the sample arrives; then the sample itself.
+/// So a sample that closes a keyframe interval finds that interval's detections collected (none is
+/// refused as too late). `finish` at the end. Errors only for invalid parameters or a sequence without
+/// odometry; bad samples and detections are counted.
 Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRunParams& params,
                                       const RunProgress& progress = {});
+
+/// The same loop with a Localizer and a GateFrontend the caller made and keeps (to read the main graph
+/// afterwards, as the benchmarks do); `localizer` gets `finish`. runSequence is this after creating both.
+Result<SequenceRunResult> runSequenceWith(Localizer& localizer, GateFrontend& frontend, const Sequence& sequence,
+                                          const RunProgress& progress = {});
 
 }  // namespace dualgraph

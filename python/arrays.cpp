@@ -8,6 +8,7 @@
 #include "dual_graph/measurements.h"
 #include "errors.h"
 #include "types/se3_math.h"
+#include "types/se3_covariance.h"
 
 namespace py = pybind11;
 

@@ -6,9 +6,9 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "errors.h"
-#include "frontend/gate_frontend.h"
-#include "frontend/run_config.h"
-#include "frontend/sequence_reader.h"
+#include "frontend/gates/gate_frontend.h"
+#include "frontend/io/run_config.h"
+#include "frontend/io/sequence_folder.h"
 #include "frontend/sequence_run.h"
 #include "py_localizer.h"
 

@@ -5,7 +5,7 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "dual_graph/localizer.h"
-#include "dual_graph/localizer_params_yaml.h"
+#include "frontend/io/localizer_params_yaml.h"
 #include "errors.h"
 #include "py_localizer.h"
 

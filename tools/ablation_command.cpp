@@ -6,13 +6,13 @@
 #include <iostream>
 #include <sstream>
 
-#include "frontend/camera_io.h"
-#include "frontend/race_simulator.h"
-#include "frontend/run_config.h"
-#include "frontend/run_metrics.h"
-#include "frontend/track_io.h"
+#include "frontend/io/camera_io.h"
+#include "frontend/simulation/race_sequence.h"
+#include "frontend/io/run_config.h"
+#include "frontend/evaluation/run_metrics.h"
+#include "frontend/io/track_io.h"
 #include "tools/ablation_tables.h"
-#include "tools/simulate_command.h"
+#include "tools/data_dir.h"
 #include "tools/staged_folder.h"
 
 namespace dualgraph::tools {
@@ -89,9 +89,9 @@ int runAblationCommand(const AblationOptions& o) {
       auto race = simulateRace(*track, *camera, sim);
       if (!race.ok()) return fail(track_path + ": " + race.status().message());
       const std::string folder = staged->file("sequences/" + track_name + "_seed" + std::to_string(seed));
-      const Status written = writeSequence(folder, *race, *track, *camera, sim);
+      const Status written = writeRaceSequence(folder, *race, *track, *camera, sim);  // kept for `dualgraph run`
       if (!written.ok()) return failStaged(written.message());
-      auto sequence = loadSequence(folder, base->defaultPoseDetectionCovariance());
+      auto sequence = raceSequence(*race, *camera, sim, folder);  // run from memory, not read back
       if (!sequence.ok()) return failStaged(sequence.status().message());
       for (const Variant& v : variants()) {
         SequenceRunParams params = *base;

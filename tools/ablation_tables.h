@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "core/status.h"
-#include "frontend/run_metrics.h"
+#include "frontend/evaluation/run_metrics.h"
 
 namespace dualgraph::tools {
 

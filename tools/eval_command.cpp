@@ -5,9 +5,9 @@
 #include <cstdio>
 #include <iostream>
 
-#include "frontend/odometry_io.h"
-#include "frontend/trajectory_metrics.h"
-#include "tools/json_writer.h"
+#include "frontend/io/odometry_io.h"
+#include "frontend/evaluation/trajectory_metrics.h"
+#include "frontend/io/json_writer.h"
 
 namespace dualgraph::tools {
 namespace {

@@ -10,7 +10,7 @@
 #include "core/g2o_io.h"
 #include "core/optimizer.h"
 #include "solvers/linear_solver_factory.h"
-#include "tools/json_writer.h"
+#include "frontend/io/json_writer.h"
 #include "types/register_types.h"
 
 namespace dualgraph::tools {

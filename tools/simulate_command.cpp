@@ -2,13 +2,13 @@
 #include "tools/simulate_command.h"
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 
-#include "frontend/camera_io.h"
-#include "frontend/track_io.h"
-#include "frontend/xy_plot.h"
+#include "frontend/io/camera_io.h"
+#include "frontend/io/track_io.h"
+#include "frontend/report/xy_plot.h"
+#include "tools/data_dir.h"
 #include "tools/staged_folder.h"
 
 namespace dualgraph::tools {
@@ -42,18 +42,6 @@ Status writePlot(const std::string& path, const SimulatedRace& race) {
 
 }  // namespace
 
-std::string bundledDataDir() {
-  if (const char* dir = std::getenv("DUALGRAPH_DATA_DIR")) return dir;
-  // Installed: <prefix>/bin/dualgraph reads <prefix>/share/dualgraph, wherever the prefix now is.
-  std::error_code error;
-  const std::filesystem::path executable = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (!error) {
-    const std::filesystem::path installed = (executable.parent_path() / DUALGRAPH_INSTALLED_DATA_FROM_BIN).lexically_normal();
-    if (std::filesystem::exists(installed / "config" / "default.yaml", error)) return installed.string();
-  }
-  return DUALGRAPH_DEFAULT_DATA_DIR;
-}
-
 int runSimulateCommand(SimulateOptions o) {
   auto track = loadTrackYaml(o.track);
   if (!track.ok()) return fail(track.status().message());
@@ -75,7 +63,7 @@ int runSimulateCommand(SimulateOptions o) {
   // Staged: the sequence files and the plot appear in --out together or not at all.
   auto staged = StagedFolder::create(o.out);
   if (!staged.ok()) return fail(staged.status().message());
-  const Status written = writeSequence(staged->path(), *race, *track, *camera, p);
+  const Status written = writeRaceSequence(staged->path(), *race, *track, *camera, p);
   if (!written.ok()) return fail(staged->unstaged(written).message());
   if (!o.no_plot) {
     const Status plotted = writePlot(staged->file("xy.png"), *race);

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string>
 
-#include "frontend/race_simulator.h"
+#include "frontend/simulation/race_sequence.h"
 
 namespace dualgraph::tools {
 
@@ -23,10 +23,5 @@ struct SimulateOptions {
 
 /// Runs it; returns the process exit code (0 ok, 1 bad input or failure).
 int runSimulateCommand(SimulateOptions options);
-
-/// The folder of the bundled data (configs, tracks, cameras): $DUALGRAPH_DATA_DIR when set; for an installed
-/// executable, <prefix>/share/dualgraph beside it (found from /proc/self/exe, so a moved prefix works);
-/// else the repository's data/ folder compiled in (build trees).
-std::string bundledDataDir();
 
 }  // namespace dualgraph::tools

@@ -15,9 +15,10 @@ TRACK = os.path.join(SOURCE_DIR, "data", "tracks", "ratm_ellipse.yaml")
 
 
 def localize_in_python(sequence, config):
-    """runSequence (frontend/sequence_run.cpp) written out in Python: odometry in time order; after each sample,
-    every detection up to its time, one instant at a time, through the GateFrontend at the corrected pose of
-    that instant and on to the Localizer. Returns (times, world_T_body (n, 7)) at every sample."""
+    """runSequence (frontend/sequence_run.cpp) written out in Python: odometry in time order; before each sample
+    (after the first one), every detection up to its time, one instant at a time, through the GateFrontend at
+    the corrected pose of that instant and on to the Localizer, which holds them until the sample covers them.
+    Returns (times, world_T_body (n, 7)) at every sample."""
     localizer = dualgraph.Localizer(config.localizer, sequence.gates)
     frontend = dualgraph.GateFrontend(sequence, config)
     times, _ = sequence.odometry
@@ -30,8 +31,9 @@ def localize_in_python(sequence, config):
         det_times = np.array([d.t for d in detections])
     next_detection = int(np.searchsorted(det_times, times[0], side="left"))  # earlier ones are not usable
     estimate = []
-    for k, t in enumerate(times):
-        estimate.append(localizer.add_odometry(t, matrices[k], covariances[k]))
+
+    def hand_detections_up_to(t):
+        nonlocal next_detection
         while next_detection < len(det_times) and det_times[next_detection] <= t:
             instant = det_times[next_detection]
             end = next_detection
@@ -49,6 +51,13 @@ def localize_in_python(sequence, config):
                 except dualgraph.Error:
                     pass  # counted by the Localizer, as in `dualgraph run`
             next_detection = end
+
+    for k, t in enumerate(times):
+        if k > 0:  # the detections a sample covers go first: the sample may close their keyframe interval
+            hand_detections_up_to(t)
+        estimate.append(localizer.add_odometry(t, matrices[k], covariances[k]))
+        if k == 0:
+            hand_detections_up_to(t)
     localizer.finish()
     return np.array(times), np.array(estimate), localizer
 
@@ -93,6 +102,7 @@ class SameAsTheCli(unittest.TestCase):
         self.assertSameTrajectory(times, poses, self.cli_times, self.cli_poses)
         counters = localizer.counters()
         self.assertEqual(counters["odometry_accepted"], len(times))
+        self.assertEqual(counters["observations_too_late"], 0)
         self.assertGreater(counters["observations_accepted"], 100)
         stats = localizer.stats()
         self.assertGreater(len(stats), 10)

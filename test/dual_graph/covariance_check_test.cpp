@@ -12,7 +12,7 @@
 #include <random>
 
 #include "dual_graph/measurements.h"
-#include "dual_graph/se3_uncertainty.h"
+#include "types/se3_covariance.h"
 
 namespace dualgraph {
 namespace {

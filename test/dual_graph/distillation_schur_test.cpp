@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "dual_graph/gate_edge.h"
-#include "dual_graph/graph_edges.h"
+#include "dual_graph/edge_factories.h"
 #include "dual_graph/temporary_graph.h"
 #include "test/dual_graph/distillation_fixtures.h"
 #include "types/vertex_point_xyz.h"

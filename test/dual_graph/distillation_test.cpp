@@ -6,7 +6,7 @@
 #include <Eigen/Dense>
 #include <random>
 
-#include "dual_graph/graph_edges.h"
+#include "dual_graph/edge_factories.h"
 #include "test/dual_graph/distillation_fixtures.h"
 #include "dual_graph/temporary_graph.h"
 #include "types/vertex_point_xyz.h"

@@ -135,6 +135,28 @@ TEST(LocalizerInput, AnObservationOlderThanTheKeyframeThatClosedItsIntervalIsRej
   const Status status = localizer->addObservation(validObservation(1.5));
   EXPECT_EQ(status.code(), StatusCode::kFailedPrecondition);
   EXPECT_NE(status.message().find("closed its interval"), std::string::npos) << status.message();
+  EXPECT_EQ(localizer->counters().observations_too_late, 1);
+  EXPECT_EQ(localizer->counters().observations_rejected, 1);
+  // Other refusals are not counted as late: an unknown gate, and one before the previous observation.
+  GateObservation unknown = validObservation(5.0);
+  unknown.gate_id = 99;
+  EXPECT_EQ(localizer->addObservation(unknown).code(), StatusCode::kNotFound);
+  EXPECT_EQ(localizer->counters().observations_too_late, 1);
+  EXPECT_EQ(localizer->counters().observations_rejected, 2);
+}
+
+TEST(LocalizerInput, CheckOdometryAnswersAsAddOdometryWouldAndChangesNothing) {
+  const SyntheticRace race = makeSyntheticRace({});
+  std::unique_ptr<Localizer> localizer = makeLocalizer(LocalizerParams{}, race.map);
+  EXPECT_TRUE(localizer->checkOdometry(sampleAt(1.0)).ok());
+  ASSERT_TRUE(localizer->addOdometry(sampleAt(1.0)).ok());
+  EXPECT_EQ(localizer->checkOdometry(sampleAt(1.0)).code(), StatusCode::kInvalidArgument);  // not newer
+  OdometrySample bad = sampleAt(2.0);
+  bad.odom_T_body.translation().x() = std::nan("");
+  EXPECT_EQ(localizer->checkOdometry(bad).code(), StatusCode::kInvalidArgument);
+  EXPECT_TRUE(localizer->checkOdometry(sampleAt(2.0)).ok());
+  EXPECT_EQ(localizer->counters().odometry_accepted, 1);
+  EXPECT_EQ(localizer->counters().odometry_rejected, 0);
 }
 
 TEST(LocalizerInput, InvalidParametersAndAMissingMapAreRefusedAtCreation) {

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "core/optimizer.h"
-#include "dual_graph/graph_edges.h"
+#include "dual_graph/edge_factories.h"
 #include "dual_graph/marginal_prior.h"
 #include "solvers/linear_solver_factory.h"
 #include "solvers/marginal_covariance.h"

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "frontend/camera_io.h"
-#include "frontend/camera_model.h"
+#include "frontend/io/camera_io.h"
+#include "frontend/gates/camera_model.h"
 #include "test/testing/shared_data.h"
 #include "types/se3_math.h"
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <random>
 
-#include "frontend/gate_association.h"
+#include "frontend/gates/gate_association.h"
 
 namespace dualgraph {
 namespace {

@@ -8,10 +8,10 @@
 #include <cmath>
 #include <random>
 
-#include "frontend/camera_io.h"
-#include "frontend/detection_simulator.h"
-#include "frontend/gate_frontend.h"
-#include "frontend/run_metrics.h"
+#include "frontend/io/camera_io.h"
+#include "frontend/simulation/detection_simulator.h"
+#include "frontend/gates/gate_frontend.h"
+#include "frontend/evaluation/run_metrics.h"
 #include "test/testing/shared_data.h"
 #include "types/se3_math.h"
 

@@ -8,8 +8,8 @@
 #include <random>
 
 #include "dual_graph/measurements.h"
-#include "frontend/camera_model.h"
-#include "frontend/gate_pnp.h"
+#include "frontend/gates/camera_model.h"
+#include "frontend/gates/gate_pnp.h"
 #include "types/se3_math.h"
 
 namespace dualgraph {

@@ -8,7 +8,7 @@
 #include <limits>
 #include <random>
 
-#include "frontend/hungarian.h"
+#include "frontend/gates/hungarian.h"
 
 namespace dualgraph {
 namespace {

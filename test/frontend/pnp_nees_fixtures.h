@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "frontend/detection_simulator.h"
-#include "frontend/gate_pnp.h"
+#include "frontend/simulation/detection_simulator.h"
+#include "frontend/gates/gate_pnp.h"
 #include "test/frontend/simulator_fixtures.h"
 
 namespace dualgraph::simtest::nees {

@@ -2,8 +2,8 @@
 // Corner and pose detection CSVs on well-formed input, and the strict field parser underneath.
 #include <gtest/gtest.h>
 
-#include "frontend/detection_io.h"
-#include "frontend/text_table.h"
+#include "frontend/io/detection_io.h"
+#include "frontend/io/delimited_text.h"
 #include "test/frontend/readers_fixtures.h"
 
 namespace dualgraph {

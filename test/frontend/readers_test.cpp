@@ -9,10 +9,10 @@
 #include <random>
 #include <sstream>
 
-#include "dual_graph/se3_uncertainty.h"
-#include "frontend/detection_io.h"
-#include "frontend/odometry_io.h"
-#include "frontend/trajectory_io.h"
+#include "types/se3_covariance.h"
+#include "frontend/io/detection_io.h"
+#include "frontend/io/odometry_io.h"
+#include "frontend/io/trajectory_io.h"
 #include "test/frontend/readers_fixtures.h"
 
 namespace dualgraph {

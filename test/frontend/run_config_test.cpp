@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "frontend/run_config.h"
+#include "frontend/io/run_config.h"
 #include "test/testing/shared_data.h"
 
 namespace dualgraph {

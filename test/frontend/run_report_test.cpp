@@ -3,7 +3,7 @@
 // simplified within tolerance and broken at non-finite points, the HTML is well formed enough
 // (balanced svg/table/polyline tags, no NaN/inf text) with the gates and the three series; a run
 // folder written here reads back, and a missing or malformed file is named in the error.
-#include "frontend/run_report.h"
+#include "frontend/report/run_report.h"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 #include <fstream>
 #include <regex>
 
-#include "frontend/svg_plot.h"
+#include "frontend/report/svg_plot.h"
 #include "test/testing/command_line.h"
 
 namespace dualgraph {
@@ -58,7 +58,14 @@ RunReport tinyRun(const std::string& name) {
     run.vio.emplace_back(t, at(2.0 * std::cos(s) + 0.1 * t, 2.0 * std::sin(s)));
     run.estimate.emplace_back(t, at(2.0 * std::cos(s) + 0.01, 2.0 * std::sin(s)));
   }
-  run.gates = {{{2.0, 0.0}, EIGEN_PI / 2, 1.5}, {{-2.0, 0.0}, -EIGEN_PI / 2, 1.5}};
+  TrackGate right, left;
+  right.id = 0;
+  right.position = {2.0, 0.0, 1.0};
+  right.yaw = EIGEN_PI / 2;
+  left.id = 1;
+  left.position = {-2.0, 0.0, 1.0};
+  left.yaw = -EIGEN_PI / 2;
+  run.gates = {right, left};
   run.opt_ms = {{0.5, 1.25}, {1.0, 2.5}, {1.5, 0.75}};
   run.metrics = {{"ate_m", 0.01}, {"keyframes", 3.0}, {"ate_4dof_m", std::nan("")}};
   run.gate_corrections = {{1, 2, 0.05, 0.01}};
@@ -237,7 +244,7 @@ TEST(RunReport, LoadsARunFolderAndItsSequence) {
   EXPECT_EQ(run->vio.size(), 21u);
   EXPECT_EQ(run->ground_truth.size(), 21u);
   ASSERT_EQ(run->gates.size(), 2u);
-  EXPECT_NEAR(run->gates[1].centre.x(), -2.0, 1e-12);
+  EXPECT_NEAR(run->gates[1].position.x(), -2.0, 1e-12);
   ASSERT_EQ(run->opt_ms.size(), 2u);
   EXPECT_DOUBLE_EQ(run->opt_ms[1].second, 2.5);
   ASSERT_EQ(run->metrics.size(), 3u);  // ate_m, ate_4dof_m (null → NaN), keyframes; the text skipped

@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "frontend/camera_io.h"
-#include "frontend/flight.h"
-#include "frontend/track.h"
-#include "frontend/track_io.h"
+#include "frontend/io/camera_io.h"
+#include "frontend/simulation/flight.h"
+#include "frontend/gates/track.h"
+#include "frontend/io/track_io.h"
 #include "test/testing/shared_data.h"
 #include "types/se3_math.h"
 

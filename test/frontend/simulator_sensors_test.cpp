@@ -10,10 +10,10 @@
 #include <set>
 #include <vector>
 
-#include "frontend/detection_simulator.h"
-#include "frontend/flight.h"
-#include "frontend/gate_pnp.h"
-#include "frontend/vio_drift.h"
+#include "frontend/simulation/detection_simulator.h"
+#include "frontend/simulation/flight.h"
+#include "frontend/gates/gate_pnp.h"
+#include "frontend/simulation/vio_drift.h"
 #include "test/frontend/pnp_nees_fixtures.h"
 #include "test/frontend/simulator_fixtures.h"
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The race simulator's sequence folder (race_simulator.h: simulateRace, writeSequence), read back
+// The race simulator's sequence folder (race_simulator.h: simulateRace; race_sequence.h: writeRaceSequence), read back
 // with the frontend's own readers.
 #include <gtest/gtest.h>
 
@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "frontend/camera_io.h"
-#include "frontend/detection_io.h"
-#include "frontend/odometry_io.h"
-#include "frontend/race_simulator.h"
-#include "frontend/track_io.h"
+#include "frontend/io/camera_io.h"
+#include "frontend/io/detection_io.h"
+#include "frontend/io/odometry_io.h"
+#include "frontend/simulation/race_sequence.h"
+#include "frontend/io/track_io.h"
 #include "test/frontend/simulator_fixtures.h"
 
 namespace dualgraph {
@@ -46,7 +46,7 @@ Written simulateAndWrite(const std::string& dir, const RaceSimParams& params) {
   EXPECT_TRUE(race.ok()) << race.status().toString();
   if (!race.ok()) return out;
   out.race = std::move(race).value();
-  const Status status = writeSequence(dir, out.race, out.track, out.camera, params);
+  const Status status = writeRaceSequence(dir, out.race, out.track, out.camera, params);
   EXPECT_TRUE(status.ok()) << status.toString();
   return out;
 }
@@ -164,6 +164,45 @@ TEST(SimulatedSequence, EveryFileReadsBackWithTheFrontendReaders) {
   EXPECT_EQ(trackToYaml(*track), trackToYaml(w.track));
 }
 
+// The in-memory sequence of a race (what ablation and the benchmarks run) is the one its folder reads back
+// as: same samples, detections, map and camera; poses equal up to the quaternion round trip of the files.
+TEST(SimulatedSequence, InMemorySequenceEqualsTheFolderReadBack) {
+  TemporaryFolder folder;
+  const RaceSimParams params = shortRace(4);
+  const Written written = simulateAndWrite(folder.path(), params);
+  auto read = loadSequence(folder.path(), Matrix6d::Identity());
+  ASSERT_TRUE(read.ok()) << read.status().toString();
+  auto made = raceSequence(written.race, written.camera, params, "in memory");
+  ASSERT_TRUE(made.ok()) << made.status().toString();
+  EXPECT_EQ(made->dir, "in memory");
+  ASSERT_EQ(made->odometry.samples.size(), read->odometry.samples.size());
+  for (size_t k = 0; k < made->odometry.samples.size(); ++k) {
+    const OdometrySample& a = made->odometry.samples[k];
+    const OdometrySample& b = read->odometry.samples[k];
+    ASSERT_EQ(a.t, b.t);
+    expectSamePose(b.odom_T_body, a.odom_T_body, "vio " + std::to_string(k));
+    ASSERT_EQ(a.relative_covariance.has_value(), b.relative_covariance.has_value()) << k;
+    if (a.relative_covariance) EXPECT_LT((*a.relative_covariance - *b.relative_covariance).cwiseAbs().maxCoeff(), 1e-12) << k;
+  }
+  EXPECT_EQ(made->covariance_clamped, read->covariance_clamped);
+  ASSERT_TRUE(made->has_corners && read->has_corners);
+  ASSERT_EQ(made->corners.size(), read->corners.size());
+  for (size_t k = 0; k < made->corners.size(); ++k) {
+    EXPECT_EQ(made->corners[k].t, read->corners[k].t);
+    EXPECT_EQ(made->corners[k].gate_id, read->corners[k].gate_id);
+    for (int c = 0; c < 4; ++c) EXPECT_TRUE(made->corners[k].corners[c] == read->corners[k].corners[c]) << k;
+  }
+  ASSERT_EQ(made->map.gates.size(), read->map.gates.size());
+  for (size_t g = 0; g < made->map.gates.size(); ++g) {
+    EXPECT_TRUE(made->map.gates[g].position == read->map.gates[g].position) << g;
+    EXPECT_EQ(made->map.gates[g].yaw, read->map.gates[g].yaw) << g;
+  }
+  ASSERT_TRUE(made->camera && read->camera);
+  ASSERT_TRUE(made->ground_truth && read->ground_truth);
+  ASSERT_EQ(made->ground_truth->samples.size(), read->ground_truth->samples.size());
+  expectSamePose(read->ground_truth->samples.back().odom_T_body, made->ground_truth->samples.back().odom_T_body, "gt");
+}
+
 TEST(SimulatedSequence, SameSeedGivesByteIdenticalFilesAnotherSeedDifferentOnes) {
   TemporaryFolder a, b, c;
   simulateAndWrite(a.path(), shortRace(5));
@@ -261,12 +300,12 @@ TEST(SimulatedSequence, UnwritableFolderIsIoErrorAndLeavesNoTemporaryFile) {
   {
     std::ofstream(folder / "plain_file") << "x";
   }
-  const Status under_file = writeSequence(folder / "plain_file/sequence", *race, track, camera, params);
+  const Status under_file = writeRaceSequence(folder / "plain_file/sequence", *race, track, camera, params);
   EXPECT_EQ(under_file.code(), StatusCode::kIoError) << under_file.toString();
   // corners.csv taken by a non-empty folder: its temporary file is written, the rename fails (also as
   // root, which ignores permission bits).
   fs::create_directories(folder / "seq/corners.csv/occupied");
-  const Status blocked = writeSequence(folder / "seq", *race, track, camera, params);
+  const Status blocked = writeRaceSequence(folder / "seq", *race, track, camera, params);
   EXPECT_EQ(blocked.code(), StatusCode::kIoError) << blocked.toString();
   EXPECT_NE(blocked.message().find("corners.csv"), std::string::npos) << blocked.message();
   for (const auto& entry : fs::directory_iterator(folder / "seq")) {

@@ -8,7 +8,7 @@
 #include <random>
 #include <string>
 
-#include "frontend/track_io.h"
+#include "frontend/io/track_io.h"
 #include "test/testing/shared_data.h"
 
 namespace dualgraph {

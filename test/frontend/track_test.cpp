@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "frontend/track.h"
-#include "frontend/track_io.h"
+#include "frontend/gates/track.h"
+#include "frontend/io/track_io.h"
 #include "test/testing/shared_data.h"
 
 namespace dualgraph {

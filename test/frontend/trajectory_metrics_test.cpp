@@ -2,7 +2,7 @@
 // Trajectory metrics: alignment recovers known transforms (SE(3); 4-DoF yaw but not roll), noise of
 // known σ gives ATE ≈ σ√3, a scale error gives RPE = s·Δ, interpolation and the association
 // counters, and every error path.
-#include "frontend/trajectory_metrics.h"
+#include "frontend/evaluation/trajectory_metrics.h"
 
 #include <gtest/gtest.h>
 

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-// Fuzzes parseCameraYaml (frontend/camera_io.h): model, size, intrinsics (fx.. or K), distortion and
+// Fuzzes parseCameraYaml (frontend/io/camera_io.h): model, size, intrinsics (fx.. or K), distortion and
 // body_T_camera. A camera that was read is valid, so it must write back (cameraToYaml) to text that
 // reads back.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 
-#include "frontend/camera_io.h"
+#include "frontend/io/camera_io.h"
 #include "test/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

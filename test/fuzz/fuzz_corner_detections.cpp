@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Fuzzes readCornerDetections (frontend/detection_io.h): `t,gate_id,u_tl,v_tl,...` with an optional
+// Fuzzes readCornerDetections (frontend/io/detection_io.h): `t,gate_id,u_tl,v_tl,...` with an optional
 // header. The reader takes a path, so the bytes go through a per-process file. What was read must
 // write back (writeCornerDetections) and read back to as many detections.
 #include <cstddef>
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "frontend/detection_io.h"
+#include "frontend/io/detection_io.h"
 #include "test/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

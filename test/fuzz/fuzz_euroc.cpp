@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
-// Fuzzes readEurocOdometry (frontend/odometry_io.h): EuRoC/ASL CSV with a named header, nanosecond
+// Fuzzes readEurocOdometry (frontend/io/odometry_io.h): EuRoC/ASL CSV with a named header, nanosecond
 // stamps and w-first quaternions. The reader takes a path, so the bytes go through a per-process file.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 
-#include "frontend/odometry_io.h"
+#include "frontend/io/odometry_io.h"
 #include "test/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

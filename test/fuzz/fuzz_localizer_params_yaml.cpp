@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
-// Fuzzes parseLocalizerParams (dual_graph/localizer_params_yaml.h): the `localizer:` section or
+// Fuzzes parseLocalizerParams (frontend/io/localizer_params_yaml.h): the `localizer:` section or
 // top-level keys, with and without `frontend` as a caller-owned section.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 
-#include "dual_graph/localizer_params_yaml.h"
+#include "frontend/io/localizer_params_yaml.h"
 #include "test/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-// Fuzzes readPoseDetections (frontend/detection_io.h): `t,gate_id,x,y,z,qx,qy,qz,qw[,cov_00..cov_55]`
+// Fuzzes readPoseDetections (frontend/io/detection_io.h): `t,gate_id,x,y,z,qx,qy,qz,qw[,cov_00..cov_55]`
 // with an optional header. The reader takes a path, so the bytes go through a per-process file.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
 
-#include "frontend/detection_io.h"
+#include "frontend/io/detection_io.h"
 #include "test/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

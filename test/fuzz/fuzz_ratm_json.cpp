@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Fuzzes loadRatmCalibrationJson (frontend/camera_io.h): RATM's OpenCV calibration JSON
+// Fuzzes loadRatmCalibrationJson (frontend/io/camera_io.h): RATM's OpenCV calibration JSON
 // {"mtx": [[..]], "dist": [[..]]}, read as radtan (5 coefficients) and as equidistant (4). The reader
 // takes a path, so the bytes go through a per-process file. A camera that was read is valid, so it
 // must write back as camera YAML that reads back.
@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "frontend/camera_io.h"
+#include "frontend/io/camera_io.h"
 #include "test/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

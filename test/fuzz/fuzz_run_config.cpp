@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
-// Fuzzes parseRunConfig (frontend/run_config.h): `dualgraph run`'s configuration, a `localizer:` and a
+// Fuzzes parseRunConfig (frontend/io/run_config.h): `dualgraph run`'s configuration, a `localizer:` and a
 // `frontend:` section.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 
-#include "frontend/run_config.h"
+#include "frontend/io/run_config.h"
 #include "test/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-// Fuzzes parseTrackYaml (frontend/track_io.h): track and gate-map YAML (gates, optional path, laps,
+// Fuzzes parseTrackYaml (frontend/io/track_io.h): track and gate-map YAML (gates, optional path, laps,
 // speed). track_io.h promises that a track writes back (trackToYaml) to text that reads back to the
 // same doubles bit for bit, so a read track must reach a fixed point after one round trip.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 
-#include "frontend/track_io.h"
+#include "frontend/io/track_io.h"
 #include "test/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-// Fuzzes readTumOdometry (frontend/odometry_io.h): TUM and OpenVINS trajectories, with or without the
+// Fuzzes readTumOdometry (frontend/io/odometry_io.h): TUM and OpenVINS trajectories, with or without the
 // 21 covariance columns. The reader takes a path, so the bytes go through a per-process file. A log
 // with covariances is also turned into relative ones (toRelativeCovariances), as `dualgraph run` does.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 
-#include "frontend/odometry_io.h"
+#include "frontend/io/odometry_io.h"
 #include "test/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-// The 6×6 block kernels (solvers/block_kernels.h) against Eigen's plain products on seeded random blocks,
+// The 6×6 block kernels (solvers/block/block_kernels.h) against Eigen's plain products on seeded random blocks,
 // including aliasing (in-place) use and the parts of C each kernel must leave alone; the AVX2 + FMA
-// assembly kernels (solvers/block_kernels_avx2.h) the same way.
-#include "solvers/block_kernels.h"
-#include "solvers/block_kernels_avx2.h"
+// assembly kernels (solvers/block/block_kernels_avx2.h) the same way.
+#include "solvers/block/block_kernels.h"
+#include "solvers/block/block_kernels_avx2.h"
 
 #include <gtest/gtest.h>
 
@@ -100,7 +100,7 @@ TEST_F(BlockKernels, IdentityAndZeroAreExact) {
 namespace dualgraph {
 namespace {
 
-/// The AVX2 + FMA assembly kernels (solvers/block_kernels_avx2.h) against Eigen, at unaligned addresses
+/// The AVX2 + FMA assembly kernels (solvers/block/block_kernels_avx2.h) against Eigen, at unaligned addresses
 /// (one double past a 32-byte boundary) as well as aligned ones. Skipped, saying so, without AVX2 + FMA.
 class BlockKernelsAvx2 : public BlockKernels {
  protected:

@@ -6,7 +6,7 @@
 // analysis) shows up as a non-zero difference. Allocations inside the linear solver are attributed to it
 // by a forwarding solver: none either for EigenSolver (and AutoSolver on this small graph); CHOLMOD's
 // are printed, not asserted (cholmod_factorize allocates its permuted transpose at every call).
-// The temporary graph's block solver (dual_graph/temporary_solver.h, its own LM on BlockCholesky) the same
+// The temporary graph's block solver (solvers/block/block_lm_solver.h, its own LM on BlockCholesky) the same
 // way, with both kernel sets, and its marginals when computed again.
 // (Interposing malloc is not possible under AddressSanitizer, which owns malloc: skipped there, also when
 // only the libraries are instrumented: DUALGRAPH_TEST_LINKS_SANITIZERS, test/CMakeLists.txt.)
@@ -19,8 +19,8 @@
 
 #include "core/optimizer.h"
 #include "core/linear_solver.h"
-#include "dual_graph/temporary_solver.h"
-#include "solvers/block_kernels_avx2.h"
+#include "solvers/block/block_lm_solver.h"
+#include "solvers/block/block_kernels_avx2.h"
 #include "solvers/linear_solver_factory.h"
 #include "types/edge_se3.h"
 #include "types/se3_math.h"
@@ -191,7 +191,7 @@ TEST_P(TemporarySolverAllocation, IterationsAndRepeatedMarginalsAllocateNothing)
   if (block_kernels_avx2::setEnabled(GetParam()) != GetParam()) GTEST_SKIP() << "this CPU has no AVX2 + FMA";
   Graph graph;
   buildSpiral(graph);
-  TemporarySolver solver;
+  BlockLmSolver solver;
   ASSERT_TRUE(solver.setGraph(graph).ok());
   std::array<long, 64> at{};
   int calls = 0;

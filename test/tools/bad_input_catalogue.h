@@ -11,13 +11,13 @@
 
 #include "core/g2o_io.h"
 #include "core/status.h"
-#include "dual_graph/localizer_params_yaml.h"
-#include "frontend/camera_io.h"
-#include "frontend/detection_io.h"
-#include "frontend/odometry_io.h"
-#include "frontend/run_config.h"
-#include "frontend/sequence_reader.h"
-#include "frontend/track_io.h"
+#include "frontend/io/localizer_params_yaml.h"
+#include "frontend/io/camera_io.h"
+#include "frontend/io/detection_io.h"
+#include "frontend/io/odometry_io.h"
+#include "frontend/io/run_config.h"
+#include "frontend/io/sequence_folder.h"
+#include "frontend/io/track_io.h"
 #include "types/register_types.h"
 
 namespace dualgraph::testing {

@@ -7,10 +7,10 @@
 #include <filesystem>
 #include <string>
 
-#include "frontend/camera_io.h"
-#include "frontend/detection_io.h"
-#include "frontend/odometry_io.h"
-#include "frontend/track_io.h"
+#include "frontend/io/camera_io.h"
+#include "frontend/io/detection_io.h"
+#include "frontend/io/odometry_io.h"
+#include "frontend/io/track_io.h"
 #include "test/testing/command_line.h"
 #include "test/testing/shared_data.h"
 

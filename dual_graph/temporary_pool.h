@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <vector>
+
+#include "core/graph.h"
+#include "dual_graph/gate_edge.h"
+#include "types/edge_se3.h"
+#include "types/edge_se3_point_xyz.h"
+#include "types/vertex_point_xyz.h"
+#include "types/vertex_se3.h"
+
+namespace dualgraph {
+
+/// A gate vertex's estimate as an odom_T_gate: a VertexSE3's pose, a VertexPointXYZ's position with the
+/// identity rotation; the identity for anything else (null included).
+Eigen::Isometry3d gatePoseOf(const VertexBase* vertex);
+
+/// The vertices and edges of one temporary graph (TemporaryGraph::distil), kept between keyframes: `clear`
+/// marks every object unused and the `add*` calls hand them out again, so a distillation builds its graph
+/// without allocating once the largest interval has been seen (a `Graph` allocates every vertex, edge and
+/// map node). Vertices are VertexSE3 (poses in the odometry frame, `odom_T_body`; gates `odom_T_gate`) or
+/// VertexPointXYZ (gate centres `p_odom`, m); edges EdgeSE3 (information in g2o units) or EdgeSE3PointXYZ
+/// (m⁻²), as the dual graph's factories build them (dual_graph/edge_factories.h). Vertex ids must be
+/// 0 … numVertices()−1, each added once (TemporaryGraph assigns them so). `copyTo` builds the same graph as a
+/// `Graph` for the generic Optimizer (`temp_solver: graph`, the oracle).
+class TemporaryPool {
+ public:
+  /// Forgets the graph; the objects are kept for the next one.
+  void clear();
+
+  /// Adds pose vertex `id` (odom_T_body), fixed or free. kInvalidArgument for a negative or repeated id.
+  Status addPose(int id, const Eigen::Isometry3d& odom_T_body, bool fixed);
+  /// Adds gate vertex `id`: a VertexSE3 at odom_T_gate (kPose) or a VertexPointXYZ at its translation (kPoint).
+  Status addGate(int id, LandmarkModel model, const Eigen::Isometry3d& odom_T_gate);
+  /// Adds the EdgeSE3 from → to with measurement from_T_to and information in g2o units.
+  Status addPoseEdge(int from, int to, const Eigen::Isometry3d& from_T_to, const Matrix6d& information_g2o);
+  /// Adds the edge node → gate of `measurement` (as addGateEdge in gate_edge.h), with `kernel` (may be null).
+  Status addGateEdge(int node, int gate, const GateEdgeMeasurement& measurement,
+                     const std::shared_ptr<const RobustKernel>& kernel);
+
+  /// Per id, the vertex (null for an id not added yet).
+  const std::vector<VertexBase*>& vertices() const { return vertices_; }
+  /// In the order added.
+  const std::vector<EdgeBase*>& edges() const { return edges_; }
+  /// A gate's estimate as an odom_T_gate (for a point: its translation, identity rotation). Null-safe:
+  /// the identity for an id that is not a gate vertex.
+  Eigen::Isometry3d gateEstimate(int id) const;
+
+  /// Adds copies of every vertex (id, estimate, fixed) and edge (measurement, information, kernel) to
+  /// `graph`, which must not hold those ids. `kernel` is the one every edge with a kernel was given
+  /// (kInvalidArgument otherwise): the copies share it.
+  Status copyTo(Graph& graph, const std::shared_ptr<const RobustKernel>& kernel) const;
+
+ private:
+  /// Hands out the next unused object of `pool`, creating it when all are in use.
+  template <typename T>
+  static T* next(std::vector<std::unique_ptr<T>>& pool, size_t& used);
+  Status placeVertex(int id, VertexBase* vertex);
+  VertexBase* vertexAt(int id) const;
+  /// addPoseEdge with `kernel` (may be null), set once: a reused edge that keeps its kernel costs no
+  /// reference-count traffic.
+  Status addSe3Edge(int from, int to, const Eigen::Isometry3d& from_T_to, const Matrix6d& information_g2o,
+                    const std::shared_ptr<const RobustKernel>& kernel);
+
+  std::vector<std::unique_ptr<VertexSE3>> poses_;
+  std::vector<std::unique_ptr<VertexPointXYZ>> points_;
+  std::vector<std::unique_ptr<EdgeSE3>> pose_edges_;
+  std::vector<std::unique_ptr<EdgeSE3PointXYZ>> point_edges_;
+  size_t poses_used_ = 0, points_used_ = 0, pose_edges_used_ = 0, point_edges_used_ = 0;
+  std::vector<VertexBase*> vertices_;
+  std::vector<EdgeBase*> edges_;
+};
+
+}  // namespace dualgraph

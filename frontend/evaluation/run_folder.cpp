@@ -1,0 +1,287 @@
+// SPDX-License-Identifier: MIT
+// The run folder: written by writeRunFolder, read back by loadRunReport with the frontend's strict readers
+// (metrics.json through yaml-cpp, JSON being YAML's flow style, so errors carry file:line).
+#include "frontend/evaluation/run_folder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <sstream>
+
+#include "frontend/io/odometry_io.h"
+#include "core/atomic_file.h"
+#include "frontend/io/json_writer.h"
+#include "frontend/io/delimited_text.h"
+#include "frontend/io/track_io.h"
+#include "frontend/io/yaml_fields.h"
+
+namespace dualgraph {
+namespace {
+
+namespace fs = std::filesystem;
+namespace yf = yaml_fields;
+
+Status requireFile(const fs::path& path) {
+  if (fs::is_regular_file(path)) return Status();
+  return Status(StatusCode::kNotFound, path.string() + ": not found");
+}
+
+Result<StampedPoses> readPoses(const fs::path& path) {
+  DG_RETURN_IF_ERROR(requireFile(path));
+  auto log = readTumOdometry(path.string());
+  if (!log.ok()) return log.status();
+  return stampedPosesFromSamples(log->samples);
+}
+
+// A number, or NaN for a JSON null (metrics.json writes non-finite values as null).
+Status readNumberOrNull(const std::string& source, const std::string& field, const YAML::Node& node, double& out) {
+  if (node.IsNull()) {
+    out = std::numeric_limits<double>::quiet_NaN();
+    return Status();
+  }
+  return yf::readNumber(source, field, node, out);
+}
+
+// run.yaml (written by `dualgraph run`): sequence, mode, d_main, d_temp, d_single. Other keys are ignored.
+Status readRunYaml(const fs::path& path, RunReport& run) {
+  DG_RETURN_IF_ERROR(requireFile(path));
+  const std::string source = path.string();
+  auto text = yf::readText(source);
+  if (!text.ok()) return text.status();
+  auto root = yf::loadMapping(*text, source);
+  if (!root.ok()) return root.status();
+  try {
+    const YAML::Node sequence = (*root)["sequence"];
+    if (!sequence || !sequence.IsScalar()) {
+      return yf::fieldError(source, root->Mark(), "sequence", "required: the sequence folder");
+    }
+    const fs::path folder(sequence.as<std::string>());
+    run.sequence_dir = (folder.is_absolute() ? folder : path.parent_path() / folder).string();
+    if (const YAML::Node mode = (*root)["mode"]; mode && mode.IsScalar()) run.mode = mode.as<std::string>();
+    std::ostringstream thresholds;
+    for (const char* key : {"d_main", "d_temp", "d_single"}) {
+      const YAML::Node node = (*root)[key];
+      if (!node) continue;
+      double value = 0.0;
+      DG_RETURN_IF_ERROR(yf::readNumber(source, key, node, value));
+      thresholds << (thresholds.tellp() > 0 ? ", " : "") << key << ' ' << value << " m";
+    }
+    run.thresholds = thresholds.str();
+  } catch (const YAML::Exception& error) {
+    return yf::yamlError(source, error);
+  }
+  return Status();
+}
+
+// stats.csv: a header line naming the columns, then one row per main-graph optimisation.
+Status readStats(const fs::path& path, RunReport& run) {
+  DG_RETURN_IF_ERROR(requireFile(path));
+  const std::string source = path.string();
+  auto lines = readTextLines(source, FieldSeparator::kComma);
+  if (!lines.ok()) return lines.status();
+  size_t t_column = 0, ms_column = 0;
+  bool header = false;
+  for (const TextLine& line : *lines) {
+    if (line.comment) continue;
+    const RowReader row(source, line);
+    if (!header) {
+      const auto find = [&](const std::string& name) {
+        const auto at = std::find(line.fields.begin(), line.fields.end(), name);
+        return static_cast<size_t>(at - line.fields.begin());
+      };
+      t_column = find("t");
+      ms_column = find("optimization_ms");
+      if (t_column == line.fields.size() || ms_column == line.fields.size()) {
+        return row.lineError("expected a header with columns 't' and 'optimization_ms'");
+      }
+      header = true;
+      continue;
+    }
+    double t = 0.0, ms = 0.0;
+    DG_RETURN_IF_ERROR(row.readDouble(t_column, "t", t));
+    DG_RETURN_IF_ERROR(row.readDouble(ms_column, "optimization_ms", ms));
+    run.opt_ms.emplace_back(t, ms);
+  }
+  if (!header) return Status(StatusCode::kParseError, source + ": no header line");
+  return Status();
+}
+
+Status readGateCorrections(const std::string& source, const YAML::Node& list, RunReport& run) {
+  for (size_t i = 0; i < list.size(); ++i) {
+    const YAML::Node item = list[i];
+    const std::string field = "gate_corrections[" + std::to_string(i) + "]";
+    if (!item.IsMap()) return yf::fieldError(source, item.Mark(), field, "expected a mapping, got " + yf::describe(item));
+    LapCorrection lap;
+    DG_RETURN_IF_ERROR(yf::readInteger(source, field + ".lap", item["lap"], lap.lap));
+    DG_RETURN_IF_ERROR(yf::readInteger(source, field + ".crossings", item["crossings"], lap.crossings));
+    DG_RETURN_IF_ERROR(readNumberOrNull(source, field + ".mean_m", item["mean_m"], lap.mean_m));
+    DG_RETURN_IF_ERROR(readNumberOrNull(source, field + ".std_m", item["std_m"], lap.std_m));
+    run.gate_corrections.push_back(lap);
+  }
+  return Status();
+}
+
+// metrics.json: every number (null: NaN) in file order; `gate_corrections` per lap; quoted strings
+// and other nested values are skipped, so keys added later do not break old reports.
+Status readMetrics(const fs::path& path, RunReport& run) {
+  DG_RETURN_IF_ERROR(requireFile(path));
+  const std::string source = path.string();
+  auto text = yf::readText(source);
+  if (!text.ok()) return text.status();
+  auto root = yf::loadMapping(*text, source);
+  if (!root.ok()) return root.status();
+  try {
+    for (const auto& entry : *root) {
+      const std::string key = yf::keyName(entry.first);
+      const YAML::Node& value = entry.second;
+      if (key == "gate_corrections" && value.IsSequence()) {
+        DG_RETURN_IF_ERROR(readGateCorrections(source, value, run));
+      } else if (value.IsNull() || (value.IsScalar() && value.Tag() != "!")) {
+        double number = 0.0;
+        DG_RETURN_IF_ERROR(readNumberOrNull(source, key, value, number));
+        run.metrics.emplace_back(key, number);
+      }
+    }
+  } catch (const YAML::Exception& error) {
+    return yf::yamlError(source, error);
+  }
+  return Status();
+}
+
+StampedPoses stamped(const std::vector<CorrectedPose>& poses) {
+  StampedPoses out;
+  for (const CorrectedPose& pose : poses) out.emplace_back(pose.t, pose.world_T_body);
+  return out;
+}
+
+// One row per keyframe: keyframe 0 (created at the first odometry sample, not optimised: its vertex and,
+// in localisation mode with initial_sigma_t > 0, its prior), then one per main-graph optimisation.
+Status writeStats(const std::string& path, const std::vector<KeyframeStats>& stats,
+                  const std::vector<CorrectedPose>& keyframes, const LocalizerParams& params) {
+  return writeFileAtomically(path, [&](std::ostream& out) {
+    out.precision(std::numeric_limits<double>::max_digits10);
+    out << "t,keyframe,nodes,edges,iterations,optimization_ms,distilled_edges,rejected_edges,skipped_gates,"
+           "observations,temp_nodes,temp_edges,temp_iterations,temp_ms,termination\n";
+    if (!keyframes.empty()) {
+      const int prior = params.mapping || params.initial_sigma_t <= 0.0 ? 0 : 1;
+      out << keyframes.front().t << ",0,1," << prior << ",0,0,0,0,0,0,0,0,0,0,initial\n";
+    }
+    for (const KeyframeStats& r : stats) {
+      out << r.t << ',' << r.keyframe << ',' << r.main_vertices << ',' << r.main_edges << ',' << r.iterations << ','
+          << r.optimize_ms << ',' << r.gate_edges_added << ',' << r.gate_edges_rejected << ',' << r.gates_skipped << ','
+          << r.observations << ',' << r.temp_nodes << ',' << r.temp_edges << ',' << r.temp_iterations << ','
+          << r.temp_ms << ',' << r.termination << '\n';
+    }
+    return Status();
+  });
+}
+
+// run.yaml: the sequence (absolute) and the graph settings of the run, for `dualgraph report`.
+Status writeRunYaml(const std::string& path, const std::string& sequence, const LocalizerParams& p) {
+  return writeFileAtomically(path, [&](std::ostream& out) {
+    out << "sequence: \"" << jsonEscape(std::filesystem::absolute(sequence).lexically_normal().string())
+        << "\"\nmode: " << localizerModeName(p.mode) << "\n";
+    if (p.mode == LocalizerMode::kDual) out << "d_main: " << p.d_main << "\nd_temp: " << p.d_temp << "\n";
+    if (p.mode == LocalizerMode::kSingle) out << "d_single: " << p.d_single << "\n";
+    return Status();
+  });
+}
+
+JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run) {
+  JsonObject json;
+  json.add("ate_m", m.estimate.ate_se3_m)
+      .add("ate_unaligned_m", m.estimate.ate_unaligned_m)
+      .add("ate_4dof_m", m.estimate.ate_4dof_m)
+      .add("ate_rot_deg", m.estimate.ate_rot_deg)
+      .add("vio_ate_m", m.vio.ate_se3_m)
+      .add("vio_ate_unaligned_m", m.vio.ate_unaligned_m)
+      .add("vio_ate_4dof_m", m.vio.ate_4dof_m)
+      .add("vio_ate_rot_deg", m.vio.ate_rot_deg)
+      .add("ate_reduction_pct", m.ate_reduction_pct)
+      .add("ate_unaligned_reduction_pct", m.ate_unaligned_reduction_pct);
+  for (size_t i = 0; i < m.estimate.rpe.size(); ++i) {
+    const RelativePoseError& rpe = m.estimate.rpe[i];
+    const std::string suffix = std::to_string(static_cast<int>(rpe.distance_m)) + "m";
+    json.add("rpe_" + suffix + "_m", rpe.translation_rmse_m).add("rpe_" + suffix + "_deg", rpe.rotation_rmse_deg);
+  }
+  json.add("keyframes", m.keyframes).add("nodes", m.nodes).add("edges", m.edges)
+      .add("opt_ms_p50", m.opt_ms_p50).add("opt_ms_p95", m.opt_ms_p95).add("opt_ms_max", m.opt_ms_max);
+  std::vector<JsonObject> laps;
+  for (const LapCorrection& lap : m.gate_corrections) {
+    JsonObject row;
+    row.add("lap", lap.lap).add("crossings", lap.crossings).add("mean_m", lap.mean_m).add("std_m", lap.std_m);
+    laps.push_back(row);
+  }
+  json.add("gate_corrections", laps).add("laps", m.laps)
+      .add("detections", m.detections).add("detections_used", m.detections_used)
+      .add("detections_rejected", m.detections_rejected)
+      .add("detections_between_nodes", m.detections_between_nodes)
+      .add("pnp_rejected", run.frontend_counters.pnp_rejected)
+      .add("not_associated", run.frontend_counters.not_associated)
+      .add("reversed", run.frontend_counters.reversed)
+      .add("edges_rejected_chi2", [&] {
+        long total = 0;
+        for (const KeyframeStats& row : run.stats) total += row.gate_edges_rejected;
+        return total;
+      }())
+      .add("estimate_poses", static_cast<long>(run.estimate.size()))
+      .add("wall_s", run.wall_seconds);
+  return json;
+}
+
+std::string folderName(const std::string& dir) {
+  fs::path path = fs::absolute(fs::path(dir)).lexically_normal();
+  if (path.filename().empty()) path = path.parent_path();  // a trailing '/'
+  return path.filename().string();
+}
+
+}  // namespace
+
+Status writeRunFolder(const std::string& dir, const std::string& sequence_dir, const LocalizerParams& params,
+                      const SequenceRunResult& run, const RunMetrics& metrics) {
+  const fs::path folder(dir);
+  DG_RETURN_IF_ERROR(writeTum((folder / "estimate.tum").string(), stamped(run.estimate)));
+  DG_RETURN_IF_ERROR(writeTum((folder / "keyframes.tum").string(), stamped(run.keyframes)));
+  DG_RETURN_IF_ERROR(writeStats((folder / "stats.csv").string(), run.stats, run.keyframes, params));
+  DG_RETURN_IF_ERROR(writeRunYaml((folder / "run.yaml").string(), sequence_dir, params));
+  if (!metrics.has_ground_truth) return Status();
+  return writeJsonFile((folder / "metrics.json").string(), metricsJson(metrics, run));
+}
+
+Result<RunReport> loadRunReport(const std::string& run_dir, const std::string& sequence_dir) {
+  const fs::path run_path(run_dir);
+  if (!fs::is_directory(run_path)) return Status(StatusCode::kNotFound, run_dir + ": no such run folder");
+  RunReport run;
+  run.run_dir = run_dir;
+  run.name = folderName(run_dir);
+  if (sequence_dir.empty() || fs::exists(run_path / "run.yaml")) {
+    DG_RETURN_IF_ERROR(readRunYaml(run_path / "run.yaml", run));
+  }
+  if (!sequence_dir.empty()) run.sequence_dir = sequence_dir;
+  const fs::path sequence(run.sequence_dir);
+  if (!fs::is_directory(sequence)) return Status(StatusCode::kNotFound, run.sequence_dir + ": no such sequence folder");
+
+  auto estimate = readPoses(run_path / "estimate.tum");
+  if (!estimate.ok()) return estimate.status();
+  run.estimate = std::move(*estimate);
+  DG_RETURN_IF_ERROR(readStats(run_path / "stats.csv", run));
+  auto vio = readPoses(sequence / "vio.tum");
+  if (!vio.ok()) return vio.status();
+  run.vio = std::move(*vio);
+  if (fs::exists(sequence / "gt.tum")) {
+    auto gt = readPoses(sequence / "gt.tum");
+    if (!gt.ok()) return gt.status();
+    run.ground_truth = std::move(*gt);
+  }
+  if (!run.ground_truth.empty() || fs::exists(run_path / "metrics.json")) {
+    DG_RETURN_IF_ERROR(readMetrics(run_path / "metrics.json", run));
+  }
+  DG_RETURN_IF_ERROR(requireFile(sequence / "gates.yaml"));
+  auto track = loadTrackYaml((sequence / "gates.yaml").string());
+  if (!track.ok()) return track.status();
+  run.gates = track->gates;
+  return run;
+}
+
+}  // namespace dualgraph

@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: MIT
+// The run folder `dualgraph run` writes and `dualgraph report` reads, in one place: estimate.tum,
+// keyframes.tum, stats.csv, run.yaml and metrics.json (formats below). No printing.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/status.h"
+#include "dual_graph/localizer_params.h"
+#include "frontend/evaluation/run_metrics.h"
+#include "frontend/evaluation/trajectory_metrics.h"
+#include "frontend/gates/track.h"
+#include "frontend/sequence_run.h"
+
+namespace dualgraph {
+
+/// Writes a run's files into the existing folder `dir` (e.g. a staging folder), each atomically:
+///   estimate.tum   world_T_body at every accepted odometry sample (TUM: t [s], m, quaternion xyzw)
+///   keyframes.tum  the keyframes' final estimates (TUM)
+///   stats.csv      one row per keyframe: `t,keyframe,nodes,edges,iterations,optimization_ms,distilled_edges,
+///                  rejected_edges,skipped_gates,observations,temp_nodes,temp_edges,temp_iterations,temp_ms,
+///                  termination` (row 0: the first keyframe, not optimised)
+///   run.yaml       `sequence:` (absolute), `mode:` and the keyframe thresholds (`d_main`, `d_temp` or `d_single`)
+///   metrics.json   RunMetrics' figures (only when `metrics.has_ground_truth`; non-finite values as null)
+/// kIoError naming the file that could not be written.
+Status writeRunFolder(const std::string& dir, const std::string& sequence_dir, const LocalizerParams& params,
+                      const SequenceRunResult& run, const RunMetrics& metrics);
+
+/// What `dualgraph report` shows of one run folder, read by loadRunReport.
+struct RunReport {
+  std::string name;          ///< the run folder's name (unique and file-name safe after writeRunReport)
+  std::string run_dir;       ///< as given
+  std::string sequence_dir;  ///< from run.yaml, or the override
+  std::string mode;          ///< "dual", "single", or empty when unknown (no run.yaml)
+  std::string thresholds;    ///< e.g. "d_main 2 m, d_temp 0.1 m" (run.yaml), or empty
+  StampedPoses ground_truth;  ///< world_T_body [s, m]; empty when the sequence has no gt.tum
+  StampedPoses vio;           ///< odom_T_body [s, m]; odom taken as world (simulation, unaligned)
+  StampedPoses estimate;      ///< world_T_body [s, m] at every odometry sample (estimate.tum)
+  std::vector<TrackGate> gates;                     ///< from the sequence's gates.yaml [m, rad]
+  std::vector<std::pair<double, double>> opt_ms;    ///< (t [s], main-graph optimisation [ms]) per stats.csv row
+  std::vector<std::pair<std::string, double>> metrics;  ///< metrics.json numbers in file order (null: NaN)
+  std::vector<LapCorrection> gate_corrections;      ///< metrics.json `gate_corrections` [m]
+};
+
+/// Reads run folder `run_dir` — estimate.tum, stats.csv, metrics.json (required when the sequence has
+/// gt.tum) and run.yaml (`sequence:` folder, absolute or relative to the run folder; `mode:`; the
+/// keyframe thresholds) — and from the sequence folder gates.yaml, vio.tum and gt.tum (optional).
+/// A non-empty `sequence_dir` replaces run.yaml's (which may then be absent). Errors: kNotFound
+/// naming a missing folder or file; the readers' own errors (file:line) for malformed ones.
+Result<RunReport> loadRunReport(const std::string& run_dir, const std::string& sequence_dir = "");
+
+}  // namespace dualgraph

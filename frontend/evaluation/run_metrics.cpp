@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: MIT
+#include "frontend/evaluation/run_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace dualgraph {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+StampedPoses stamped(const std::vector<CorrectedPose>& poses) {
+  StampedPoses out;
+  out.reserve(poses.size());
+  for (const CorrectedPose& pose : poses) out.emplace_back(pose.t, pose.world_T_body);
+  return out;
+}
+
+// Position of a stamped trajectory at t (linear between samples, clamped at the ends).
+Eigen::Vector3d positionAt(const StampedPoses& poses, double t) {
+  const auto after = std::lower_bound(poses.begin(), poses.end(), t,
+                                      [](const auto& pose, double value) { return pose.first < value; });
+  if (after == poses.begin()) return poses.front().second.translation();
+  if (after == poses.end()) return poses.back().second.translation();
+  const auto before = after - 1;
+  const double alpha = (t - before->first) / (after->first - before->first);
+  return (1 - alpha) * before->second.translation() + alpha * after->second.translation();
+}
+
+// Times at which `reference` passes each gate: local minima of the distance to the gate centre
+// below the gate's size, one per pass (a pass ends when the distance exceeds twice the size).
+std::vector<std::vector<double>> gatePasses(const StampedPoses& reference, const Track& map) {
+  std::vector<std::vector<double>> passes(map.gates.size());
+  for (size_t g = 0; g < map.gates.size(); ++g) {
+    const Eigen::Vector3d centre = map.gates[g].position;
+    const double near = map.gates[g].size, far = 2.0 * map.gates[g].size;
+    double best = INFINITY, best_t = 0.0;
+    for (const auto& [t, pose] : reference) {
+      const double d = (pose.translation() - centre).norm();
+      if (d < near && d < best) {
+        best = d;
+        best_t = t;
+      } else if (d > far && std::isfinite(best)) {
+        passes[g].push_back(best_t);
+        best = INFINITY;
+      }
+    }
+    if (std::isfinite(best)) passes[g].push_back(best_t);
+  }
+  return passes;
+}
+
+}  // namespace
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return kNaN;
+  std::sort(values.begin(), values.end());
+  const double rank = std::clamp(p, 0.0, 100.0) / 100.0 * static_cast<double>(values.size() - 1);
+  const auto low = static_cast<size_t>(std::floor(rank));
+  const size_t high = std::min(low + 1, values.size() - 1);
+  return values[low] + (rank - static_cast<double>(low)) * (values[high] - values[low]);
+}
+
+Result<RunMetrics> computeRunMetrics(const Sequence& sequence, const SequenceRunResult& run) {
+  RunMetrics m;
+  const StampedPoses estimate = stamped(run.estimate);
+  const StampedPoses vio = stampedPosesFromSamples(sequence.odometry.samples);
+  m.has_ground_truth = sequence.ground_truth.has_value();
+  m.estimate.ate_m = m.estimate.ate_rot_deg = m.estimate.ate_se3_m = m.estimate.ate_4dof_m = kNaN;
+  m.estimate.ate_unaligned_m = kNaN;
+  m.vio = m.estimate;
+  m.ate_reduction_pct = m.ate_unaligned_reduction_pct = kNaN;
+  if (m.has_ground_truth && !estimate.empty()) {
+    const StampedPoses truth = stampedPosesFromSamples(sequence.ground_truth->samples);
+    auto evaluated = evaluateTrajectory(truth, estimate);
+    if (!evaluated.ok()) return Status(evaluated.status().code(), "estimate vs gt.tum: " + evaluated.status().message());
+    m.estimate = *evaluated;
+    auto vio_evaluated = evaluateTrajectory(truth, vio);
+    if (!vio_evaluated.ok()) return Status(vio_evaluated.status().code(), "vio.tum vs gt.tum: " + vio_evaluated.status().message());
+    m.vio = *vio_evaluated;
+    m.ate_reduction_pct = 100.0 * (1.0 - m.estimate.ate_m / m.vio.ate_m);
+    m.ate_unaligned_reduction_pct = 100.0 * (1.0 - m.estimate.ate_unaligned_m / m.vio.ate_unaligned_m);
+  }
+  m.keyframes = static_cast<int>(run.keyframes.size());
+  if (!run.stats.empty()) {
+    m.nodes = run.stats.back().main_vertices;
+    m.edges = run.stats.back().main_edges;
+  }
+  std::vector<double> optimize_ms;
+  for (const KeyframeStats& row : run.stats) optimize_ms.push_back(row.optimize_ms);
+  m.opt_ms_p50 = percentile(optimize_ms, 50);
+  m.opt_ms_p95 = percentile(optimize_ms, 95);
+  m.opt_ms_max = optimize_ms.empty() ? kNaN : *std::max_element(optimize_ms.begin(), optimize_ms.end());
+
+  // Table III: lap k holds the k-th pass of every gate.
+  if (!estimate.empty()) {
+    const StampedPoses reference = m.has_ground_truth ? stampedPosesFromSamples(sequence.ground_truth->samples) : estimate;
+    const std::vector<std::vector<double>> passes = gatePasses(reference, sequence.map);
+    size_t laps = 0;
+    for (const auto& gate : passes) laps = std::max(laps, gate.size());
+    for (size_t lap = 0; lap < laps; ++lap) {
+      std::vector<double> corrections;
+      for (const auto& gate : passes) {
+        if (lap < gate.size()) corrections.push_back((positionAt(estimate, gate[lap]) - positionAt(vio, gate[lap])).norm());
+      }
+      LapCorrection row;
+      row.lap = static_cast<int>(lap) + 1;
+      row.crossings = static_cast<int>(corrections.size());
+      double sum = 0.0, sum_sq = 0.0;
+      for (double c : corrections) {
+        sum += c;
+        sum_sq += c * c;
+      }
+      row.mean_m = sum / static_cast<double>(corrections.size());
+      row.std_m = std::sqrt(std::max(0.0, sum_sq / static_cast<double>(corrections.size()) - row.mean_m * row.mean_m));
+      m.gate_corrections.push_back(row);
+    }
+    m.laps = static_cast<int>(laps);
+  }
+  m.detections = static_cast<int>(sequence.has_corners ? sequence.corners.size() : sequence.pose_detections.size());
+  const LocalizerCounters& c = run.localizer_counters;
+  m.detections_used =
+      c.observations_accepted - c.observations_failed - c.observations_never_processed - c.observations_between_nodes;
+  m.detections_rejected = m.detections - m.detections_used;
+  m.detections_between_nodes = c.observations_between_nodes;
+  return m;
+}
+
+}  // namespace dualgraph

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <vector>
+
+#include "core/status.h"
+#include "frontend/io/sequence_folder.h"
+#include "frontend/sequence_run.h"
+#include "frontend/evaluation/trajectory_metrics.h"
+
+namespace dualgraph {
+
+/// The correction at the gate crossings of one lap (the paper's Table III): for every gate passed in
+/// the lap, the distance [m] between the corrected and the raw VIO position at the instant the
+/// reference trajectory (ground truth, else the corrected estimate) is closest to the gate centre.
+struct LapCorrection {
+  int lap = 0;          ///< 1-based
+  int crossings = 0;    ///< gate passes in this lap
+  double mean_m = 0.0;  ///< mean correction [m]
+  double std_m = 0.0;   ///< population standard deviation [m]
+};
+
+/// Every figure `dualgraph run` reports (metrics.json). ATE figures are NaN without ground truth.
+struct RunMetrics {
+  bool has_ground_truth = false;
+  TrajectoryMetrics estimate;  ///< SE(3)-aligned, with 4-DoF and unaligned figures
+  TrajectoryMetrics vio;       ///< the raw odometry, same evaluation
+  double ate_reduction_pct = 0.0;            ///< 100 (1 − estimate.ate_m / vio.ate_m), SE(3)-aligned
+  double ate_unaligned_reduction_pct = 0.0;  ///< the same without alignment
+  int keyframes = 0;
+  int nodes = 0;       ///< main-graph vertices at the end
+  int edges = 0;       ///< main-graph edges at the end
+  double opt_ms_p50 = 0.0, opt_ms_p95 = 0.0, opt_ms_max = 0.0;  ///< main-graph optimisation per row [ms]
+  std::vector<LapCorrection> gate_corrections;
+  int laps = 0;
+  int detections = 0;           ///< rows of the detection file
+  int detections_used = 0;      ///< reached the Localizer and were accepted
+  int detections_rejected = 0;  ///< all others (PnP, association, Localizer, outside the odometry span)
+  /// Of the rejected: single mode with `single_all_detections` false, detections between node instants
+  /// (not used by that baseline's definition; LocalizerCounters::observations_between_nodes).
+  int detections_between_nodes = 0;
+};
+
+/// Percentile p ∈ [0, 100] of `values` by linear interpolation between order statistics (NaN when empty).
+double percentile(std::vector<double> values, double p);
+
+/// The metrics of a run. Errors only from the trajectory evaluation when ground truth exists but
+/// does not overlap the estimate.
+Result<RunMetrics> computeRunMetrics(const Sequence& sequence, const SequenceRunResult& run);
+
+}  // namespace dualgraph

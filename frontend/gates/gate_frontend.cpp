@@ -1,0 +1,133 @@
+// SPDX-License-Identifier: MIT
+#include "frontend/gates/gate_frontend.h"
+
+#include <cmath>
+
+#include "types/se3_math.h"
+
+namespace dualgraph {
+namespace {
+
+// The quarter turn about the gate normal (x) that brings the detected gate frame closest to the
+// map gate's orientation; the covariance (right perturbation in the gate frame) turns with it.
+void turnToMapGate(GateObservation& observation, const Eigen::Isometry3d& world_T_body,
+                   const Eigen::Isometry3d& world_T_gate) {
+  const Eigen::Matrix3d world_R_detected = world_T_body.linear() * observation.body_T_gate.linear();
+  int best = 0;
+  double best_angle = INFINITY;
+  for (int quarter = 0; quarter < 4; ++quarter) {
+    const Eigen::Matrix3d turn = Eigen::AngleAxisd(quarter * M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    const double angle = so3Log(world_T_gate.linear().transpose() * world_R_detected * turn).norm();
+    if (angle < best_angle) {
+      best_angle = angle;
+      best = quarter;
+    }
+  }
+  if (best == 0) return;
+  Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
+  turn.linear() = Eigen::AngleAxisd(best * M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  observation.body_T_gate = observation.body_T_gate * turn;
+  const Matrix6d adjoint = se3Adjoint(turn.inverse());
+  observation.pose_covariance = adjoint * observation.pose_covariance * adjoint.transpose();
+}
+
+}  // namespace
+
+Result<GateFrontend> GateFrontend::create(const GateFrontendParams& params, const Track& map,
+                                          std::optional<CameraModel> camera) {
+  DG_RETURN_IF_ERROR(validateAssociationParams(params.association));
+  if (map.gates.empty() && !params.mapping) {
+    return Status(StatusCode::kInvalidArgument, "gate frontend: an empty map needs mapping mode");
+  }
+  double size = map.gates.empty() ? params.pnp.gate_size : map.gates.front().size;
+  for (const TrackGate& gate : map.gates) {
+    if (std::abs(gate.size - size) > 1e-9) {
+      return Status(StatusCode::kInvalidArgument, "gate frontend: gates of different sizes (" + std::to_string(size) +
+                                                      " and " + std::to_string(gate.size) +
+                                                      " m): PnP needs one size before association");
+    }
+  }
+  if (camera) DG_RETURN_IF_ERROR(camera->validate());
+  auto gate_map = map.gateMap();
+  if (!gate_map.ok()) return gate_map.status();
+  return GateFrontend(params, std::move(gate_map).value(), size, std::move(camera));
+}
+
+Result<std::vector<GateObservation>> GateFrontend::processCorners(const std::vector<CornerDetection>& image,
+                                                                  const Eigen::Isometry3d& world_T_body) {
+  if (!camera_) return Status(StatusCode::kFailedPrecondition, "gate frontend: corner detections need a camera");
+  GatePnpParams pnp = params_.pnp;
+  pnp.gate_size = gate_size_;
+  std::vector<GateObservation> solved;
+  for (const CornerDetection& detection : image) {
+    ++counters_.detections;
+    GateCornerPixels pixels;
+    for (int i = 0; i < 4; ++i) pixels.col(i) = detection.corners[static_cast<size_t>(i)];
+    const GatePnpSolution solution = solveGatePnp(pixels, *camera_, GateSide::kFront, pnp);
+    if (!solution.ok()) {
+      ++counters_.pnp_rejected;
+      ++counters_.pnp_rejected_by_reason[static_cast<int>(solution.rejection)];
+      continue;
+    }
+    solved.push_back(solution.observation(detection.t, detection.gate_id));
+  }
+  return associate(std::move(solved), world_T_body);
+}
+
+Result<std::vector<GateObservation>> GateFrontend::processPoses(const std::vector<GateObservation>& detections,
+                                                                const Eigen::Isometry3d& world_T_body) {
+  counters_.detections += static_cast<int>(detections.size());
+  return associate(detections, world_T_body);
+}
+
+Result<std::vector<GateObservation>> GateFrontend::associate(std::vector<GateObservation> detections,
+                                                             const Eigen::Isometry3d& world_T_body) {
+  std::vector<AssociationResult> results;
+  if (params_.mapping) {
+    auto mapped = associator_.associateMapping(world_T_body, std::move(detections), map_);
+    if (!mapped.ok()) return mapped.status();
+    results = std::move(mapped).value();
+  } else if (params_.trust_ids) {
+    std::vector<GateObservation> anonymous;
+    for (const GateObservation& detection : detections) {
+      if (detection.gate_id < 0 || !map_.contains(detection.gate_id)) {
+        anonymous.push_back(detection);
+        continue;
+      }
+      GateMap single;
+      single.world_T_gate[detection.gate_id] = map_.world_T_gate.at(detection.gate_id);
+      auto one = associator_.associate(world_T_body, {detection}, single);
+      if (!one.ok()) return one.status();
+      results.push_back(one->front());
+    }
+    auto rest = associator_.associate(world_T_body, std::move(anonymous), map_);
+    if (!rest.ok()) return rest.status();
+    results.insert(results.end(), rest->begin(), rest->end());
+  } else {
+    auto all = associator_.associate(world_T_body, std::move(detections), map_);
+    if (!all.ok()) return all.status();
+    results = std::move(all).value();
+  }
+  std::vector<GateObservation> observations;
+  for (AssociationResult& result : results) {
+    if (result.outcome == AssociationOutcome::kNewLandmarkPending) {
+      ++counters_.mapping_pending;
+      continue;
+    }
+    if (!result.associated()) {
+      ++counters_.not_associated;
+      continue;
+    }
+    GateObservation observation = result.observation;
+    observation.gate_id = result.gate_id;
+    if (observation.kind == ObservationKind::kPose) {
+      turnToMapGate(observation, world_T_body, map_.world_T_gate.at(result.gate_id));
+    }
+    ++counters_.used;
+    if (result.reversed) ++counters_.reversed;
+    observations.push_back(observation);
+  }
+  return observations;
+}
+
+}  // namespace dualgraph

@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "core/status.h"
+#include "frontend/gates/camera_model.h"
+#include "frontend/gates/corner_detection.h"
+#include "frontend/gates/gate_association.h"
+#include "frontend/gates/gate_pnp.h"
+#include "frontend/gates/track.h"
+
+namespace dualgraph {
+
+/// What the frontend does with one instant's gate detections (DESIGN.md §4).
+struct GateFrontendParams {
+  GatePnpParams pnp;                 ///< gate_size is replaced by the map gates' size
+  AssociationParams association;
+  /// true: a detection's own gate_id (≥ 0) names its gate, still checked for distance and orientation
+  /// against that gate alone; false: ids are ignored and the Hungarian assignment decides.
+  bool trust_ids = false;
+  bool mapping = false;              ///< no known map: new gates after repeated sightings
+};
+
+/// Where the detections went, by reason (every detection lands in exactly one counter).
+struct GateFrontendCounters {
+  int detections = 0;
+  int used = 0;                 ///< handed to the Localizer (reversed ones included)
+  int reversed = 0;             ///< of `used`: seen from behind, turned by Rz(π)
+  int pnp_rejected = 0;         ///< PnP refused the corners (see pnp_rejected_by_reason)
+  int not_associated = 0;       ///< no map gate within the distance/orientation gates, or taken by another
+  int mapping_pending = 0;      ///< mapping mode: sightings of not yet confirmed gates
+  int pnp_rejected_by_reason[8] = {0, 0, 0, 0, 0, 0, 0, 0};  ///< indexed by GatePnpRejection
+};
+
+/// Turns raw gate detections into Localizer observations: corners → PnP (camera frame → body via
+/// body_T_camera) → association with the map at the current corrected pose world_T_body → the pose
+/// expressed in the map gate's own frame. The corner order fixes a square gate's frame only up to
+/// 90° turns about its normal and front/back (DESIGN.md §6): association settles front/back
+/// (GateAssociator, Rz(π)); the 90° turn whose orientation is closest to the map gate's is then picked
+/// and the covariance turned with it.
+class GateFrontend {
+ public:
+  /// kInvalidArgument for invalid association parameters, gates of different sizes (PnP needs one),
+  /// an empty map outside mapping mode, or an invalid camera.
+  static Result<GateFrontend> create(const GateFrontendParams& params, const Track& map,
+                                     std::optional<CameraModel> camera);
+  /// Corner detections of one image (all at the same t) → observations with map ids, in input order
+  /// of the accepted ones. kFailedPrecondition without a camera; other errors are counted, not returned.
+  Result<std::vector<GateObservation>> processCorners(const std::vector<CornerDetection>& image,
+                                                      const Eigen::Isometry3d& world_T_body);
+  /// Pose detections of one instant → observations with map ids (association as above).
+  Result<std::vector<GateObservation>> processPoses(const std::vector<GateObservation>& detections,
+                                                    const Eigen::Isometry3d& world_T_body);
+  const GateFrontendCounters& counters() const { return counters_; }
+  /// The map as the frontend knows it (grows in mapping mode).
+  const GateMap& map() const { return map_; }
+
+ private:
+  GateFrontend(const GateFrontendParams& params, GateMap map, double gate_size, std::optional<CameraModel> camera)
+      : params_(params), map_(std::move(map)), gate_size_(gate_size), camera_(std::move(camera)),
+        associator_(params.association) {}
+  Result<std::vector<GateObservation>> associate(std::vector<GateObservation> detections,
+                                                 const Eigen::Isometry3d& world_T_body);
+
+  GateFrontendParams params_;
+  GateMap map_;
+  double gate_size_;
+  std::optional<CameraModel> camera_;
+  GateAssociator associator_;
+  GateFrontendCounters counters_;
+};
+
+}  // namespace dualgraph

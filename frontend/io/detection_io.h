@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+#include "dual_graph/measurements.h"
+#include "frontend/gates/corner_detection.h"
+
+namespace dualgraph {
+
+/// Corner detections CSV: `t,gate_id,u_tl,v_tl,u_tr,v_tr,u_br,v_br,u_bl,v_bl`. A header line is
+/// optional (a first non-comment line whose first field is `t`); when present it must be exactly
+/// these names. Time stamps non-decreasing (one image may hold several gates); gate_id ≥ -1;
+/// pixel coordinates finite. `#` comments and blank lines skipped; errors name file, line and field.
+Result<std::vector<CornerDetection>> readCornerDetections(const std::string& path);
+
+/// Pose detections CSV: `t,gate_id,x,y,z,qx,qy,qz,qw` — body_T_gate (translation [m] of the gate
+/// centre in the body frame, Hamilton quaternion [x y z w], normalised on reading) — optionally
+/// followed by the 21 upper-triangular entries `cov_00,cov_01,...,cov_55` of its covariance, metric
+/// [t; θ] (m², rad²), a right perturbation in the gate frame. Rows without covariance get
+/// `default_covariance` (checked once; same convention). Header optional as above (with or without
+/// the covariance names); each row may or may not carry a covariance; time stamps non-decreasing;
+/// gate_id ≥ -1. An unknown gate (-1) is kept as read: it must be associated before the Localizer sees
+/// it (validateGateObservation rejects gate_id < 0).
+Result<std::vector<GateObservation>> readPoseDetections(const std::string& path, const Matrix6d& default_covariance);
+
+/// Writes corner detections in the CSV form readCornerDetections reads (with the header line,
+/// 17 significant digits). Atomic (temporary file + rename). kInvalidArgument naming the detection
+/// for a non-finite value, gate_id < -1 or a decreasing time stamp; kIoError on write failure.
+Status writeCornerDetections(const std::string& path, const std::vector<CornerDetection>& detections);
+/// Writes kPose observations as the pose detections CSV with all 21 covariance columns and the header.
+/// Atomic. kInvalidArgument naming the observation for a kPosition one, non-finite values, a non-rigid
+/// pose, an invalid covariance (checkCovariance), gate_id < -1 or a decreasing time stamp.
+Status writePoseDetections(const std::string& path, const std::vector<GateObservation>& observations);
+
+}  // namespace dualgraph

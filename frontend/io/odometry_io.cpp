@@ -1,0 +1,214 @@
+// SPDX-License-Identifier: MIT
+#include "frontend/io/odometry_io.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+
+#include "types/se3_covariance.h"
+#include "frontend/io/delimited_text.h"
+
+namespace dualgraph {
+namespace {
+
+Status noDataRows(const std::string& path, const std::vector<TextLine>& lines) {
+  return Status(StatusCode::kParseError, path + ": no data rows (" + std::to_string(lines.size()) +
+                                             " non-blank line(s), all comments or header)");
+}
+
+/// Appends a sample after checking strictly increasing time; `t_field` names the stamp column.
+Status appendSample(const RowReader& row, const std::string& t_field, double t, const Eigen::Vector3d& p,
+                    const Eigen::Quaterniond& q, OdometryLog& log) {
+  if (!log.samples.empty() && !(t > log.samples.back().t)) {
+    return row.fieldError(t_field, "time stamp " + formatTimestamp(t) + " is not after the previous sample's " +
+                                       formatTimestamp(log.samples.back().t) + " (must increase strictly)");
+  }
+  OdometrySample sample;
+  sample.t = t;
+  sample.odom_T_body.linear() = q.toRotationMatrix();
+  sample.odom_T_body.translation() = p;
+  log.samples.push_back(sample);
+  return Status();
+}
+
+const std::vector<std::string>& tumNames() {
+  static const std::vector<std::string> names = {"t", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
+  return names;
+}
+
+/// EuRoC column name without its unit: "p_RS_R_x [m]" → "p_RS_R_x".
+std::string eurocColumnName(const std::string& header_field) {
+  std::string name = header_field.substr(0, header_field.find('['));
+  while (!name.empty() && (name.back() == ' ' || name.back() == '\t')) name.pop_back();
+  return name;
+}
+
+/// The columns a reader needs (timestamp, position, quaternion w x y z) in that order.
+constexpr std::array<const char*, 8> kEurocRequired = {"timestamp", "p_RS_R_x", "p_RS_R_y", "p_RS_R_z",
+                                                       "q_RS_w",    "q_RS_x",   "q_RS_y",   "q_RS_z"};
+constexpr std::array<const char*, 9> kEurocIgnored = {"v_RS_R_x",   "v_RS_R_y",   "v_RS_R_z",
+                                                      "b_w_RS_S_x", "b_w_RS_S_y", "b_w_RS_S_z",
+                                                      "b_a_RS_S_x", "b_a_RS_S_y", "b_a_RS_S_z"};
+
+/// Maps each required column to its index in the header.
+Status eurocColumns(const std::string& path, const TextLine& header, std::array<size_t, 8>& index) {
+  const RowReader row(path, header);
+  std::map<std::string, size_t> seen;
+  for (size_t k = 0; k < header.fields.size(); ++k) {
+    const std::string name = eurocColumnName(header.fields[k]);
+    const bool known = std::find_if(kEurocRequired.begin(), kEurocRequired.end(), [&](const char* c) { return name == c; }) !=
+                           kEurocRequired.end() ||
+                       std::find_if(kEurocIgnored.begin(), kEurocIgnored.end(), [&](const char* c) { return name == c; }) !=
+                           kEurocIgnored.end();
+    if (!known) return row.fieldError(name, "unknown EuRoC column");
+    if (!seen.emplace(name, k).second) return row.fieldError(name, "repeated column");
+  }
+  for (size_t r = 0; r < kEurocRequired.size(); ++r) {
+    const auto found = seen.find(kEurocRequired[r]);
+    if (found == seen.end()) return row.lineError(std::string("header has no column '") + kEurocRequired[r] + "'");
+    index[r] = found->second;
+  }
+  return Status();
+}
+
+/// Integer nanoseconds to seconds without losing the sub-second digits to one big product.
+double nanosecondsToSeconds(std::int64_t ns) {
+  return static_cast<double>(ns / 1000000000) + static_cast<double>(ns % 1000000000) * 1e-9;
+}
+
+}  // namespace
+
+Result<OdometryLog> readTumOdometry(const std::string& path) {
+  Result<std::vector<TextLine>> lines = readTextLines(path, FieldSeparator::kCommaOrWhitespace);
+  if (!lines.ok()) return lines.status();
+  OdometryLog log;
+  size_t form = 0;  // fields per row, fixed by the first data row
+  int form_line = 0;
+  for (const TextLine& line : *lines) {
+    if (line.comment) continue;
+    const RowReader row(path, line);
+    if (row.size() == 20) {
+      return row.lineError("20 fields: OpenVINS' covariance layout (Pr11..Pr33 Pt11..Pt33) is not supported; "
+                           "expected 8 (TUM) or 29 (TUM + 21 covariance entries)");
+    }
+    DG_RETURN_IF_ERROR(row.expectFieldCount({8, 29}));
+    if (form == 0) {
+      form = row.size();
+      form_line = line.number;
+    } else if (row.size() != form) {
+      return row.lineError(std::to_string(row.size()) + " fields but line " + std::to_string(form_line) + " has " +
+                           std::to_string(form) + " (covariance on every row or on none)");
+    }
+    double t = 0.0;
+    Eigen::Vector3d p;
+    Eigen::Quaterniond q;
+    DG_RETURN_IF_ERROR(row.readDouble(0, "t", t));
+    for (int k = 0; k < 3; ++k) DG_RETURN_IF_ERROR(row.readDouble(1 + k, tumNames()[1 + k], p[k]));
+    DG_RETURN_IF_ERROR(readQuaternion(row, 4, QuaternionOrder::kXyzw, {"qx", "qy", "qz", "qw"}, q));
+    if (form == 29) {
+      Matrix6d covariance;
+      DG_RETURN_IF_ERROR(readCovariance(row, 8, covariance));
+      log.absolute_covariances.push_back(covariance);
+    }
+    DG_RETURN_IF_ERROR(appendSample(row, "t", t, p, q, log));
+  }
+  if (log.samples.empty()) return noDataRows(path, *lines);
+  return log;
+}
+
+Result<OdometryLog> readEurocOdometry(const std::string& path) {
+  Result<std::vector<TextLine>> lines = readTextLines(path, FieldSeparator::kComma);
+  if (!lines.ok()) return lines.status();
+  if (lines->empty()) return noDataRows(path, *lines);
+  const TextLine& header = lines->front();
+  if (!header.comment && !header.fields.empty() && looksNumeric(header.fields[0])) {
+    return RowReader(path, header).lineError("EuRoC header line required (#timestamp [ns],p_RS_R_x [m],...)");
+  }
+  std::array<size_t, 8> column{};
+  DG_RETURN_IF_ERROR(eurocColumns(path, header, column));
+  OdometryLog log;
+  std::int64_t previous_ns = 0;
+  for (size_t i = 1; i < lines->size(); ++i) {
+    const TextLine& line = (*lines)[i];
+    if (line.comment) continue;
+    const RowReader row(path, line);
+    DG_RETURN_IF_ERROR(row.expectFieldCount({header.fields.size()}));
+    std::int64_t ns = 0;
+    DG_RETURN_IF_ERROR(row.readInt64(column[0], "timestamp", ns));
+    if (!log.samples.empty() && ns <= previous_ns) {
+      return row.fieldError("timestamp", std::to_string(ns) + " ns is not after the previous sample's " +
+                                             std::to_string(previous_ns) + " ns (must increase strictly)");
+    }
+    previous_ns = ns;
+    double v[7];
+    for (size_t k = 0; k < 7; ++k) {
+      const size_t field = column[k + 1];
+      DG_RETURN_IF_ERROR(row.readDouble(field, kEurocRequired[k + 1], v[k]));
+    }
+    // readQuaternion wants the four fields adjacent; EuRoC columns may be in any order, so build it here.
+    Eigen::Quaterniond q = quatFromWxyz(v[3], v[4], v[5], v[6]);
+    const double norm = q.norm();
+    if (!(norm > 0.0) || !std::isfinite(norm)) {
+      return row.fieldError("q_RS_w", "quaternion has zero (or non-finite) norm; cannot normalise");
+    }
+    q.coeffs() /= norm;
+    // Two stamps a few ns apart can round to the same double far from the epoch: appendSample catches it.
+    DG_RETURN_IF_ERROR(appendSample(row, "timestamp", nanosecondsToSeconds(ns), Eigen::Vector3d(v[0], v[1], v[2]), q, log));
+  }
+  if (log.samples.empty()) return noDataRows(path, *lines);
+  return log;
+}
+
+Result<RelativeCovarianceReport> toRelativeCovariances(OdometryLog& log, double floor) {
+  if (!(floor > 0.0) || !std::isfinite(floor)) {
+    return Status(StatusCode::kInvalidArgument, "toRelativeCovariances: floor must be positive and finite");
+  }
+  if (log.absolute_covariances.size() != log.samples.size() || log.samples.empty()) {
+    return Status(StatusCode::kFailedPrecondition,
+                  "toRelativeCovariances: " + std::to_string(log.absolute_covariances.size()) +
+                      " absolute covariances for " + std::to_string(log.samples.size()) + " samples");
+  }
+  RelativeCovarianceReport report;
+  for (size_t k = 1; k < log.samples.size(); ++k) {
+    const Eigen::Isometry3d increment = log.samples[k - 1].odom_T_body.inverse() * log.samples[k].odom_T_body;
+    const Matrix6d adjoint = se3Adjoint(increment.inverse());
+    Matrix6d relative = log.absolute_covariances[k] - adjoint * log.absolute_covariances[k - 1] * adjoint.transpose();
+    relative = 0.5 * (relative + relative.transpose()).eval();
+    if (!relative.allFinite()) {  // the readers check their covariances; a log built by hand may not be
+      return Status(StatusCode::kNumericalError, "toRelativeCovariances: sample " + std::to_string(k) +
+                                                     ": non-finite covariance (absolute covariances not finite?)");
+    }
+    Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(relative);
+    Vector6d values = eigen.eigenvalues();
+    const double lowest = std::max(floor, 1e-11 * values.maxCoeff());
+    for (int i = 0; i < 6; ++i) {
+      if (values[i] < lowest) {
+        values[i] = lowest;
+        ++report.clamped;
+      }
+    }
+    relative = eigen.eigenvectors() * values.asDiagonal() * eigen.eigenvectors().transpose();
+    log.samples[k].relative_covariance = 0.5 * (relative + relative.transpose());
+  }
+  return report;
+}
+
+Result<Eigen::Isometry3d> odometryIncrement(const std::vector<OdometrySample>& samples, size_t a, size_t b) {
+  if (a >= samples.size() || b >= samples.size()) {
+    return Status(StatusCode::kInvalidArgument, "odometryIncrement: index " + std::to_string(std::max(a, b)) +
+                                                    " out of range (" + std::to_string(samples.size()) + " samples)");
+  }
+  return Eigen::Isometry3d(samples[a].odom_T_body.inverse() * samples[b].odom_T_body);
+}
+
+Result<Eigen::Isometry3d> odometryIncrementBetween(const std::vector<OdometrySample>& samples, double t_a, double t_b) {
+  Result<Eigen::Isometry3d> pose_a = odometryPoseAt(samples, t_a);
+  if (!pose_a.ok()) return Status(pose_a.status().code(), "odometryIncrementBetween: " + pose_a.status().message());
+  Result<Eigen::Isometry3d> pose_b = odometryPoseAt(samples, t_b);
+  if (!pose_b.ok()) return Status(pose_b.status().code(), "odometryIncrementBetween: " + pose_b.status().message());
+  return Eigen::Isometry3d(pose_a->inverse() * *pose_b);
+}
+
+}  // namespace dualgraph

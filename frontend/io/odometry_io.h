@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+#include "dual_graph/measurements.h"
+#include "dual_graph/odometry_history.h"
+
+namespace dualgraph {
+
+/// What an odometry file holds. `samples` are in strictly increasing time with unit rotations and
+/// `relative_covariance` unset; `absolute_covariances` is empty or has one entry per sample: the 6×6
+/// covariance of the pose odom_T_body itself, metric [t; θ] (m², rad²), a right perturbation in the
+/// body frame (odom_T_body_true = odom_T_body · exp(ε)), as VIO estimators report it. Kept apart from
+/// `relative_covariance` on purpose: an absolute covariance fed to the Localizer as a relative one
+/// would grow without bound. `toRelativeCovariances` makes the relative ones.
+struct OdometryLog {
+  std::vector<OdometrySample> samples;
+  std::vector<Matrix6d> absolute_covariances;
+};
+
+/// TUM: `t tx ty tz qx qy qz qw` (t in s, translation in m, Hamilton quaternion [x y z w] of
+/// odom_T_body), optionally followed by the 21 upper-triangular entries (row by row) of the absolute
+/// covariance described at OdometryLog. Space- or comma-separated, `#` comments, blank lines
+/// skipped. Every row must have the same form (8 or 29 fields). Also reads OpenVINS' TUM-like
+/// trajectories without covariance; OpenVINS' 20-column `Pr.. Pt..` covariance layout is rejected.
+Result<OdometryLog> readTumOdometry(const std::string& path);
+
+/// EuRoC/ASL CSV (e.g. `state_groundtruth_estimate0/data.csv`): the first non-blank line must be the
+/// header, such as
+/// `#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []`
+/// (columns matched by name, units in brackets ignored, any order); t in integer nanoseconds (stored
+/// in seconds), quaternion w first, R = odometry frame, S = body. The other standard columns
+/// (v_RS_R_*, b_w_RS_S_*, b_a_RS_S_*) are ignored; an unknown or repeated column is an error naming it.
+/// No covariance.
+Result<OdometryLog> readEurocOdometry(const std::string& path);
+
+/// How many eigenvalues `toRelativeCovariances` had to raise to its floor (a sign that the absolute
+/// covariances are not a random walk, e.g. they shrank after a loop closure or a reset).
+struct RelativeCovarianceReport {
+  int clamped = 0;
+};
+
+/// Fills `samples[k].relative_covariance` (k ≥ 1) from the absolute covariances: for a random-walk
+/// error with increment inc = odom_T_body(k-1)⁻¹ · odom_T_body(k),
+/// Σ_k = Ad(inc⁻¹) Σ_{k-1} Ad(inc⁻¹)ᵀ + Σ_rel, so Σ_rel = Σ_k − Ad(inc⁻¹) Σ_{k-1} Ad(inc⁻¹)ᵀ,
+/// symmetrised, with eigenvalues raised to max(floor, 1e-11 · largest) so that `checkCovariance`
+/// accepts the result. Sample 0 has no previous sample and gets none. kFailedPrecondition when the
+/// log has no absolute covariances (or not one per sample), kInvalidArgument when floor ≤ 0,
+/// kNumericalError naming the sample when a covariance is not finite.
+Result<RelativeCovarianceReport> toRelativeCovariances(OdometryLog& log, double floor = 1e-10);
+
+/// The increment odom_T_body(a)⁻¹ · odom_T_body(b) between samples `a` and `b` (indices, any order).
+/// kInvalidArgument when an index is out of range.
+Result<Eigen::Isometry3d> odometryIncrement(const std::vector<OdometrySample>& samples, size_t a, size_t b);
+/// The same between two instants [s] inside the samples' time span, poses interpolated along the
+/// geodesic between the neighbouring samples (`odometryPoseAt`, dual_graph/odometry_history.h); kFailedPrecondition outside it.
+/// `samples` must be in increasing time (as the readers return them).
+Result<Eigen::Isometry3d> odometryIncrementBetween(const std::vector<OdometrySample>& samples, double t_a, double t_b);
+
+}  // namespace dualgraph

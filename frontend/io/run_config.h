@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <string>
+
+#include "core/status.h"
+#include "dual_graph/localizer_params.h"
+#include "frontend/gates/gate_frontend.h"
+#include "types/se3_math.h"
+
+namespace dualgraph {
+
+/// Everything `dualgraph run` configures.
+struct SequenceRunParams {
+  LocalizerParams localizer;
+  GateFrontendParams frontend;
+  double pose_detection_sigma_t = 0.1;   ///< covariance of detections.csv rows without one: σ [m]
+  double pose_detection_sigma_r = 0.05;  ///< and [rad] (diagonal, metric [t; θ])
+
+  /// The diagonal covariance from the two sigmas above.
+  Matrix6d defaultPoseDetectionCovariance() const;
+};
+
+/// Reads `dualgraph run`'s configuration (data/config/default.yaml lists every key with its default
+/// and unit): a `localizer:` section (LocalizerParams, frontend/io/localizer_params_yaml.h) and a
+/// `frontend:` section, flat:
+///
+///     frontend:
+///       trust_ids: false             # detector gate ids decide (still gated) instead of the assignment
+///       pixel_sigma: 1.0             # GatePnpParams [px]; likewise max_reprojection_rms [px],
+///       ...                          #   min_range, max_range [m], min_corner_angle_deg,
+///                                    #   max_condition_number, max_refinement_iterations
+///       max_association_distance: 2.0  # AssociationParams::max_distance [m]; likewise max_normal_angle
+///                                      #   [rad], allow_reversed, mapping_min_sightings, mapping_consistency [m]
+///       pose_detection_sigma_t: 0.1  # SequenceRunParams [m], [rad] (_r)
+///
+/// Either section may be missing (defaults). Errors are "source:LINE: field 'NAME': why": kParseError
+/// for an unknown or duplicate key, a wrong type, NaN or a `frontend:` value out of range;
+/// kInvalidArgument for a `localizer:` value out of range (validateLocalizerParams, as
+/// localizer_params_yaml.h documents); kIoError for an unreadable file.
+Result<SequenceRunParams> parseRunConfig(const std::string& yaml_text, const std::string& source_name);
+Result<SequenceRunParams> loadRunConfig(const std::string& path);
+
+}  // namespace dualgraph

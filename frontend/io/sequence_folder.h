@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+#include "frontend/gates/camera_model.h"
+#include "frontend/io/detection_io.h"
+#include "frontend/io/odometry_io.h"
+#include "frontend/gates/track.h"
+
+namespace dualgraph {
+
+/// A sequence: what `dualgraph run` localises, read from a folder (loadSequence), or made in memory by the
+/// simulator (raceSequence) and written as a folder (writeSequence). The folder (DESIGN.md §6):
+///   vio.tum        odometry odom_T_body, TUM, optionally with the 21 absolute-covariance columns (required)
+///   corners.csv    gate corner pixels (needs camera.yaml)        } exactly one of the two
+///   detections.csv gate poses body_T_gate, optional covariances   }
+///   gates.yaml     the gate map (track YAML; a path in it is ignored) (required)
+///   camera.yaml    the camera (required with corners.csv)
+///   gt.tum         ground truth world_T_body (optional; enables metrics)
+struct Sequence {
+  std::string dir;       ///< the folder it was read from, or a name for messages when made in memory
+  OdometryLog odometry;  ///< relative covariances filled from the absolute ones when the file has them
+  int covariance_clamped = 0;  ///< eigenvalues toRelativeCovariances raised to its floor
+  bool has_corners = false;
+  std::vector<CornerDetection> corners;        ///< when has_corners
+  std::vector<GateObservation> pose_detections;  ///< otherwise
+  Track map;
+  std::optional<CameraModel> camera;
+  std::optional<OdometryLog> ground_truth;
+
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+/// Reads a sequence folder. `default_detection_covariance` is used for detections.csv rows without
+/// covariance (metric [t; θ], m², rad²). Every reader's error is passed on unchanged (file, line, field);
+/// missing required files, both or neither detection file, or corners without a camera are
+/// kNotFound / kInvalidArgument naming the folder and the file.
+Result<Sequence> loadSequence(const std::string& dir, const Matrix6d& default_detection_covariance);
+
+/// Writes `sequence` as the folder `dir` (created if missing) that loadSequence reads back: vio.tum (with
+/// the 21 absolute-covariance columns when the odometry has them), corners.csv or detections.csv,
+/// gates.yaml, camera.yaml (when there is a camera), gt.tum (when there is ground truth) and, when
+/// `provenance_yaml` is not empty, sequence.yaml holding that text (how the sequence was made). Each file
+/// is written atomically. The readers' own kInvalidArgument for values they could not read back;
+/// kIoError naming the file or folder that could not be written.
+Status writeSequence(const std::string& dir, const Sequence& sequence, const std::string& provenance_yaml = "");
+
+}  // namespace dualgraph

@@ -1,0 +1,273 @@
+// SPDX-License-Identifier: MIT
+#include "frontend/report/run_report.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "frontend/report/svg_plot.h"
+
+namespace dualgraph {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::array<std::uint8_t, 3> kBlack{0, 0, 0}, kOrange{230, 120, 20}, kBlue{31, 119, 180};
+
+std::vector<Eigen::Vector2d> xyOf(const StampedPoses& poses) {
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(poses.size());
+  for (const auto& [t, pose] : poses) out.push_back(pose.translation().head<2>());
+  return out;
+}
+
+// Time axes show the stamps themselves when they are small (simulation starts at 0), else seconds
+// since the first estimate pose (recorded data carry Unix times).
+double timeOrigin(const RunReport& run) {
+  const double first = run.estimate.empty() ? 0.0 : run.estimate.front().first;
+  return std::abs(first) >= 1000.0 ? first : 0.0;
+}
+
+// |p_gt(t) − p(t)| [m] at the estimate's stamps (GT interpolated), no alignment.
+Result<std::vector<Eigen::Vector2d>> errorOverTime(const StampedPoses& gt, const StampedPoses& estimate, double t0) {
+  auto association = associateByTime(gt, estimate);
+  if (!association.ok()) return association.status();
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(association->size());
+  for (size_t i = 0; i < association->size(); ++i) {
+    const Eigen::Vector3d difference = association->world_T_body_gt[i].second.translation() -
+                                       association->estimate_T_body[i].second.translation();
+    out.emplace_back(association->estimate_T_body[i].first - t0, difference.norm());
+  }
+  return out;
+}
+
+bool hasData(const XyPlot& plot) {
+  for (const PlotSeries& s : plot.series) {
+    for (const Eigen::Vector2d& p : s.points) {
+      if (p.allFinite()) return true;
+    }
+  }
+  return false;
+}
+
+std::string runTitle(const RunReport& run) { return run.mode.empty() ? run.name : run.name + " (" + run.mode + ")"; }
+
+// The XY canvas height that fits the data and gates at equal scales on the canvas width (400-900 px).
+int xyHeight(XyPlot plot) {
+  plot.equal_aspect = false;
+  auto frame = plotFrame(plot);
+  if (!frame.ok()) return plot.height;
+  const Eigen::Vector2d span = frame->hi - frame->lo;
+  const double plot_w = plot.width - PlotFrame::kLeft - PlotFrame::kRight;
+  const double height = plot_w * span.y() / span.x() + PlotFrame::kTop + PlotFrame::kBottom;
+  return static_cast<int>(std::clamp(height, 400.0, 900.0));
+}
+
+std::string cell(double value) {
+  if (!std::isfinite(value)) return "n/a";
+  char text[48];
+  const bool integral = std::abs(value) < 1e15 && value == std::floor(value);
+  std::snprintf(text, sizeof text, integral ? "%.0f" : "%.4g", value);
+  return text;
+}
+
+// The unit a metrics.json key names by its suffix (DESIGN.md §5 keys).
+std::string unitOf(const std::string& key) {
+  const auto ends = [&](const std::string& suffix) {
+    return key.size() >= suffix.size() && key.compare(key.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  if (key.find("_ms") != std::string::npos) return "ms";
+  if (ends("_m")) return "m";
+  if (ends("_deg")) return "deg";
+  if (ends("_pct")) return "%";
+  if (ends("_s")) return "s";
+  return "";
+}
+
+double metric(const RunReport& run, const std::string& key) {
+  for (const auto& [name, value] : run.metrics) {
+    if (name == key) return value;
+  }
+  return NAN;
+}
+
+void writeComparison(std::ostream& html, const std::vector<RunReport>& runs) {
+  static const std::vector<std::pair<std::string, std::string>> kColumns{
+      {"ate_m", "ATE SE(3) [m]"}, {"ate_unaligned_m", "ATE unaligned [m]"}, {"ate_rot_deg", "rot. ATE [deg]"},
+      {"vio_ate_m", "VIO ATE [m]"}, {"ate_reduction_pct", "reduction [%]"}, {"keyframes", "keyframes"},
+      {"nodes", "nodes"}, {"edges", "edges"}, {"opt_ms_p95", "opt. P95 [ms]"}};
+  html << "<h2>Comparison</h2>\n<table class=\"comparison\">\n<tr><th>run</th><th>mode</th>";
+  for (const auto& column : kColumns) html << "<th>" << escapeXml(column.second) << "</th>";
+  html << "</tr>\n";
+  for (const RunReport& run : runs) {
+    html << "<tr><td><a href=\"#run-" << escapeXml(run.name) << "\">" << escapeXml(run.name) << "</a></td><td>"
+         << escapeXml(run.mode.empty() ? "?" : run.mode) << "</td>";
+    for (const auto& column : kColumns) html << "<td>" << cell(metric(run, column.first)) << "</td>";
+    html << "</tr>\n";
+  }
+  html << "</table>\n";
+}
+
+void writeFigure(std::ostream& html, const XyPlot& plot, const std::string& caption, const std::string& empty_note) {
+  if (!hasData(plot)) {
+    html << "<p class=\"note\">" << escapeXml(empty_note) << "</p>\n";
+    return;
+  }
+  auto svg = renderXyPlotSvg(plot);
+  html << "<figure>\n" << (svg.ok() ? *svg : "") << "\n<figcaption>" << escapeXml(caption) << "</figcaption>\n</figure>\n";
+}
+
+void writeTables(std::ostream& html, const RunReport& run) {
+  if (run.metrics.empty()) {
+    html << "<p class=\"note\">No metrics.json (the sequence has no ground truth).</p>\n";
+  } else {
+    html << "<h3>Metrics</h3>\n<table class=\"metrics\">\n<tr><th>metrics.json key</th><th>value</th><th>unit</th></tr>\n";
+    for (const auto& [key, value] : run.metrics) {
+      html << "<tr><td>" << escapeXml(key) << "</td><td>" << cell(value) << "</td><td>" << unitOf(key) << "</td></tr>\n";
+    }
+    html << "</table>\n";
+  }
+  if (run.gate_corrections.empty()) return;
+  html << "<h3>Correction at the gate crossings per lap</h3>\n<table class=\"gate-corrections\">\n"
+          "<tr><th>lap</th><th>crossings</th><th>mean [m]</th><th>std [m]</th></tr>\n";
+  for (const LapCorrection& lap : run.gate_corrections) {
+    html << "<tr><td>" << lap.lap << "</td><td>" << lap.crossings << "</td><td>" << cell(lap.mean_m) << "</td><td>"
+         << cell(lap.std_m) << "</td></tr>\n";
+  }
+  html << "</table>\n";
+}
+
+std::string page(const std::vector<RunReport>& runs, const std::vector<RunPlots>& plots) {
+  std::ostringstream html;
+  html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>dualgraph report</title>\n"
+          "<style>\nbody{font-family:sans-serif;color:#222;max-width:1200px;margin:1.5em auto;padding:0 1em}\n"
+          "table{border-collapse:collapse;margin:.5em 0 1.5em;font-size:14px}\n"
+          "th,td{border:1px solid #ccc;padding:3px 8px;text-align:right}\n"
+          "th:first-child,td:first-child{text-align:left}\nth{background:#f3f3f3}\n"
+          "svg.plot{width:100%;height:auto;display:block}\nfigure{margin:1em 0 2em}\n"
+          "figcaption,.note{color:#555;font-size:90%}\nsection{border-top:2px solid #ddd;margin-top:2em}\n"
+          "</style>\n</head>\n<body>\n<h1>dualgraph report</h1>\n";
+  if (runs.size() > 1) writeComparison(html, runs);
+  for (size_t i = 0; i < runs.size(); ++i) {
+    const RunReport& run = runs[i];
+    html << "<section id=\"run-" << escapeXml(run.name) << "\">\n<h2>" << escapeXml(runTitle(run)) << "</h2>\n"
+         << "<p class=\"note\">run folder " << escapeXml(run.run_dir) << "; sequence " << escapeXml(run.sequence_dir)
+         << (run.thresholds.empty() ? "" : "; " + escapeXml(run.thresholds)) << "</p>\n";
+    writeFigure(html, plots[i].xy,
+                "Top view: ground truth (dashed black), raw VIO (orange), corrected estimate (blue), gates (grey); "
+                "equal axes in metres.", "");
+    writeFigure(html, plots[i].error,
+                "Position error against ground truth (interpolated at the estimate's stamps), no alignment.",
+                "No ground truth (gt.tum) in the sequence: no error plot.");
+    writeFigure(html, plots[i].opt_ms, "Main-graph optimisation time at each keyframe (stats.csv).",
+                "stats.csv has no rows: no optimisation-time plot.");
+    writeTables(html, run);
+    html << "</section>\n";
+  }
+  html << "</body>\n</html>\n";
+  return html.str();
+}
+
+Result<std::vector<RunPlots>> allPlots(const std::vector<RunReport>& runs) {
+  if (runs.empty()) return Status(StatusCode::kInvalidArgument, "a report needs at least one run");
+  std::vector<RunPlots> plots;
+  for (const RunReport& run : runs) {
+    auto made = makeRunPlots(run);
+    if (!made.ok()) return made.status();
+    plots.push_back(std::move(*made));
+  }
+  return plots;
+}
+
+}  // namespace
+
+Result<RunPlots> makeRunPlots(const RunReport& run) {
+  RunPlots plots;
+  plots.xy.title = runTitle(run) + ": trajectories, top view";
+  plots.xy.series.push_back({"VIO", xyOf(run.vio), kOrange, false});
+  plots.xy.series.push_back({"corrected", xyOf(run.estimate), kBlue, false});
+  // Drawn last so that its dashes stay visible over the corrected estimate.
+  if (!run.ground_truth.empty()) plots.xy.series.push_back({"ground truth", xyOf(run.ground_truth), kBlack, true});
+  for (const TrackGate& gate : run.gates) plots.xy.gates.push_back({gate.position.head<2>(), gate.yaw, gate.size});
+  plots.xy.height = xyHeight(plots.xy);
+  plots.xy.legend_above = true;
+
+  const double t0 = timeOrigin(run);
+  char t_label[64] = "t [s]";
+  if (t0 != 0.0) std::snprintf(t_label, sizeof t_label, "t [s] since %.3f s", t0);
+  for (XyPlot* plot : {&plots.error, &plots.opt_ms}) {
+    plot->equal_aspect = false;
+    plot->x_label = t_label;
+    plot->height = 450;
+    plot->legend_above = true;
+  }
+  plots.error.title = runTitle(run) + ": position error, unaligned";
+  plots.error.y_label = "[m]";
+  if (!run.ground_truth.empty()) {
+    const std::string gt = (fs::path(run.sequence_dir) / "gt.tum").string();
+    auto vio = errorOverTime(run.ground_truth, run.vio, t0);
+    if (!vio.ok()) {
+      const std::string file = (fs::path(run.sequence_dir) / "vio.tum").string();
+      return Status(vio.status().code(), file + " against " + gt + ": " + vio.status().message());
+    }
+    auto corrected = errorOverTime(run.ground_truth, run.estimate, t0);
+    if (!corrected.ok()) {
+      const std::string file = (fs::path(run.run_dir) / "estimate.tum").string();
+      return Status(corrected.status().code(), file + " against " + gt + ": " + corrected.status().message());
+    }
+    plots.error.series.push_back({"VIO", std::move(*vio), kOrange, false});
+    plots.error.series.push_back({"corrected", std::move(*corrected), kBlue, false});
+  }
+  plots.opt_ms.title = runTitle(run) + ": main-graph optimisation per keyframe";
+  plots.opt_ms.y_label = "[ms]";
+  PlotSeries ms{"optimisation", {}, kBlue, false};
+  for (const auto& [t, value] : run.opt_ms) ms.points.emplace_back(t - t0, value);
+  plots.opt_ms.series.push_back(std::move(ms));
+  return plots;
+}
+
+Result<std::string> renderRunReportHtml(const std::vector<RunReport>& runs) {
+  auto plots = allPlots(runs);
+  if (!plots.ok()) return plots.status();
+  return page(runs, *plots);
+}
+
+Status writeRunReport(std::vector<RunReport> runs, const std::string& html_path, std::vector<std::string>* written) {
+  std::set<std::string> names;
+  for (RunReport& run : runs) {
+    std::string safe = run.name.empty() ? "run" : run.name;
+    for (char& c : safe) {
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
+    }
+    run.name = safe;
+    for (int k = 2; !names.insert(run.name).second; ++k) run.name = safe + "_" + std::to_string(k);
+  }
+  auto plots = allPlots(runs);
+  if (!plots.ok()) return plots.status();
+  const fs::path folder = fs::path(html_path).parent_path();
+  for (size_t i = 0; i < runs.size(); ++i) {
+    const RunPlots& p = (*plots)[i];
+    const std::pair<const char*, const XyPlot*> files[] = {{"_xy.png", &p.xy}, {"_error.png", &p.error}, {"_opt_ms.png", &p.opt_ms}};
+    for (const auto& [suffix, plot] : files) {
+      if (!hasData(*plot)) continue;
+      const std::string path = (folder / (runs[i].name + suffix)).string();
+      DG_RETURN_IF_ERROR(writeXyPlotPng(path, *plot));
+      if (written != nullptr) written->push_back(path);
+    }
+  }
+  const std::string html = page(runs, *plots);
+  DG_RETURN_IF_ERROR(writeFileAtomically(html_path, [&](std::ostream& out) {
+    out << html;
+    return Status();
+  }));
+  if (written != nullptr) written->push_back(html_path);
+  return Status();
+}
+
+}  // namespace dualgraph

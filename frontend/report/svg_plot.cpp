@@ -1,0 +1,241 @@
+// SPDX-License-Identifier: MIT
+#include "frontend/report/svg_plot.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+#include <utility>
+
+namespace dualgraph {
+namespace {
+
+// A "nice" tick step (1, 2 or 5 × 10^k) giving about `target` ticks over `span` (as xy_plot.cpp).
+double tickStep(double span, int target) {
+  const double raw = span / target;
+  const double power = std::pow(10.0, std::floor(std::log10(raw)));
+  for (double m : {1.0, 2.0, 5.0}) {
+    if (m * power >= raw) return m * power;
+  }
+  return 10.0 * power;
+}
+
+// Tick values inside [lo, hi], computed by index so that no rounding error accumulates.
+std::vector<double> ticks(double lo, double hi) {
+  const double step = tickStep(hi - lo, 8);
+  std::vector<double> out;
+  for (double k = std::ceil(lo / step); k * step <= hi && out.size() < 100; k += 1.0) out.push_back(k * step);
+  return out;
+}
+
+std::string number(double v, const char* format = "%.1f") {
+  char text[48];
+  std::snprintf(text, sizeof text, format, std::abs(v) < 1e-12 ? 0.0 : v);
+  return text;
+}
+
+std::string colour(const std::array<std::uint8_t, 3>& rgb) {
+  char text[8];
+  std::snprintf(text, sizeof text, "#%02x%02x%02x", rgb[0], rgb[1], rgb[2]);
+  return text;
+}
+
+std::string pointList(const std::vector<Eigen::Vector2d>& pixels) {
+  std::string out;
+  out.reserve(pixels.size() * 12);
+  for (const Eigen::Vector2d& p : pixels) {
+    if (!out.empty()) out += ' ';
+    out += number(p.x()) + ',' + number(p.y());
+  }
+  return out;
+}
+
+void writeAxes(std::ostream& svg, const XyPlot& plot, const PlotFrame& f) {
+  const double right = f.width - PlotFrame::kRight, bottom = f.height - PlotFrame::kBottom;
+  svg << "<g class=\"grid\" stroke=\"#e1e1e1\" stroke-width=\"1\">";
+  std::ostringstream labels;
+  for (double x : ticks(f.lo.x(), f.hi.x())) {
+    const double px = f.pixel({x, 0.0}).x();
+    svg << "<line x1=\"" << number(px) << "\" y1=\"" << PlotFrame::kTop << "\" x2=\"" << number(px) << "\" y2=\""
+        << bottom << "\"/>";
+    labels << "<text x=\"" << number(px) << "\" y=\"" << bottom + 18 << "\" text-anchor=\"middle\">"
+           << number(x, "%g") << "</text>";
+  }
+  for (double y : ticks(f.lo.y(), f.hi.y())) {
+    const double py = f.pixel({0.0, y}).y();
+    svg << "<line x1=\"" << PlotFrame::kLeft << "\" y1=\"" << number(py) << "\" x2=\"" << right << "\" y2=\""
+        << number(py) << "\"/>";
+    labels << "<text x=\"" << PlotFrame::kLeft - 6 << "\" y=\"" << number(py + 4) << "\" text-anchor=\"end\">"
+           << number(y, "%g") << "</text>";
+  }
+  svg << "</g>\n<g class=\"ticks\" font-size=\"12\" fill=\"#3c3c3c\">" << labels.str() << "</g>\n";
+  svg << "<rect x=\"" << PlotFrame::kLeft << "\" y=\"" << PlotFrame::kTop << "\" width=\"" << right - PlotFrame::kLeft
+      << "\" height=\"" << bottom - PlotFrame::kTop << "\" fill=\"none\" stroke=\"#3c3c3c\"/>\n";
+  svg << "<text x=\"" << PlotFrame::kLeft << "\" y=\"24\" font-size=\"16\">" << escapeXml(plot.title) << "</text>\n";
+  svg << "<text x=\"" << (PlotFrame::kLeft + right) / 2 << "\" y=\"" << f.height - 16
+      << "\" font-size=\"13\" text-anchor=\"middle\">" << escapeXml(plot.x_label) << "</text>\n";
+  svg << "<text x=\"8\" y=\"" << PlotFrame::kTop - 10 << "\" font-size=\"13\">" << escapeXml(plot.y_label)
+      << "</text>\n";
+}
+
+void writeGates(std::ostream& svg, const XyPlot& plot, const PlotFrame& f) {
+  if (plot.gates.empty()) return;
+  svg << "<g class=\"gates\" fill=\"#a0a0a0\">";
+  for (const PlotGate& g : plot.gates) {
+    if (!g.centre.allFinite() || !std::isfinite(g.yaw) || !std::isfinite(g.size)) continue;
+    const Eigen::Vector2d normal(std::cos(g.yaw), std::sin(g.yaw));
+    const Eigen::Vector2d across(-normal.y(), normal.x());
+    const double depth = 0.12;  // [m], the frame's thickness as drawn (as the PNG)
+    std::vector<Eigen::Vector2d> corners;
+    for (const auto& [a, d] : {std::pair{1, 1}, std::pair{-1, 1}, std::pair{-1, -1}, std::pair{1, -1}}) {
+      corners.push_back(f.pixel(g.centre + a * 0.5 * g.size * across + d * depth * normal));
+    }
+    svg << "<polygon class=\"gate\" points=\"" << pointList(corners) << "\"/>";
+  }
+  svg << "</g>\n";
+}
+
+void writeSeries(std::ostream& svg, const PlotSeries& s, const PlotFrame& f, double tolerance_px) {
+  svg << "<g class=\"series\" data-label=\"" << escapeXml(s.label) << "\" fill=\"none\" stroke=\"" << colour(s.rgb)
+      << "\" stroke-width=\"2\" stroke-linejoin=\"round\" stroke-linecap=\"round\""
+      << (s.dashed ? " stroke-dasharray=\"8 5\"" : "") << ">";
+  std::vector<Eigen::Vector2d> run;
+  auto flush = [&] {
+    if (run.size() >= 2) svg << "<polyline points=\"" << pointList(simplifyPolyline(run, tolerance_px)) << "\"/>";
+    run.clear();
+  };
+  for (const Eigen::Vector2d& p : s.points) {
+    if (p.allFinite()) {
+      run.push_back(f.pixel(p));
+    } else {
+      flush();
+    }
+  }
+  flush();
+  svg << "</g>\n";
+}
+
+// As the PNG: a column inside the plot area's top-right corner, or with legend_above one row in the
+// top margin, right-aligned (label widths estimated at 7 px per character).
+void writeLegend(std::ostream& svg, const XyPlot& plot) {
+  double x = plot.width - PlotFrame::kRight, y = plot.legend_above ? PlotFrame::kTop - 10 : PlotFrame::kTop + 20;
+  svg << "<g class=\"legend\" font-size=\"13\">";
+  for (size_t i = 0; i < plot.series.size(); ++i) {
+    const PlotSeries& s = plot.series[plot.legend_above ? plot.series.size() - 1 - i : i];
+    if (plot.legend_above) x -= 38 + 7.0 * static_cast<double>(s.label.size());
+    const double left = plot.legend_above ? x : plot.width - PlotFrame::kRight - 190;
+    svg << "<line x1=\"" << number(left) << "\" y1=\"" << number(y - 4) << "\" x2=\"" << number(left + 30)
+        << "\" y2=\"" << number(y - 4) << "\" stroke=\"" << colour(s.rgb) << "\" stroke-width=\"2\""
+        << (s.dashed ? " stroke-dasharray=\"8 5\"" : "") << "/>";
+    svg << "<text x=\"" << number(left + 38) << "\" y=\"" << number(y) << "\">" << escapeXml(s.label) << "</text>";
+    x -= 20;
+    y += plot.legend_above ? 0 : 22;
+  }
+  svg << "</g>\n";
+}
+
+}  // namespace
+
+Result<PlotFrame> plotFrame(const XyPlot& plot) {
+  if (plot.width < 200 || plot.height < 150) return Status(StatusCode::kInvalidArgument, "plot too small");
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d hi = -lo;
+  auto extend = [&](const Eigen::Vector2d& p) {
+    if (!p.allFinite()) return;
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  };
+  for (const PlotSeries& s : plot.series) std::for_each(s.points.begin(), s.points.end(), extend);
+  for (const PlotGate& g : plot.gates) {  // both ends of the bar, so that the whole gate stays inside the axes
+    for (double side : {-0.5, 0.5}) extend(g.centre + side * g.size * Eigen::Vector2d(-std::sin(g.yaw), std::cos(g.yaw)));
+  }
+  if (!lo.allFinite()) return Status(StatusCode::kInvalidArgument, "nothing finite to plot");
+  const Eigen::Vector2d span = (hi - lo).cwiseMax(1e-6);
+  lo -= 0.05 * span;
+  hi += 0.05 * span;
+  PlotFrame f;
+  f.width = plot.width;
+  f.height = plot.height;
+  const double plot_w = plot.width - PlotFrame::kLeft - PlotFrame::kRight;
+  const double plot_h = plot.height - PlotFrame::kTop - PlotFrame::kBottom;
+  f.sx = plot_w / (hi.x() - lo.x());
+  f.sy = plot_h / (hi.y() - lo.y());
+  if (plot.equal_aspect) {
+    const double s = std::min(f.sx, f.sy);
+    const Eigen::Vector2d centre = 0.5 * (lo + hi);
+    lo = centre - Eigen::Vector2d(plot_w / s, plot_h / s) / 2;
+    hi = centre + Eigen::Vector2d(plot_w / s, plot_h / s) / 2;
+    f.sx = f.sy = s;
+  }
+  f.lo = lo;
+  f.hi = hi;
+  return f;
+}
+
+std::vector<Eigen::Vector2d> simplifyPolyline(const std::vector<Eigen::Vector2d>& points, double tolerance) {
+  if (points.size() <= 2) return points;
+  std::vector<bool> keep(points.size(), false);
+  keep.front() = keep.back() = true;
+  std::vector<std::pair<size_t, size_t>> stack{{0, points.size() - 1}};  // explicit: no deep recursion
+  while (!stack.empty()) {
+    const auto [a, b] = stack.back();
+    stack.pop_back();
+    const Eigen::Vector2d chord = points[b] - points[a];
+    const double length = chord.norm();
+    double worst = -1.0;
+    size_t worst_index = a;
+    for (size_t i = a + 1; i < b; ++i) {
+      const Eigen::Vector2d d = points[i] - points[a];
+      // Distance to the segment's line, or to its start when the segment is a point (a closed loop).
+      const double distance = length > 0.0 ? std::abs(chord.x() * d.y() - chord.y() * d.x()) / length : d.norm();
+      if (distance > worst) {
+        worst = distance;
+        worst_index = i;
+      }
+    }
+    if (worst > tolerance) {
+      keep[worst_index] = true;
+      stack.emplace_back(a, worst_index);
+      stack.emplace_back(worst_index, b);
+    }
+  }
+  std::vector<Eigen::Vector2d> out;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (keep[i]) out.push_back(points[i]);
+  }
+  return out;
+}
+
+std::string escapeXml(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&#39;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+Result<std::string> renderXyPlotSvg(const XyPlot& plot, double tolerance_px) {
+  auto frame = plotFrame(plot);
+  if (!frame.ok()) return frame.status();
+  std::ostringstream svg;
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"plot\" viewBox=\"0 0 " << plot.width << ' ' << plot.height
+      << "\" width=\"" << plot.width << "\" height=\"" << plot.height << "\" role=\"img\" aria-label=\""
+      << escapeXml(plot.title) << "\" font-family=\"sans-serif\">\n";
+  svg << "<rect width=\"" << plot.width << "\" height=\"" << plot.height << "\" fill=\"#ffffff\"/>\n";
+  writeAxes(svg, plot, *frame);
+  writeGates(svg, plot, *frame);
+  for (const PlotSeries& s : plot.series) writeSeries(svg, s, *frame, tolerance_px);
+  writeLegend(svg, plot);
+  svg << "</svg>";
+  return svg.str();
+}
+
+}  // namespace dualgraph

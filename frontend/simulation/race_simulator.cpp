@@ -1,0 +1,125 @@
+// SPDX-License-Identifier: MIT
+#include "frontend/simulation/race_simulator.h"
+
+#include <cmath>
+#include <random>
+
+#include "frontend/gates/gate_pnp.h"
+#include "types/se3_math.h"
+
+namespace dualgraph {
+namespace {
+
+// Independent streams from one seed (SplitMix64 finaliser of seed and a stream number).
+std::uint64_t streamSeed(std::uint64_t seed, std::uint64_t stream) {
+  std::uint64_t z = seed + 0x9E3779B97F4A7C15ULL * (stream + 1);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
+Status invalid(const std::string& what) { return Status(StatusCode::kInvalidArgument, "race simulator: " + what); }
+
+// The gate frame of a PnP solution is fixed by the image corner order only up to the square's 90°
+// turns about its normal; a pose detector that knows the map reports the turn closest to the gate.
+void alignToTrueGate(GateObservation& observation, const Eigen::Isometry3d& true_body_T_gate) {
+  double best_angle = 1e9;
+  Eigen::Matrix3d best_turn = Eigen::Matrix3d::Identity();
+  for (int quarter = 0; quarter < 4; ++quarter) {
+    const Eigen::Matrix3d turn = Eigen::AngleAxisd(quarter * M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    const Eigen::Matrix3d candidate = observation.body_T_gate.linear() * turn;
+    const double angle = so3Log(true_body_T_gate.linear().transpose() * candidate).norm();
+    if (angle < best_angle) {
+      best_angle = angle;
+      best_turn = turn;
+    }
+  }
+  Eigen::Isometry3d turn_pose = Eigen::Isometry3d::Identity();
+  turn_pose.linear() = best_turn;
+  observation.body_T_gate = observation.body_T_gate * turn_pose;
+  const Matrix6d adjoint = se3Adjoint(turn_pose.inverse());
+  observation.pose_covariance = adjoint * observation.pose_covariance * adjoint.transpose();
+}
+
+}  // namespace
+
+const char* detectionOutputName(RaceSimParams::DetectionOutput output) {
+  return output == RaceSimParams::DetectionOutput::kPoses ? "poses" : "corners";
+}
+
+Result<SimulatedRace> simulateRace(const Track& track, const CameraModel& camera, const RaceSimParams& params) {
+  if (track.gates.empty()) return invalid("the track has no gates");
+  if (!(std::isfinite(params.gt_rate) && params.gt_rate >= 100.0)) return invalid("gt_rate must be >= 100 Hz");
+  if (!(std::isfinite(params.vio_rate) && params.vio_rate > 0.0)) return invalid("vio_rate must be > 0");
+  if (!(std::isfinite(params.map_position_sigma) && params.map_position_sigma >= 0.0) ||
+      !(std::isfinite(params.map_yaw_sigma) && params.map_yaw_sigma >= 0.0)) {
+    return invalid("map perturbation sigmas must be >= 0");
+  }
+  DG_RETURN_IF_ERROR(camera.validate());
+  FlightParams flight_params = params.flight;
+  if (!params.override_laps) flight_params.laps = track.laps;
+  if (!params.override_speed) flight_params.max_speed = track.speed;
+  auto flight = Flight::plan(track.path, flight_params);
+  if (!flight.ok()) return flight.status();
+
+  SimulatedRace race;
+  race.flight = std::move(flight).value();
+  const double duration = race.flight.duration();
+  for (long k = 0; k / params.gt_rate <= duration; ++k) {
+    const double t = k / params.gt_rate;
+    race.ground_truth.emplace_back(t, race.flight.at(t).world_T_body);
+  }
+  std::vector<double> vio_t;
+  std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>> vio_truth;
+  for (long k = 0; k / params.vio_rate <= duration; ++k) {
+    vio_t.push_back(k / params.vio_rate);
+    vio_truth.push_back(race.flight.at(vio_t.back()).world_T_body);
+  }
+  auto vio = simulateVio(vio_t, vio_truth, params.vio, streamSeed(params.seed, 1));
+  if (!vio.ok()) return vio.status();
+  race.vio = std::move(vio).value();
+
+  auto detections = simulateDetections(race.flight, track, camera, params.detection, streamSeed(params.seed, 2),
+                                       &race.detection_stats);
+  if (!detections.ok()) return detections.status();
+  race.detections = std::move(detections).value();
+
+  if (params.output == RaceSimParams::DetectionOutput::kPoses) {
+    GatePnpParams pnp;
+    pnp.pixel_sigma = std::max(params.detection.pixel_sigma, 1e-3);
+    for (const SimulatedDetection& d : race.detections) {
+      GateCornerPixels pixels;
+      for (int i = 0; i < 4; ++i) pixels.col(i) = d.corners.corners[static_cast<size_t>(i)];
+      const bool truth_known = d.kind != SimulatedDetectionKind::kFalseGate;
+      const int size_id = truth_known ? d.true_gate_id : d.corners.gate_id;  // a false gate: the size of the id it claims
+      pnp.gate_size = track.gates.front().size;
+      for (const TrackGate& gate : track.gates) {
+        if (gate.id == size_id) pnp.gate_size = gate.size;
+      }
+      const GateSide side = d.seen_from_front ? GateSide::kFront : GateSide::kBack;
+      const GatePnpSolution solution = solveGatePnp(pixels, camera, side, pnp);
+      if (!solution.ok()) {
+        ++race.pnp_rejected;
+        continue;
+      }
+      GateObservation observation = solution.observation(d.corners.t, d.corners.gate_id);
+      if (truth_known) alignToTrueGate(observation, d.body_T_gate);
+      race.pose_detections.push_back(observation);
+    }
+  }
+
+  race.map.name = track.name;
+  race.map.gates = track.gates;
+  race.map.laps = track.laps;
+  race.map.speed = track.speed;
+  std::mt19937_64 rng(streamSeed(params.seed, 3));
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (TrackGate& gate : race.map.gates) {
+    for (int axis = 0; axis < 3; ++axis) gate.position[axis] += params.map_position_sigma * normal(rng);
+    gate.yaw += params.map_yaw_sigma * normal(rng);
+    gate.line = 0;
+  }
+  return race;
+}
+
+}  // namespace dualgraph

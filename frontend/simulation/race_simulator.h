@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+#include "frontend/gates/camera_model.h"
+#include "frontend/simulation/detection_simulator.h"
+#include "frontend/simulation/flight.h"
+#include "frontend/io/odometry_io.h"
+#include "frontend/gates/track.h"
+#include "frontend/simulation/vio_drift.h"
+
+namespace dualgraph {
+
+/// Everything a simulated race depends on besides the track and the camera. The seed decides every
+/// random draw (VIO drift, detections, map perturbation, each from its own derived stream), so the
+/// same parameters give byte-identical sequences.
+struct RaceSimParams {
+  std::uint64_t seed = 1;
+  FlightParams flight;         ///< laps and max_speed are taken from the track unless overridden
+  bool override_laps = false;
+  bool override_speed = false;
+  VioDriftParams vio;
+  DetectionSimParams detection;
+  double gt_rate = 200.0;      ///< ground-truth samples [Hz], ≥ 100
+  double vio_rate = 100.0;     ///< odometry samples [Hz], > 0
+  enum class DetectionOutput { kCorners, kPoses } output = DetectionOutput::kCorners;
+  double map_position_sigma = 0.0;  ///< σ of the perturbation of the written map's gate centres [m] (per axis)
+  double map_yaw_sigma = 0.0;       ///< σ of the perturbation of the written map's gate yaw [rad]
+};
+
+/// "corners" or "poses".
+const char* detectionOutputName(RaceSimParams::DetectionOutput output);
+
+/// A simulated race: the flight, its ground truth, the drifting VIO, the detections and the map as
+/// the sequence folder will hold it.
+struct SimulatedRace {
+  Flight flight;
+  std::vector<std::pair<double, Eigen::Isometry3d>> ground_truth;  ///< (t [s], world_T_body) at gt_rate
+  OdometryLog vio;                           ///< odom_T_body at vio_rate with absolute covariances
+  std::vector<SimulatedDetection> detections;
+  DetectionSimStats detection_stats;
+  std::vector<GateObservation> pose_detections;  ///< kPoses output: one per accepted PnP solution
+  int pnp_rejected = 0;                          ///< kPoses output: detections PnP refused
+  Track map;                                     ///< the written gates.yaml (perturbed when asked), no path
+};
+
+/// Flies `track` (which must have a path) with `camera` and simulates all sensors. kInvalidArgument
+/// for invalid parameters, a track without path or gates, an invalid camera.
+Result<SimulatedRace> simulateRace(const Track& track, const CameraModel& camera, const RaceSimParams& params);
+
+}  // namespace dualgraph
