@@ -68,6 +68,20 @@ class SparseSystem {
     bool diagonal;
   };
   enum class EdgeKernel : unsigned char { kDynamic, kFixed6, kFixed3 };
+  using BlockOf = std::unordered_map<const VertexBase*, int>;
+  /// The block pattern: for each block column j, the sorted block rows i ≤ j.
+  using BlockRows = std::vector<std::vector<int>>;
+  // The steps of build():
+  /// Active vertices (not fixed, touched by an edge) in increasing id: offsets and `block_of` (vertex → block).
+  Status orderActiveVertices(const Graph& graph, BlockOf& block_of);
+  /// The scalar CSC layout of the upper triangle from the block pattern; per column j, the row offset of
+  /// each block of `rows_of_column[j]` within the column (returned).
+  BlockRows layOutColumns(const BlockRows& rows_of_column);
+  /// Per active edge: its assembly kernel, its vertices' offsets, its blocks' scatter slots, its reach.
+  void recordEdges(const Graph& graph, const BlockOf& block_of, const BlockRows& rows_of_column,
+                   const BlockRows& block_row_offset);
+  /// The scratch and per-edge buffers, sized to the largest edge (`max_edge_dim` rows).
+  void sizeBuffers(size_t max_edge_dim);
   /// Adds an edge whose error and free vertices all have dimension N straight into H and b.
   template <int N>
   void assembleEdgeFixed(size_t edge_index);

@@ -142,24 +142,26 @@ Eigen::Matrix<double, 3, 4> gateCornersInGateFrame(double gate_size, GateSide si
   return corners;
 }
 
-GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel& camera, GateSide side,
-                             const GatePnpParams& params) {
-  GatePnpSolution solution;
-  if (!corners.allFinite()) return reject(solution, GatePnpRejection::kNonFiniteInput, "a corner pixel is not finite");
-  for (const Status& status : {camera.validate(), checkParams(params)}) {
-    if (!status.ok()) return reject(solution, GatePnpRejection::kInvalidInput, status.message());
-  }
-  auto normalized = camera.undistortToNormalized(corners);
-  if (!normalized.ok()) return reject(solution, GatePnpRejection::kSolverFailed, normalized.status().message());
-  std::string why;
-  const GatePnpRejection shape = checkQuadrilateral(*normalized, params.min_corner_angle_deg, why);
-  if (shape != GatePnpRejection::kNone) return reject(solution, shape, why);
+namespace {
 
-  // IPPE_SQUARE on normalised points: object points in its square frame Q, identity K, no distortion.
+using PoseList = std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>>;
+
+/// Candidate poses camera_T_gate with their reprojection RMS [px].
+struct PnpCandidates {
+  PoseList poses;
+  std::vector<double> rms;
+};
+
+/// IPPE_SQUARE and SQPnP on the normalised corners (object points in IPPE's square frame Q, identity K, no
+/// distortion), each solution turned into the gate frame of `side` and refined on the pixels; a solution
+/// that puts a corner behind the camera is dropped. An OpenCV failure is left in `why`.
+PnpCandidates solveAndRefine(const GateCornerPixels& corners, const Eigen::Matrix2Xd& normalized,
+                             const CameraModel& camera, GateSide side, const GatePnpParams& params,
+                             const Corners3& p_gate, std::string& why) {
   const double h = 0.5 * params.gate_size;
   const std::vector<cv::Point3d> square = {{-h, h, 0}, {h, h, 0}, {h, -h, 0}, {-h, -h, 0}};
   std::vector<cv::Point2d> image;
-  for (int i = 0; i < 4; ++i) image.emplace_back((*normalized)(0, i), (*normalized)(1, i));
+  for (int i = 0; i < 4; ++i) image.emplace_back(normalized(0, i), normalized(1, i));
   std::vector<cv::Mat> rvecs, tvecs;
   try {
     cv::solvePnPGeneric(square, image, cv::Matx33d::eye(), cv::noArray(), rvecs, tvecs, false,
@@ -172,17 +174,14 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
     rvecs.insert(rvecs.end(), sq_rvecs.begin(), sq_rvecs.end());
     tvecs.insert(tvecs.end(), sq_tvecs.begin(), sq_tvecs.end());
   } catch (const cv::Exception& e) {
-    return reject(solution, GatePnpRejection::kSolverFailed, std::string("OpenCV: ") + e.what());
+    why = std::string("OpenCV: ") + e.what();
+    return {};
   }
-  if (rvecs.empty()) return reject(solution, GatePnpRejection::kSolverFailed, "IPPE returned no pose");
-
+  if (rvecs.empty()) why = "IPPE returned no pose";
   Eigen::Isometry3d square_T_gate = Eigen::Isometry3d::Identity();
   square_T_gate.linear() = gateRotationFromSquare().transpose();
   if (side == GateSide::kBack) square_T_gate.linear() = square_T_gate.linear() * so3Exp(Eigen::Vector3d(0, 0, kPi));
-  const Corners3 p_gate = gateCornersInGateFrame(params.gate_size, side);
-
-  std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>> candidates;
-  std::vector<double> candidate_rms;
+  PnpCandidates candidates;
   for (size_t k = 0; k < rvecs.size(); ++k) {
     cv::Matx33d R;
     cv::Rodrigues(rvecs[k], R);
@@ -194,44 +193,72 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
     Eigen::Isometry3d camera_T_gate = camera_T_square * square_T_gate;
     const double error = refine(camera_T_gate, p_gate, corners, camera, params.max_refinement_iterations);
     if (error >= 0.0 && camera_T_gate.matrix().allFinite()) {
-      candidates.push_back(camera_T_gate);
-      candidate_rms.push_back(error);
+      candidates.poses.push_back(camera_T_gate);
+      candidates.rms.push_back(error);
     }
   }
-  if (candidates.empty()) return reject(solution, GatePnpRejection::kSolverFailed, "every IPPE pose puts a corner behind the camera");
-  size_t best = 0;
-  for (size_t k = 1; k < candidates.size(); ++k) best = candidate_rms[k] < candidate_rms[best] ? k : best;
-  solution.camera_T_gate = candidates[best];
-  solution.body_T_gate = camera.body_T_camera * solution.camera_T_gate;
-  solution.reprojection_rms = candidate_rms[best];
-  // The alternative: the lowest-RMS candidate whose rotation differs from the best by more than 1°.
+  return candidates;
+}
+
+/// The lowest-RMS candidate whose rotation differs from candidate `best` by more than 1°, or −1. When IPPE
+/// and SQPnP found one basin and the tilt posterior is asked for, the mirrored tilt (translation re-fitted)
+/// is added as that alternative.
+int alternativeCandidate(PnpCandidates& candidates, size_t best, const Corners3& p_gate,
+                         const GateCornerPixels& corners, const CameraModel& camera, const GatePnpParams& params) {
+  const Eigen::Isometry3d& chosen = candidates.poses[best];
   int alternative = -1;
-  for (size_t k = 0; k < candidates.size(); ++k) {
-    const double angle = so3Log(candidates[best].linear().transpose() * candidates[k].linear()).norm();
-    if (angle > kPi / 180.0 && (alternative < 0 || candidate_rms[k] < candidate_rms[static_cast<size_t>(alternative)])) {
+  for (size_t k = 0; k < candidates.poses.size(); ++k) {
+    const double angle = so3Log(chosen.linear().transpose() * candidates.poses[k].linear()).norm();
+    if (angle > kPi / 180.0 &&
+        (alternative < 0 || candidates.rms[k] < candidates.rms[static_cast<size_t>(alternative)])) {
       alternative = static_cast<int>(k);
     }
   }
-  // IPPE and SQPnP found one basin: the tilt posterior spans the other tilt anyway (translation re-fitted).
-  if (alternative < 0 && params.covariance_model == PnpCovarianceModel::kTiltPosterior) {
-    Eigen::Isometry3d mirror = mirroredTilt(solution.camera_T_gate);
-    const double error = refine(mirror, p_gate, corners, camera, params.max_refinement_iterations, true);
-    if (error >= 0.0 && so3Log(solution.camera_T_gate.linear().transpose() * mirror.linear()).norm() > kPi / 180.0) {
-      candidates.push_back(mirror);
-      candidate_rms.push_back(error);
-      alternative = static_cast<int>(candidates.size() - 1);
-    }
-  }
-  if (alternative >= 0) {
-    solution.alternative_camera_T_gate = candidates[static_cast<size_t>(alternative)];
-    solution.alternative_reprojection_rms = candidate_rms[static_cast<size_t>(alternative)];
-    solution.ambiguous = solution.alternative_reprojection_rms <= params.max_reprojection_rms;
-  }
+  if (alternative >= 0 || params.covariance_model != PnpCovarianceModel::kTiltPosterior) return alternative;
+  Eigen::Isometry3d mirror = mirroredTilt(chosen);
+  const double error = refine(mirror, p_gate, corners, camera, params.max_refinement_iterations, true);
+  if (error < 0.0 || so3Log(chosen.linear().transpose() * mirror.linear()).norm() <= kPi / 180.0) return -1;
+  candidates.poses.push_back(mirror);
+  candidates.rms.push_back(error);
+  return static_cast<int>(candidates.poses.size() - 1);
+}
 
+/// Two poses explain the pixels: the second moment of the two-mode posterior about the returned pose,
+/// Σ = w₁ Σ₁ + w₂ (Σ₂ + δ δᵀ), with likelihood weights w ∝ exp(−SSR / 2σ²) and δ the alternative's offset
+/// (right perturbation in the gate frame), instead of Σ₁ alone, which is far too confident when the wrong
+/// mode wins (measured NEES ≈ 29 on near-frontal views). `solution.covariance` (Σ₁) is replaced when the
+/// alternative's Jacobian exists and the mixture is finite.
+void mixInTheAlternative(GatePnpSolution& solution, const Corners3& p_gate, const CameraModel& camera,
+                         const GatePnpParams& params) {
+  const Eigen::Isometry3d& other = solution.alternative_camera_T_gate;
+  Matrix86d J_other;
+  if (!jacobian(other, p_gate, camera, J_other)) return;
+  // Σ₂ moved into the returned pose's chart: best ⊞ (δ + A ε₂) = other ⊞ ε₂ to first order.
+  const Vector6d delta = se3BoxMinus(solution.camera_T_gate, other);
+  Matrix6d adjoint = Matrix6d::Zero();
+  adjoint.topLeftCorner<3, 3>() = solution.camera_T_gate.linear().transpose() * other.linear();
+  adjoint.bottomRightCorner<3, 3>() = so3RightJacobianInverse(delta.tail<3>());
+  const Matrix6d other_covariance = adjoint * (params.pixel_sigma * params.pixel_sigma *
+                                               (J_other.transpose() * J_other).inverse()) * adjoint.transpose();
+  const double sigma2 = params.pixel_sigma * params.pixel_sigma;
+  const double ssr_best = 4.0 * solution.reprojection_rms * solution.reprojection_rms;
+  const double ssr_other = 4.0 * solution.alternative_reprojection_rms * solution.alternative_reprojection_rms;
+  const double ratio = std::exp(-std::min(700.0, (ssr_other - ssr_best) / (2.0 * sigma2)));  // w₂ / w₁ ≤ 1
+  // Each mode's posterior mass: its peak likelihood times its volume √det Σ (Laplace).
+  const double volume = std::sqrt(std::max(0.0, other_covariance.determinant() / solution.covariance.determinant()));
+  const double w_other = ratio * volume / (1.0 + ratio * volume);
+  const Matrix6d mixture = (1.0 - w_other) * solution.covariance +
+                           w_other * (other_covariance + delta * delta.transpose());
+  if (mixture.allFinite()) solution.covariance = mixture;
+}
+
+/// The pose covariance of `solution` (GatePnpSolution::covariance: the Laplace one, replaced by the tilt
+/// posterior's moment or the two-mode mixture) and its condition number; false when the pose puts a
+/// corner behind the camera.
+bool computeCovariance(GatePnpSolution& solution, bool has_alternative, const Corners3& p_gate,
+                       const GateCornerPixels& corners, const CameraModel& camera, const GatePnpParams& params) {
   Matrix86d J;
-  if (!jacobian(solution.camera_T_gate, p_gate, camera, J)) {
-    return reject(solution, GatePnpRejection::kSolverFailed, "the pose puts a corner behind the camera");
-  }
+  if (!jacobian(solution.camera_T_gate, p_gate, camera, J)) return false;
   const Matrix6d information = J.transpose() * J;
   const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(information);
   const double largest = eigen.eigenvalues().maxCoeff();
@@ -244,7 +271,7 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
     input.camera_T_gate = solution.camera_T_gate;
     input.jacobian = J;
     input.ssr = 4.0 * solution.reprojection_rms * solution.reprojection_rms;
-    if (alternative >= 0) {
+    if (has_alternative) {
       input.other_tilt = &solution.alternative_camera_T_gate;
       input.other_ssr = 4.0 * solution.alternative_reprojection_rms * solution.alternative_reprojection_rms;
     }
@@ -252,35 +279,13 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
     integrated = pnp_detail::tiltPosteriorCovariance(input, p_gate, corners, camera, params.pixel_sigma, posterior);
     if (integrated) solution.covariance = posterior;
   }
-  if (!integrated && alternative >= 0) {
-    // Two poses explain the pixels: report the second moment of the two-mode posterior about the
-    // returned pose, Σ = w₁ Σ₁ + w₂ (Σ₂ + δ δᵀ), with likelihood weights w ∝ exp(−SSR / 2σ²) and δ the
-    // alternative's offset (right perturbation in the gate frame), instead of Σ₁ alone, which is
-    // far too confident when the wrong mode wins (measured NEES ≈ 29 on near-frontal views).
-    const Eigen::Isometry3d& other = solution.alternative_camera_T_gate;
-    Matrix86d J_other;
-    if (jacobian(other, p_gate, camera, J_other)) {
-      // Σ₂ moved into the returned pose's chart: best ⊞ (δ + A ε₂) = other ⊞ ε₂ to first order.
-      const Vector6d delta = se3BoxMinus(solution.camera_T_gate, other);
-      Matrix6d adjoint = Matrix6d::Zero();
-      adjoint.topLeftCorner<3, 3>() = solution.camera_T_gate.linear().transpose() * other.linear();
-      adjoint.bottomRightCorner<3, 3>() = so3RightJacobianInverse(delta.tail<3>());
-      const Matrix6d other_covariance = adjoint * (params.pixel_sigma * params.pixel_sigma *
-                                                   (J_other.transpose() * J_other).inverse()) * adjoint.transpose();
-      const double sigma2 = params.pixel_sigma * params.pixel_sigma;
-      const double ssr_best = 4.0 * solution.reprojection_rms * solution.reprojection_rms;
-      const double ssr_other = 4.0 * solution.alternative_reprojection_rms * solution.alternative_reprojection_rms;
-      const double ratio = std::exp(-std::min(700.0, (ssr_other - ssr_best) / (2.0 * sigma2)));  // w₂ / w₁ ≤ 1
-      // Each mode's posterior mass: its peak likelihood times its volume √det Σ (Laplace).
-      const double volume = std::sqrt(std::max(0.0, other_covariance.determinant() / solution.covariance.determinant()));
-      const double w_other = ratio * volume / (1.0 + ratio * volume);
-      const Matrix6d mixture = (1.0 - w_other) * solution.covariance +
-                               w_other * (other_covariance + delta * delta.transpose());
-      if (mixture.allFinite()) solution.covariance = mixture;
-    }
-  }
+  if (!integrated && has_alternative) mixInTheAlternative(solution, p_gate, camera, params);
   solution.covariance = 0.5 * (solution.covariance + solution.covariance.transpose()).eval();
+  return true;
+}
 
+/// The acceptance checks on a solved pose: reprojection RMS, range, conditioning.
+GatePnpSolution accept(GatePnpSolution solution, const GatePnpParams& params) {
   if (solution.reprojection_rms > params.max_reprojection_rms) {
     return reject(solution, GatePnpRejection::kReprojectionError,
                   "RMS " + std::to_string(solution.reprojection_rms) + " px > " + std::to_string(params.max_reprojection_rms));
@@ -297,6 +302,44 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
                       std::to_string(params.max_condition_number));
   }
   return solution;
+}
+
+}  // namespace
+
+GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel& camera, GateSide side,
+                             const GatePnpParams& params) {
+  GatePnpSolution solution;
+  if (!corners.allFinite()) return reject(solution, GatePnpRejection::kNonFiniteInput, "a corner pixel is not finite");
+  for (const Status& status : {camera.validate(), checkParams(params)}) {
+    if (!status.ok()) return reject(solution, GatePnpRejection::kInvalidInput, status.message());
+  }
+  auto normalized = camera.undistortToNormalized(corners);
+  if (!normalized.ok()) return reject(solution, GatePnpRejection::kSolverFailed, normalized.status().message());
+  std::string why;
+  const GatePnpRejection shape = checkQuadrilateral(*normalized, params.min_corner_angle_deg, why);
+  if (shape != GatePnpRejection::kNone) return reject(solution, shape, why);
+
+  const Corners3 p_gate = gateCornersInGateFrame(params.gate_size, side);
+  PnpCandidates candidates = solveAndRefine(corners, *normalized, camera, side, params, p_gate, why);
+  if (!why.empty()) return reject(solution, GatePnpRejection::kSolverFailed, why);
+  if (candidates.poses.empty()) {
+    return reject(solution, GatePnpRejection::kSolverFailed, "every IPPE pose puts a corner behind the camera");
+  }
+  size_t best = 0;
+  for (size_t k = 1; k < candidates.poses.size(); ++k) best = candidates.rms[k] < candidates.rms[best] ? k : best;
+  solution.camera_T_gate = candidates.poses[best];
+  solution.body_T_gate = camera.body_T_camera * solution.camera_T_gate;
+  solution.reprojection_rms = candidates.rms[best];
+  const int alternative = alternativeCandidate(candidates, best, p_gate, corners, camera, params);
+  if (alternative >= 0) {
+    solution.alternative_camera_T_gate = candidates.poses[static_cast<size_t>(alternative)];
+    solution.alternative_reprojection_rms = candidates.rms[static_cast<size_t>(alternative)];
+    solution.ambiguous = solution.alternative_reprojection_rms <= params.max_reprojection_rms;
+  }
+  if (!computeCovariance(solution, alternative >= 0, p_gate, corners, camera, params)) {
+    return reject(solution, GatePnpRejection::kSolverFailed, "the pose puts a corner behind the camera");
+  }
+  return accept(solution, params);
 }
 
 }  // namespace dualgraph
