@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "frontend/report/plot_frame.h"
 #include "frontend/report/svg_plot.h"
 
 namespace dualgraph {

@@ -1,37 +1,19 @@
 // SPDX-License-Identifier: MIT
 #include "frontend/report/svg_plot.h"
 
-#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <sstream>
 #include <utility>
 
 namespace dualgraph {
 namespace {
 
-// A "nice" tick step (1, 2 or 5 × 10^k) giving about `target` ticks over `span` (as xy_plot.cpp).
-double tickStep(double span, int target) {
-  const double raw = span / target;
-  const double power = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 5.0}) {
-    if (m * power >= raw) return m * power;
-  }
-  return 10.0 * power;
-}
-
-// Tick values inside [lo, hi], computed by index so that no rounding error accumulates.
-std::vector<double> ticks(double lo, double hi) {
-  const double step = tickStep(hi - lo, 8);
-  std::vector<double> out;
-  for (double k = std::ceil(lo / step); k * step <= hi && out.size() < 100; k += 1.0) out.push_back(k * step);
-  return out;
-}
-
-std::string number(double v, const char* format = "%.1f") {
+// A coordinate [px] to 0.1 px.
+std::string number(double v) {
   char text[48];
-  std::snprintf(text, sizeof text, format, std::abs(v) < 1e-12 ? 0.0 : v);
+  std::snprintf(text, sizeof text, "%.1f", std::abs(v) < 1e-12 ? 0.0 : v);
   return text;
 }
 
@@ -55,19 +37,19 @@ void writeAxes(std::ostream& svg, const XyPlot& plot, const PlotFrame& f) {
   const double right = f.width - PlotFrame::kRight, bottom = f.height - PlotFrame::kBottom;
   svg << "<g class=\"grid\" stroke=\"#e1e1e1\" stroke-width=\"1\">";
   std::ostringstream labels;
-  for (double x : ticks(f.lo.x(), f.hi.x())) {
+  for (double x : tickValues(f.lo.x(), f.hi.x(), TickArithmetic::kByIndex)) {
     const double px = f.pixel({x, 0.0}).x();
     svg << "<line x1=\"" << number(px) << "\" y1=\"" << PlotFrame::kTop << "\" x2=\"" << number(px) << "\" y2=\""
         << bottom << "\"/>";
     labels << "<text x=\"" << number(px) << "\" y=\"" << bottom + 18 << "\" text-anchor=\"middle\">"
-           << number(x, "%g") << "</text>";
+           << tickLabel(x) << "</text>";
   }
-  for (double y : ticks(f.lo.y(), f.hi.y())) {
+  for (double y : tickValues(f.lo.y(), f.hi.y(), TickArithmetic::kByIndex)) {
     const double py = f.pixel({0.0, y}).y();
     svg << "<line x1=\"" << PlotFrame::kLeft << "\" y1=\"" << number(py) << "\" x2=\"" << right << "\" y2=\""
         << number(py) << "\"/>";
     labels << "<text x=\"" << PlotFrame::kLeft - 6 << "\" y=\"" << number(py + 4) << "\" text-anchor=\"end\">"
-           << number(y, "%g") << "</text>";
+           << tickLabel(y) << "</text>";
   }
   svg << "</g>\n<g class=\"ticks\" font-size=\"12\" fill=\"#3c3c3c\">" << labels.str() << "</g>\n";
   svg << "<rect x=\"" << PlotFrame::kLeft << "\" y=\"" << PlotFrame::kTop << "\" width=\"" << right - PlotFrame::kLeft
@@ -84,13 +66,8 @@ void writeGates(std::ostream& svg, const XyPlot& plot, const PlotFrame& f) {
   svg << "<g class=\"gates\" fill=\"#a0a0a0\">";
   for (const PlotGate& g : plot.gates) {
     if (!g.centre.allFinite() || !std::isfinite(g.yaw) || !std::isfinite(g.size)) continue;
-    const Eigen::Vector2d normal(std::cos(g.yaw), std::sin(g.yaw));
-    const Eigen::Vector2d across(-normal.y(), normal.x());
-    const double depth = 0.12;  // [m], the frame's thickness as drawn (as the PNG)
-    std::vector<Eigen::Vector2d> corners;
-    for (const auto& [a, d] : {std::pair{1, 1}, std::pair{-1, 1}, std::pair{-1, -1}, std::pair{1, -1}}) {
-      corners.push_back(f.pixel(g.centre + a * 0.5 * g.size * across + d * depth * normal));
-    }
+    const std::array<Eigen::Vector2d, 4> corners_px = gateCornersPx(g, f);
+    const std::vector<Eigen::Vector2d> corners(corners_px.begin(), corners_px.end());
     svg << "<polygon class=\"gate\" points=\"" << pointList(corners) << "\"/>";
   }
   svg << "</g>\n";
@@ -136,42 +113,6 @@ void writeLegend(std::ostream& svg, const XyPlot& plot) {
 }
 
 }  // namespace
-
-Result<PlotFrame> plotFrame(const XyPlot& plot) {
-  if (plot.width < 200 || plot.height < 150) return Status(StatusCode::kInvalidArgument, "plot too small");
-  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector2d hi = -lo;
-  auto extend = [&](const Eigen::Vector2d& p) {
-    if (!p.allFinite()) return;
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  };
-  for (const PlotSeries& s : plot.series) std::for_each(s.points.begin(), s.points.end(), extend);
-  for (const PlotGate& g : plot.gates) {  // both ends of the bar, so that the whole gate stays inside the axes
-    for (double side : {-0.5, 0.5}) extend(g.centre + side * g.size * Eigen::Vector2d(-std::sin(g.yaw), std::cos(g.yaw)));
-  }
-  if (!lo.allFinite()) return Status(StatusCode::kInvalidArgument, "nothing finite to plot");
-  const Eigen::Vector2d span = (hi - lo).cwiseMax(1e-6);
-  lo -= 0.05 * span;
-  hi += 0.05 * span;
-  PlotFrame f;
-  f.width = plot.width;
-  f.height = plot.height;
-  const double plot_w = plot.width - PlotFrame::kLeft - PlotFrame::kRight;
-  const double plot_h = plot.height - PlotFrame::kTop - PlotFrame::kBottom;
-  f.sx = plot_w / (hi.x() - lo.x());
-  f.sy = plot_h / (hi.y() - lo.y());
-  if (plot.equal_aspect) {
-    const double s = std::min(f.sx, f.sy);
-    const Eigen::Vector2d centre = 0.5 * (lo + hi);
-    lo = centre - Eigen::Vector2d(plot_w / s, plot_h / s) / 2;
-    hi = centre + Eigen::Vector2d(plot_w / s, plot_h / s) / 2;
-    f.sx = f.sy = s;
-  }
-  f.lo = lo;
-  f.hi = hi;
-  return f;
-}
 
 std::vector<Eigen::Vector2d> simplifyPolyline(const std::vector<Eigen::Vector2d>& points, double tolerance) {
   if (points.size() <= 2) return points;
