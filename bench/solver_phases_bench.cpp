@@ -188,8 +188,10 @@ void BM_Marginals_AllPoseBlocks(benchmark::State& state, const std::string& name
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(free_ids.size()));
   state.counters["poses"] = static_cast<double>(free_ids.size());
 }
+// clang-format off (the name is stringized: `parking-garage` must stay as written)
 BENCHMARK_CAPTURE(BM_Marginals_AllPoseBlocks, parking-garage, "parking-garage")
     ->Arg(16)->Arg(64)->Arg(256)->ArgName("group")->Unit(benchmark::kMillisecond)->Iterations(1);
+// clang-format on
 
 }  // namespace
 }  // namespace dualgraph

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// writeFileAtomically: a file is written to a temporary beside it, then renamed over it.
 #pragma once
 
 #include <functional>

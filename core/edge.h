@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// EdgeBase and the BaseEdge template: an edge's error, information matrix, Jacobians and robust kernel.
 #pragma once
 
 #include <Eigen/Core>

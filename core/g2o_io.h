@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Reading and writing g2o text files (parameters, vertices, edges, FIX), with file:line errors.
 #pragma once
 
 #include <istream>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Graph, the owner of one factor graph's vertices, edges and parameters, and the choice of gauge vertex.
 #pragma once
 
 #include <cstdint>

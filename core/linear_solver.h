@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// The LinearSolver interface (analyze, factorize, solve H x = b) and the upper-CSC matrix it takes.
 #pragma once
 
 #include <string>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// The Levenberg–Marquardt loop, one template for Optimizer and the temporary graph's block solver.
 #pragma once
 
 #include <algorithm>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Optimizer: Levenberg–Marquardt and Gauss–Newton over a Graph, with its parameters and summaries.
 #pragma once
 
 #include <functional>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// ParameterBase, a constant edges share by id (e.g. a sensor offset), and a graph's ParameterContainer.
 #pragma once
 
 #include <map>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// The robust kernels (Huber, Cauchy, Tukey, DCS) and their parser from specs like "huber:1.5".
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Cholesky and inverse of one 6×6 block; include-free, internal linkage, for baseline and AVX2 builds.
 #pragma once
 
 // The factorisation of one diagonal 6×6 block of BlockCholesky, written once for both of its numeric

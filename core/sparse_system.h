@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// SparseSystem: a graph's normal equations H Δ = b in upper CSC, built once per structure.
 #pragma once
 
 #include <Eigen/Core>

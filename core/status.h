@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Status and Result<T>, the library's error reporting, ContractViolation and DG_RETURN_IF_ERROR.
 #pragma once
 
 #include <optional>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// TokenReader: strict reading of one g2o line's fields, errors naming source, line and field.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// TypeRegistry: g2o tags to vertex, edge and parameter factories, and types back to their tags.
 #pragma once
 
 #include <functional>

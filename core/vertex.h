@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// VertexBase and the BaseVertex template: an estimate on a manifold, its increment ⊞ and its undo stack.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// nowMs, monotonic milliseconds, and PhaseTimer, which adds a scope's duration to a total.
 #pragma once
 
 #include <chrono>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Factories for the dual graph's edges: relative pose, pose prior, point observation, point prior.
 #pragma once
 
 #include <memory>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// GateEdgeMeasurement, one gate constraint relative to a pose node, and its edge and gate vertex.
 #pragma once
 
 #include <Eigen/Geometry>

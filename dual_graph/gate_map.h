@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// GateMap: the known gate poses world_T_gate of a track, by gate id.
 #pragma once
 
 #include <Eigen/Geometry>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Localizer: drift-corrected localisation from odometry and gate observations (dual or single graph).
 #pragma once
 
 #include <deque>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// LocalizerParams, every tunable of the Localizer with its default (modes, spacings, σ, solvers).
 #pragma once
 
 #include <Eigen/Geometry>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// MainGraph: the long-lived keyframe and gate graph, with χ² gating and the fixed-lag window.
 #pragma once
 
 #include <memory>

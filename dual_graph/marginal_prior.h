@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// EdgeMarginalPrior, the dense prior left by marginalising a vertex out, and marginalizeVertex.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// The Localizer's inputs, OdometrySample and GateObservation, and their validation.
 #pragma once
 
 #include <Eigen/Geometry>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Odometry interpolation, the per-metre odometry noise model, and a keyframe interval's samples.
 #pragma once
 
 #include <algorithm>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// TemporaryGraph: one keyframe interval's detections, distilled into one edge per gate.
 #pragma once
 
 #include <memory>

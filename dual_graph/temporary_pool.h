@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// TemporaryPool: the temporary graph's vertices and edges, reused between keyframes.
 #pragma once
 
 #include <Eigen/Geometry>

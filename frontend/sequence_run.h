@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// runSequence: the run loop, a sequence's odometry and detections through the frontend into the Localizer.
 #pragma once
 
 #include <functional>

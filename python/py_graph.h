@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// PyGraph, behind Python's dualgraph.Graph: numpy batches, g2o I/O, optimisation, marginals.
 #pragma once
 
 #include <pybind11/numpy.h>

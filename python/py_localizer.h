@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// PyLocalizer, behind Python's dualgraph.Localizer, and numpy conversions of gates and poses.
 #pragma once
 
 #include <pybind11/numpy.h>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// AutoSolver: Eigen's simplicial LDLᵀ up to 3000 unknowns, CHOLMOD supernodal above.
 #pragma once
 
 #include <memory>

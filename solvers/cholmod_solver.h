@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// CholmodSolver: sparse Cholesky with SuiteSparse CHOLMOD, and its ordering and factorisation options.
 #pragma once
 
 #include <memory>

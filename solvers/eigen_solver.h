@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// EigenSolver: sparse LDLᵀ on Eigen's SimplicialLDLT (AMD or natural order), allocation-free.
 #pragma once
 
 #include <Eigen/SparseCholesky>

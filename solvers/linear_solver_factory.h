@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Choosing a linear solver at run time: LinearSolverKind, its names, makeLinearSolver.
 #pragma once
 
 #include <memory>

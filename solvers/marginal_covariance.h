@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// MarginalCovariance: marginal covariances of chosen vertices from the optimiser's factor.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// `dualgraph ablation`: every track × seed × configuration, written as the paper's Tables I–III.
 #pragma once
 
 #include <string>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// The paper's Tables I–III (Markdown and CSV) from the ablation's per-run metrics.
 #pragma once
 
 #include <filesystem>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// The CLI11 definitions of the `dualgraph` subcommands and their flags.
 #pragma once
 
 #include <CLI/CLI.hpp>

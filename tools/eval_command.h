@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// `dualgraph eval`: an estimate TUM file against ground truth (ATE, RPE), optionally as JSON.
 #pragma once
 
 #include <string>

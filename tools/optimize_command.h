@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// `dualgraph optimize`: optimises a g2o file, prints a summary (or JSON), writes the result with -o.
 #pragma once
 
 #include <string>

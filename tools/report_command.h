@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// `dualgraph report`: the HTML report (and PNG plots) of one or more run folders.
 #pragma once
 
 #include <string>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// `dualgraph run`: the Localizer over a sequence folder, written as a run folder.
 #pragma once
 
 #include <string>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// `dualgraph simulate`: a simulated race written as a sequence folder.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// StagedFolder: a command's output files appear all together on commit, or not at all.
 #pragma once
 
 #include <string>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// EdgePointXYZPrior (EDGE_POINTXYZ_PRIOR): an absolute position prior on a 3-D point.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// EdgeSE2 (EDGE_SE2): the relative planar pose between two VertexSE2, g2o's error, analytic Jacobians.
 #pragma once
 
 #include "core/edge.h"

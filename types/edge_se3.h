@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// EdgeSE3 (EDGE_SE3:QUAT): the relative pose between two VertexSE3, g2o's error, analytic Jacobians.
 #pragma once
 
 #include <Eigen/Geometry>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// EdgeSE3PointXYZ (EDGE_SE3_TRACKXYZ): a 3-D point observed from a pose through a sensor offset.
 #pragma once
 
 #include <Eigen/Geometry>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// EdgeSE3Prior (EDGE_SE3_PRIOR): an absolute pose prior on a VertexSE3, measured at a sensor offset.
 #pragma once
 
 #include <Eigen/Geometry>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// What the types share to read and write g2o text: 17-digit numbers, Ω's layout, pose fields.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// ParameterSE3Offset (PARAMS_SE3OFFSET): a fixed sensor offset body_T_sensor, and its lookup.
 #pragma once
 
 #include <Eigen/Geometry>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// registerBuiltinTypes: adds the library's vertex, edge and parameter types to a TypeRegistry.
 #pragma once
 
 #include "core/status.h"

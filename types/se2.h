@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// SE2, the planar rigid transform of VertexSE2 and EdgeSE2, and angle wrapping into (−π, π].
 #pragma once
 
 #include <Eigen/Core>

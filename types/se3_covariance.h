@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// SE(3) covariance maths (composition, Σ → Ω) and checks of covariances and rigid transforms.
 #pragma once
 
 #include <Eigen/Geometry>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// SO(3)/SE(3) maths: quaternions, exp/log, Jacobians, adjoint, g2o's [t; q.vec] chart and units.
 #pragma once
 
 #include <Eigen/Core>

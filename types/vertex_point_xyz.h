@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// VertexPointXYZ (VERTEX_TRACKXYZ): a 3-D point (e.g. a landmark) in metres, additive increment.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// VertexSE2 (VERTEX_SE2): a planar pose, g2o's additive increment with the angle wrapped.
 #pragma once
 
 #include "core/vertex.h"

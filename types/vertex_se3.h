@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// VertexSE3 (VERTEX_SE3:QUAT): a 3-D pose with g2o's right [δt; δq] increment.
 #pragma once
 
 #include <Eigen/Geometry>

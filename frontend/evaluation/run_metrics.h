@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// RunMetrics, every figure `dualgraph run` reports (ATE, timings, gate corrections), and percentile.
 #pragma once
 
 #include <vector>

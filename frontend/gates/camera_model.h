@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// CameraModel: a calibrated camera (OpenCV radtan or equidistant), projection and undistortion.
 #pragma once
 
 #include <Eigen/Core>

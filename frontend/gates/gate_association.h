@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// GateAssociator: gate detections matched to map gates (Hungarian), new gates in mapping mode.
 #pragma once
 
 #include <Eigen/Geometry>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// GateFrontend: raw gate detections through PnP and association into Localizer observations.
 #pragma once
 
 #include <optional>

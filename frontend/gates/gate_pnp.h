@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// solveGatePnp: a gate's pose and covariance from its four corner pixels, or why it was refused.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Internal to gate_pnp.cpp: the corners' reprojection residuals and the tilt-grid posterior covariance.
 #pragma once
 // Internal to frontend/gates/gate_pnp.cpp: the reprojection residuals and the tilt-grid posterior
 // covariance of a gate's pose. Not installed, not part of the public API.

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// solveAssignment: minimum-cost rectangular assignment (Hungarian) with forbidden entries.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Track: a race track's gates, and the path, laps and speed a simulated flight uses.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Camera files: our camera YAML (read and written) and RATM's OpenCV calibration JSON.
 #pragma once
 
 #include <string>

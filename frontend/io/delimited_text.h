@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// The strict CSV/TUM line reader: lines into fields, fields into numbers, quaternions, covariances.
 #pragma once
 
 #include <cstdint>

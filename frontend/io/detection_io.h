@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Detection files: the corner-pixel CSV and the pose (+ covariance) CSV, read and written.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// JsonObject, a flat JSON object builder, and writeJsonFile, which writes one atomically.
 #pragma once
 
 #include <string>

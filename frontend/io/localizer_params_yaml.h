@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// LocalizerParams from YAML text or a file, with "source:LINE: field 'NAME': why" errors.
 #pragma once
 
 #include <string>

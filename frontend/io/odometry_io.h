@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Odometry files (TUM with optional covariances, EuRoC CSV), relative covariances and increments.
 #pragma once
 
 #include <string>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// SequenceRunParams, `dualgraph run`'s configuration: the localizer: and frontend: sections of a YAML file.
 #pragma once
 
 #include <string>

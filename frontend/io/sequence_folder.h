@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Sequence, the input of `dualgraph run`, and its folder: loadSequence reads it, writeSequence writes it.
 #pragma once
 
 #include <optional>

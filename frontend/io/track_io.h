@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Track YAML files: strict reading with line-numbered errors, and writing that reads back exactly.
 #pragma once
 
 #include <string>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// StampedPoses, and TUM trajectories and odometry logs written atomically, bit-exact.
 #pragma once
 
 #include <Eigen/Geometry>

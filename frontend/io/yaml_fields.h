@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// The strict YAML field readers every file reader shares: one error format "source:LINE: field 'NAME': why".
 #pragma once
 
 // The one strict YAML field layer of the project: every YAML reader (camera, track, run config, localizer

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// XyPlot: trajectory line plots with gates (the paper's Fig. 3 style), written as PNG.
 #pragma once
 
 #include <Eigen/Core>

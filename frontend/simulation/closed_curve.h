@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// ClosedCurve, a simulated flight's closed reference path: ellipse, lemniscate or periodic spline.
 #pragma once
 
 #include <Eigen/Core>

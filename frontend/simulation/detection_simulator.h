@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// The simulated gate detector: noisy corner pixels, misses, displaced corners, wrong ids, false gates.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// Flight: a simulated drone flying laps of a closed path under speed and acceleration limits.
 #pragma once
 
 #include <Eigen/Core>

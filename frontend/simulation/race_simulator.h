@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// simulateRace: a whole simulated race (flight, ground truth, drifting VIO, detections, map).
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// A seeded model of VIO drift (yaw, velocity bias, scale) with its reported covariance.
 #pragma once
 
 #include <Eigen/Geometry>

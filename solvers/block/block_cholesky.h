@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// BlockCholesky: sparse Cholesky on 6×6 blocks, with the selected inverse (marginals).
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// The 6×6 block products of BlockCholesky for the baseline build (SSE2, no FMA).
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// The AVX2 + FMA versions of the block loops (factorise, solve, inverse, edge assembly), chosen at run time.
 #pragma once
 
 namespace dualgraph::block_kernels_avx2 {

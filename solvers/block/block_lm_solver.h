@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// BlockLmSolver: the temporary graph's Levenberg–Marquardt and marginals on 6×6 blocks.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+// The 6×6 block products shared by the -mavx2 -mfma files; internal linkage, intrinsics only.
 #pragma once
 
 // The 6×6 block products of the AVX2 + FMA kernels, shared by the files compiled with -mavx2 -mfma
