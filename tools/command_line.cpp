@@ -89,7 +89,9 @@ CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
   cmd->add_option("--d-main", o.d_main, "Main-graph keyframe distance [m]")->check(CLI::PositiveNumber);
   cmd->add_option("--d-temp", o.d_temp, "Temporary-graph node distance [m]")->check(CLI::PositiveNumber);
   cmd->add_option("--d-single", o.d_single, "Single-graph node distance [m]")->check(CLI::PositiveNumber);
-  cmd->add_flag("--quiet", o.quiet, "No progress line and no summary");
+  cmd->add_flag("--quiet", o.quiet, "No progress line and no summary (warnings still go to stderr)");
+  cmd->add_flag("--skip-unknown-gates", o.skip_unknown_gates,
+                "Drop detections naming a gate that is not in gates.yaml, with a warning (default: exit 1 naming the line)");
   return cmd;
 }
 

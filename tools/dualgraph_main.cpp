@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // `dualgraph`: one executable, one subcommand per task. Mains stay thin: parse, call the library,
-// map errors to exit codes (0 ok, 1 bad input or failed run, 2 usage).
+// map errors to exit codes (0 ok, 1 bad input or failed run, 2 usage, 3 a run that used no detection).
 #include <CLI/CLI.hpp>
 #include <exception>
 #include <iostream>

@@ -9,6 +9,7 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <sstream>
 
 #include "frontend/io/run_config.h"
 #include "frontend/evaluation/run_folder.h"
@@ -21,6 +22,32 @@ namespace {
 int fail(const std::string& message) {
   std::cerr << "dualgraph run: " << message << "\n";
   return 1;
+}
+
+void warn(const std::string& message) { std::cerr << "dualgraph run: warning: " << message << "\n"; }
+
+// Detections the run could not place in time: before the first or after the last odometry sample.
+void warnOutsideOdometry(const Sequence& sequence, const SequenceRunResult& run) {
+  const std::vector<OdometrySample>& samples = sequence.odometry.samples;
+  if (run.detections_before_odometry > 0) {
+    warn(std::to_string(run.detections_before_odometry) + " detections before the first odometry sample (t=" +
+         formatTimestamp(samples.front().t) + ") were not used");
+  }
+  if (run.detections_after_odometry > 0) {
+    warn(std::to_string(run.detections_after_odometry) + " detections after the last odometry sample (t=" +
+         formatTimestamp(samples.back().t) + ") were not used");
+  }
+}
+
+// Why nothing reached the Localizer, from the counters, for the no-detection message.
+std::string describeUnused(const SequenceRunResult& run) {
+  const GateFrontendCounters& f = run.frontend_counters;
+  std::ostringstream text;
+  text << run.detections_before_odometry + run.detections_after_odometry << " outside the odometry's time span, "
+       << f.pnp_rejected << " refused by PnP, " << f.not_associated << " not associated with a map gate, "
+       << run.localizer_counters.observations_rejected << " refused by the Localizer";
+  if (!run.localizer_counters.last_error.empty()) text << " (last: " << run.localizer_counters.last_error << ")";
+  return text.str();
 }
 
 }  // namespace
@@ -37,6 +64,12 @@ int runRunCommand(const RunOptions& o) {
   if (!valid.ok()) return fail(valid.message());
   auto sequence = loadSequence(o.sequence, params->defaultPoseDetectionCovariance());
   if (!sequence.ok()) return fail(sequence.status().message());
+  int unknown_gates_skipped = 0;
+  if (!params->localizer.mapping) {  // a mapping run's detector may name gates the map does not hold yet
+    Result<int> skipped = checkDetectionGateIds(*sequence, o.skip_unknown_gates);
+    if (!skipped.ok()) return fail(skipped.status().message());
+    unknown_gates_skipped = *skipped;
+  }
 
   const bool terminal = !o.quiet && isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
@@ -63,6 +96,17 @@ int runRunCommand(const RunOptions& o) {
   if (!written.ok()) return fail(staged->unstaged(written).message());
   const Status committed = staged->commit();
   if (!committed.ok()) return fail(committed.message());
+  // Loud, whatever --quiet says: what was not used, and a run that localised nothing.
+  if (unknown_gates_skipped > 0) {
+    warn(std::to_string(unknown_gates_skipped) + " detections name a gate that is not in the map: skipped (--skip-unknown-gates)");
+  }
+  warnOutsideOdometry(*sequence, *run);
+  if (metrics->detections_used == 0) {
+    std::cerr << "dualgraph run: no detection was used (" << metrics->detections << " in the sequence; "
+              << describeUnused(*run) << "): the estimate is the raw odometry in the map frame it started in; "
+              << "outputs written to " << o.out << "; exit " << kExitNothingLocalised << "\n";
+    return kExitNothingLocalised;
+  }
   if (o.quiet) return 0;
   std::cout << std::setprecision(4) << "dualgraph run (" << localizerModeName(params->localizer.mode) << "): "
             << run->estimate.size() << " poses, " << metrics->keyframes << " keyframes, main graph " << metrics->nodes

@@ -94,7 +94,8 @@ Result<std::vector<CornerDetection>> readCornerDetections(const std::string& pat
   return detections;
 }
 
-Result<std::vector<GateObservation>> readPoseDetections(const std::string& path, const Matrix6d& default_covariance) {
+Result<std::vector<GateObservation>> readPoseDetections(const std::string& path, const Matrix6d& default_covariance,
+                                                        std::vector<int>* lines_out) {
   const Status default_valid = checkCovariance(default_covariance, "readPoseDetections: default_covariance");
   if (!default_valid.ok()) return default_valid;
   Result<std::vector<TextLine>> lines = readTextLines(path, FieldSeparator::kComma);
@@ -127,6 +128,7 @@ Result<std::vector<GateObservation>> readPoseDetections(const std::string& path,
     body_T_gate.linear() = q.toRotationMatrix();
     body_T_gate.translation() = p;
     observations.push_back(GateObservation::pose(t, gate_id, body_T_gate, covariance));
+    if (lines_out != nullptr) lines_out->push_back(line.number);
   }
   if (observations.empty()) return noDataRows(path, lines->size());
   return observations;

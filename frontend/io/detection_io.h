@@ -26,8 +26,10 @@ Result<std::vector<CornerDetection>> readCornerDetections(const std::string& pat
 /// `default_covariance` (checked once; same convention). Header optional as above (with or without
 /// the covariance names); each row may or may not carry a covariance; time stamps non-decreasing;
 /// gate_id ≥ -1. An unknown gate (-1) is kept as read: it must be associated before the Localizer sees
-/// it (validateGateObservation rejects gate_id < 0).
-Result<std::vector<GateObservation>> readPoseDetections(const std::string& path, const Matrix6d& default_covariance);
+/// it (validateGateObservation rejects gate_id < 0). `lines` (optional) receives each observation's 1-based
+/// file line, for later messages.
+Result<std::vector<GateObservation>> readPoseDetections(const std::string& path, const Matrix6d& default_covariance,
+                                                        std::vector<int>* lines = nullptr);
 
 /// Writes corner detections in the CSV form readCornerDetections reads (with the header line,
 /// 17 significant digits). Atomic (temporary file + rename). kInvalidArgument naming the detection

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "frontend/io/sequence_folder.h"
 
+#include <algorithm>
 #include <filesystem>
+#include <set>
 
 #include "core/atomic_file.h"
 #include "frontend/io/camera_io.h"
@@ -43,7 +45,7 @@ Result<Sequence> loadSequence(const std::string& dir, const Matrix6d& default_de
     if (!read.ok()) return read.status();
     sequence.corners = std::move(read).value();
   } else {
-    auto read = readPoseDetections(file("detections.csv"), default_detection_covariance);
+    auto read = readPoseDetections(file("detections.csv"), default_detection_covariance, &sequence.pose_detection_lines);
     if (!read.ok()) return read.status();
     sequence.pose_detections = std::move(read).value();
   }
@@ -66,6 +68,50 @@ Result<Sequence> loadSequence(const std::string& dir, const Matrix6d& default_de
     sequence.ground_truth = std::move(truth).value();
   }
   return sequence;
+}
+
+Result<int> checkDetectionGateIds(Sequence& sequence, bool skip_unknown) {
+  std::set<int> known;
+  for (const TrackGate& gate : sequence.map.gates) known.insert(gate.id);
+  auto unknown = [&](int gate_id) { return gate_id >= 0 && known.count(gate_id) == 0; };
+  const size_t count = sequence.has_corners ? sequence.corners.size() : sequence.pose_detections.size();
+  for (size_t i = 0; i < count && !skip_unknown; ++i) {
+    const int gate_id = sequence.has_corners ? sequence.corners[i].gate_id : sequence.pose_detections[i].gate_id;
+    if (!unknown(gate_id)) continue;
+    const std::filesystem::path folder(sequence.dir);
+    std::string where = (folder / (sequence.has_corners ? "corners.csv" : "detections.csv")).string();
+    const int line = sequence.has_corners                          ? sequence.corners[i].line
+                     : i < sequence.pose_detection_lines.size() ? sequence.pose_detection_lines[i]
+                                                                : 0;
+    where += line > 0 ? ":" + std::to_string(line) : " (detection " + std::to_string(i) + ")";
+    std::string ids;
+    for (int id : known) ids += (ids.empty() ? "" : ", ") + std::to_string(id);
+    return Status(StatusCode::kNotFound, where + ": field 'gate_id': gate " + std::to_string(gate_id) +
+                                             " is not in the map (" + (folder / "gates.yaml").string() + " has " +
+                                             (ids.empty() ? "none" : ids) + "); --skip-unknown-gates drops such detections");
+  }
+  int skipped = 0;
+  if (sequence.has_corners) {
+    const size_t before = sequence.corners.size();
+    sequence.corners.erase(std::remove_if(sequence.corners.begin(), sequence.corners.end(),
+                                          [&](const CornerDetection& d) { return unknown(d.gate_id); }),
+                           sequence.corners.end());
+    skipped = static_cast<int>(before - sequence.corners.size());
+  } else {
+    std::vector<GateObservation> kept;
+    std::vector<int> kept_lines;
+    for (size_t i = 0; i < sequence.pose_detections.size(); ++i) {
+      if (unknown(sequence.pose_detections[i].gate_id)) {
+        ++skipped;
+        continue;
+      }
+      kept.push_back(sequence.pose_detections[i]);
+      if (i < sequence.pose_detection_lines.size()) kept_lines.push_back(sequence.pose_detection_lines[i]);
+    }
+    sequence.pose_detections = std::move(kept);
+    sequence.pose_detection_lines = std::move(kept_lines);
+  }
+  return skipped;
 }
 
 Status writeSequence(const std::string& dir, const Sequence& sequence, const std::string& provenance_yaml) {

@@ -29,6 +29,7 @@ struct Sequence {
   bool has_corners = false;
   std::vector<CornerDetection> corners;        ///< when has_corners
   std::vector<GateObservation> pose_detections;  ///< otherwise
+  std::vector<int> pose_detection_lines;         ///< their lines in detections.csv (empty when made in memory)
   Track map;
   std::optional<CameraModel> camera;
   std::optional<OdometryLog> ground_truth;
@@ -41,6 +42,12 @@ struct Sequence {
 /// missing required files, both or neither detection file, or corners without a camera are
 /// kNotFound / kInvalidArgument naming the folder and the file.
 Result<Sequence> loadSequence(const std::string& dir, const Matrix6d& default_detection_covariance);
+
+/// Checks that every detection's gate id is −1 (unknown: the association decides) or a gate of `sequence.map`.
+/// A detection naming another gate is kNotFound "DIR/corners.csv:LINE: field 'gate_id': gate 7 is not in the
+/// map (DIR/gates.yaml has 0, 1, 2, 3)", unless `skip_unknown`: then every such detection is removed and the
+/// count returned (the caller warns). Not for mapping runs, whose detectors may name gates the map lacks.
+Result<int> checkDetectionGateIds(Sequence& sequence, bool skip_unknown);
 
 /// Writes `sequence` as the folder `dir` (created if missing) that loadSequence reads back: vio.tum (with
 /// the 21 absolute-covariance columns when the odometry has them), corners.csv or detections.csv,

@@ -255,6 +255,32 @@ void replaceLine(const std::string& path, int line, const std::string& text) {
   std::ofstream(path) << out.str();
 }
 
+TEST(LoadSequence, GateIdsNotInTheMapAreNamedByFileAndLineOrSkipped) {
+  const std::string dir = simulateEllipse("ellipse_poses", 1, [](RaceSimParams& p) {
+    p.output = RaceSimParams::DetectionOutput::kPoses;
+  });
+  Sequence sequence = load(dir);
+  ASSERT_EQ(sequence.pose_detection_lines.size(), sequence.pose_detections.size());
+  Result<int> clean = checkDetectionGateIds(sequence, false);
+  ASSERT_TRUE(clean.ok()) << clean.status().message();
+  EXPECT_EQ(*clean, 0);
+  const size_t rows = sequence.pose_detections.size();
+  sequence.pose_detections[3].gate_id = 9;
+  sequence.pose_detections[7].gate_id = -1;  // unknown: the association decides, not an error
+  const Result<int> refused = checkDetectionGateIds(sequence, false);
+  EXPECT_EQ(refused.status().code(), StatusCode::kNotFound);
+  const std::string where = "detections.csv:" + std::to_string(sequence.pose_detection_lines[3]) + ": field 'gate_id': gate 9";
+  EXPECT_NE(refused.status().message().find(where), std::string::npos) << refused.status().message();
+  EXPECT_NE(refused.status().message().find("has 1, 2, 3, 4"), std::string::npos) << refused.status().message();
+  const int line_after = sequence.pose_detection_lines[4];
+  const Result<int> skipped = checkDetectionGateIds(sequence, true);
+  ASSERT_TRUE(skipped.ok());
+  EXPECT_EQ(*skipped, 1);
+  EXPECT_EQ(sequence.pose_detections.size(), rows - 1);
+  ASSERT_EQ(sequence.pose_detection_lines.size(), rows - 1);
+  EXPECT_EQ(sequence.pose_detection_lines[3], line_after);
+}
+
 TEST(LoadSequence, MissingPiecesAreNamed) {
   Status missing = loadStatus(testing::tempDir() + "/no_such_folder");
   EXPECT_EQ(missing.code(), StatusCode::kNotFound);
