@@ -97,7 +97,9 @@ void bindRun(py::module_& m) {
       .def_readwrite("pose_detection_sigma_t", &SequenceRunParams::pose_detection_sigma_t)
       .def_readwrite("pose_detection_sigma_r", &SequenceRunParams::pose_detection_sigma_r)
       .def_property("trust_ids", [](const SequenceRunParams& p) { return p.frontend.trust_ids; },
-                    [](SequenceRunParams& p, bool v) { p.frontend.trust_ids = v; });
+                    [](SequenceRunParams& p, bool v) { p.frontend.trust_ids = v; })
+      .def_property("adaptive_pixel_sigma", [](const SequenceRunParams& p) { return p.frontend.adaptive_pixel_sigma; },
+                    [](SequenceRunParams& p, bool v) { p.frontend.adaptive_pixel_sigma = v; });
   m.def("load_run_config", [](const std::string& path) { return unwrap(loadRunConfig(path)); }, "path"_a);
 
   m.def("load_sequence",

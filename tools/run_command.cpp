@@ -112,7 +112,9 @@ int runRunCommand(const RunOptions& o) {
             << run->estimate.size() << " poses, " << metrics->keyframes << " keyframes, main graph " << metrics->nodes
             << " nodes / " << metrics->edges << " edges, optimisation P50 " << metrics->opt_ms_p50 << " ms, P95 "
             << metrics->opt_ms_p95 << " ms; detections used " << metrics->detections_used << " of "
-            << metrics->detections << "\n";
+            << metrics->detections;
+  if (sequence->has_corners) std::cout << " (corner noise " << run->frontend_counters.pixel_sigma << " px)";
+  std::cout << "\n";
   if (metrics->has_ground_truth) {
     std::cout << "  ATE (SE(3)-aligned) " << metrics->estimate.ate_se3_m << " m (VIO " << metrics->vio.ate_se3_m
               << " m, " << std::setprecision(3) << metrics->ate_reduction_pct << " % lower); unaligned "

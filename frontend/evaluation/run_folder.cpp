@@ -220,6 +220,7 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run) {
       .add("detections_before_odometry", run.detections_before_odometry)
       .add("detections_after_odometry", run.detections_after_odometry)
       .add("observations_too_late", run.localizer_counters.observations_too_late)
+      .add("pixel_sigma_px", run.frontend_counters.pixel_sigma)
       .add("pnp_rejected", run.frontend_counters.pnp_rejected)
       .add("not_associated", run.frontend_counters.not_associated)
       .add("reversed", run.frontend_counters.reversed)

@@ -61,9 +61,20 @@ Result<std::vector<GateObservation>> GateFrontend::processCorners(const std::vec
   std::vector<GateObservation> solved;
   for (const CornerDetection& detection : image) {
     ++counters_.detections;
+    if (params_.adaptive_pixel_sigma) {  // the gate stays as many σ wide as configured
+      pnp.max_reprojection_rms = params_.pnp.max_reprojection_rms * noise_.sigma() / params_.pnp.pixel_sigma;
+      pnp.pixel_sigma = noise_.sigma();
+    }
+    counters_.pixel_sigma = pnp.pixel_sigma;
     GateCornerPixels pixels;
     for (int i = 0; i < 4; ++i) pixels.col(i) = detection.corners[static_cast<size_t>(i)];
     const GatePnpSolution solution = solveGatePnp(pixels, *camera_, GateSide::kFront, pnp);
+    // Every fitted pose tells the noise, the ones the gate refused included (else a σ too small would
+    // refuse what would correct it).
+    if (params_.adaptive_pixel_sigma && (solution.ok() || solution.rejection == GatePnpRejection::kReprojectionError ||
+                                         solution.rejection == GatePnpRejection::kRangeOutOfBounds)) {
+      noise_.add(solution.reprojection_rms);
+    }
     if (!solution.ok()) {
       ++counters_.pnp_rejected;
       ++counters_.pnp_rejected_by_reason[static_cast<int>(solution.rejection)];

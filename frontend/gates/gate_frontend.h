@@ -10,6 +10,7 @@
 #include "frontend/gates/corner_detection.h"
 #include "frontend/gates/gate_association.h"
 #include "frontend/gates/gate_pnp.h"
+#include "frontend/gates/pixel_noise.h"
 #include "frontend/gates/track.h"
 
 namespace dualgraph {
@@ -22,6 +23,10 @@ struct GateFrontendParams {
   /// against that gate alone; false: ids are ignored and the Hungarian assignment decides.
   bool trust_ids = false;
   bool mapping = false;              ///< no known map: new gates after repeated sightings
+  /// true: the corner noise σ is estimated from the PnP residuals (PixelNoiseEstimator, `pnp.pixel_sigma` its
+  /// prior) and both the PnP covariance and the reprojection gate follow it, the gate staying
+  /// `pnp.max_reprojection_rms / pnp.pixel_sigma` σ wide; false: `pnp` as configured.
+  bool adaptive_pixel_sigma = true;
 };
 
 /// Where the detections went, by reason (every detection lands in exactly one counter).
@@ -33,6 +38,7 @@ struct GateFrontendCounters {
   int not_associated = 0;       ///< no map gate within the distance/orientation gates, or taken by another
   int mapping_pending = 0;      ///< mapping mode: sightings of not yet confirmed gates
   int pnp_rejected_by_reason[8] = {0, 0, 0, 0, 0, 0, 0, 0};  ///< indexed by GatePnpRejection
+  double pixel_sigma = 0.0;     ///< the corner noise σ PnP used last [px] (estimated when adaptive)
 };
 
 /// Turns raw gate detections into Localizer observations: corners → PnP (camera frame → body via
@@ -61,7 +67,9 @@ class GateFrontend {
  private:
   GateFrontend(const GateFrontendParams& params, GateMap map, double gate_size, std::optional<CameraModel> camera)
       : params_(params), map_(std::move(map)), gate_size_(gate_size), camera_(std::move(camera)),
-        associator_(params.association) {}
+        associator_(params.association), noise_(params.pnp.pixel_sigma) {
+    counters_.pixel_sigma = params.pnp.pixel_sigma;
+  }
   Result<std::vector<GateObservation>> associate(std::vector<GateObservation> detections,
                                                  const Eigen::Isometry3d& world_T_body);
 
@@ -70,6 +78,7 @@ class GateFrontend {
   double gate_size_;
   std::optional<CameraModel> camera_;
   GateAssociator associator_;
+  PixelNoiseEstimator noise_;
   GateFrontendCounters counters_;
 };
 

@@ -28,9 +28,10 @@ struct SequenceRunParams {
 ///
 ///     frontend:
 ///       trust_ids: false             # detector gate ids decide (still gated) instead of the assignment
-///       pixel_sigma: 1.0             # GatePnpParams [px]; likewise max_reprojection_rms [px],
+///       pixel_sigma: 1.0             # GatePnpParams [px] (the prior when adaptive); likewise max_reprojection_rms [px],
 ///       ...                          #   min_range, max_range [m], min_corner_angle_deg,
 ///                                    #   max_condition_number, max_refinement_iterations
+///       adaptive_pixel_sigma: true   # GateFrontendParams: σ estimated from the PnP residuals
 ///       max_association_distance: 2.0  # AssociationParams::max_distance [m]; likewise max_normal_angle
 ///                                      #   [rad], allow_reversed, mapping_min_sightings, mapping_consistency [m]
 ///       pose_detection_sigma_t: 0.1  # SequenceRunParams [m], [rad] (_r)

@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: MIT
+#include "frontend/gates/pixel_noise.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dualgraph {
+
+PixelNoiseEstimator::PixelNoiseEstimator(double prior_sigma, size_t window, size_t min_samples, double min_sigma,
+                                         double max_sigma)
+    : prior_(prior_sigma), window_(std::max<size_t>(window, 1)), min_samples_(std::max<size_t>(min_samples, 1)),
+      min_sigma_(min_sigma), max_sigma_(max_sigma), sigma_(prior_sigma) {
+  ssr_.reserve(window_);
+  scratch_.reserve(window_);
+}
+
+void PixelNoiseEstimator::add(double reprojection_rms) {
+  if (!std::isfinite(reprojection_rms) || reprojection_rms < 0.0) return;
+  const double ssr = 4.0 * reprojection_rms * reprojection_rms;
+  if (ssr_.size() < window_) {
+    ssr_.push_back(ssr);
+  } else {
+    ssr_[next_] = ssr;
+  }
+  next_ = (next_ + 1) % window_;
+  ++seen_;
+  update();
+}
+
+void PixelNoiseEstimator::update() {
+  if (seen_ < min_samples_) {
+    sigma_ = prior_;
+    return;
+  }
+  scratch_.assign(ssr_.begin(), ssr_.end());
+  const auto middle = scratch_.begin() + static_cast<std::ptrdiff_t>(scratch_.size() / 2);
+  std::nth_element(scratch_.begin(), middle, scratch_.end());
+  const double median = *middle;
+  constexpr double kChi2TwoMedian = 1.3862943611198906;  // 2 ln 2
+  sigma_ = std::clamp(std::sqrt(median / kChi2TwoMedian), min_sigma_, max_sigma_);
+}
+
+}  // namespace dualgraph

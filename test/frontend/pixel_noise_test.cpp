@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: MIT
+// PixelNoiseEstimator: σ recovered from the reprojection RMS of four-corner PnP fits (SSR = σ²·χ²₂), robust
+// to outliers, the prior until enough fits were seen.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "frontend/gates/pixel_noise.h"
+
+namespace dualgraph {
+namespace {
+
+// The reprojection RMS [px] of a fit with 2 residual degrees of freedom under noise σ: √(σ² χ²₂ / 4).
+double fitRms(double sigma, std::mt19937& rng) {
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const double a = unit(rng), b = unit(rng);
+  return std::sqrt(sigma * sigma * (a * a + b * b) / 4.0);
+}
+
+TEST(PixelNoiseEstimator, RecoversSigmaFromHalfAPixelToFivePixels) {
+  for (double sigma : {0.5, 1.0, 3.0, 5.0}) {
+    std::mt19937 rng(7);
+    PixelNoiseEstimator estimator(1.0);
+    for (int k = 0; k < 2000; ++k) estimator.add(fitRms(sigma, rng));
+    EXPECT_NEAR(estimator.sigma(), sigma, 0.08 * sigma) << sigma;  // 300 samples: the median's spread ≈ 4 %
+    EXPECT_EQ(estimator.samples(), 2000u);
+  }
+}
+
+TEST(PixelNoiseEstimator, AThirdOfOutliersMovesItLittle) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> coin(0.0, 1.0);
+  PixelNoiseEstimator estimator(1.0);
+  for (int k = 0; k < 2000; ++k) {
+    const bool outlier = coin(rng) < 0.3;  // a displaced corner: ten times the residual
+    estimator.add((outlier ? 10.0 : 1.0) * fitRms(2.0, rng));
+  }
+  EXPECT_GT(estimator.sigma(), 2.0);
+  EXPECT_LT(estimator.sigma(), 2.0 * 1.5);
+}
+
+TEST(PixelNoiseEstimator, ThePriorUntilEnoughFitsAndInvalidValuesIgnored) {
+  PixelNoiseEstimator estimator(2.5, 300, 30);
+  std::mt19937 rng(5);
+  for (int k = 0; k < 29; ++k) estimator.add(fitRms(1.0, rng));
+  EXPECT_EQ(estimator.sigma(), 2.5);
+  estimator.add(std::nan(""));
+  estimator.add(-1.0);
+  estimator.add(INFINITY);
+  EXPECT_EQ(estimator.samples(), 29u);
+  EXPECT_EQ(estimator.sigma(), 2.5);
+  estimator.add(fitRms(1.0, rng));
+  EXPECT_LT(estimator.sigma(), 2.0);
+}
+
+TEST(PixelNoiseEstimator, FollowsAChangeWithinItsWindow) {
+  std::mt19937 rng(11);
+  PixelNoiseEstimator estimator(1.0, 300, 30);
+  for (int k = 0; k < 1000; ++k) estimator.add(fitRms(1.0, rng));
+  for (int k = 0; k < 300; ++k) estimator.add(fitRms(4.0, rng));  // the window is full of the new noise
+  EXPECT_NEAR(estimator.sigma(), 4.0, 0.4);
+}
+
+}  // namespace
+}  // namespace dualgraph
