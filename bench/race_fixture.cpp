@@ -19,7 +19,7 @@ Result<Sequence> simulate() {
   params.seed = 1;
   Result<SimulatedRace> race = simulateRace(*track, *camera, params);
   if (!race.ok()) return race.status();
-  return raceSequence(*race, *camera, params, "ratm_ellipse seed 1 (simulated)");
+  return raceSequence(*race, params, "ratm_ellipse seed 1 (simulated)");
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <optional>
 #include <string>
 
 #include "core/optimizer.h"
@@ -70,6 +71,10 @@ struct LocalizerParams {
   Eigen::Isometry3d initial_world_T_odom = Eigen::Isometry3d::Identity();
   double initial_sigma_t = 1.0;  ///< [m]
   double initial_sigma_r = 0.2;  ///< [rad]
+  /// A coarse start pose world_T_body at the first odometry sample (the start pad), known to initial_sigma_t and
+  /// initial_sigma_r: the run path's automatic initialisation (frontend/gates/frame_initializer.h) uses it to
+  /// break a symmetric gate layout. The Localizer itself does not read it.
+  std::optional<Eigen::Isometry3d> initial_world_T_body;
 
   // Optimisation.
   int main_max_iterations = 10;      ///< LM iterations after each keyframe (warm-started)

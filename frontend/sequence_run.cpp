@@ -26,6 +26,13 @@ class DetectionFeed {
     next_ = instantEnd();
     return next_ - begin;
   }
+  /// The next instant's detections through PnP alone (pose detections as they are), detector ids kept.
+  Result<std::vector<GateObservation>> solveInstant(const GateFrontend& frontend) {
+    const auto begin = static_cast<long>(next_);
+    const auto end = static_cast<long>(next_ = instantEnd());
+    if (sequence_.has_corners) return frontend.solveCorners({sequence_.corners.begin() + begin, sequence_.corners.begin() + end});
+    return std::vector<GateObservation>(sequence_.pose_detections.begin() + begin, sequence_.pose_detections.begin() + end);
+  }
   /// The next instant's detections through the frontend at `world_T_body`.
   Result<std::vector<GateObservation>> processInstant(GateFrontend& frontend, const Eigen::Isometry3d& world_T_body) {
     const auto begin = static_cast<long>(next_);
@@ -74,18 +81,79 @@ Status handDetectionsUpTo(double until, const OdometrySample& before, const Odom
 
 }  // namespace
 
+FrameInitialization findOdometryFrame(const Sequence& sequence, const SequenceRunParams& params,
+                                      const GateFrontend& frontend) {
+  FrameInitializerParams search = params.initialization;
+  if (params.localizer.initial_world_T_body) {
+    search.start_world_T_body = params.localizer.initial_world_T_body;
+    search.start_sigma_t = params.localizer.initial_sigma_t;
+    search.start_sigma_r = params.localizer.initial_sigma_r;
+  }
+  FrameInitializer initializer(search, frontend.map());
+  const std::vector<OdometrySample>& samples = sequence.odometry.samples;
+  if (samples.empty()) return initializer.state();
+  initializer.setStartOdometry(samples.front().odom_T_body);
+  DetectionFeed feed(sequence);
+  size_t placed = 0, skipped = 0;
+  while (!feed.done() && !initializer.state().locked) {
+    const double t = feed.nextTime();
+    Result<Eigen::Isometry3d> odom_T_body = odometryPoseAt(samples, t);
+    if (!odom_T_body.ok()) {
+      skipped += feed.skipInstant();
+      continue;
+    }
+    Result<std::vector<GateObservation>> observations = feed.solveInstant(frontend);
+    if (!observations.ok()) continue;
+    placed += observations->size();
+    initializer.add(t, *odom_T_body, *observations);
+  }
+  FrameInitialization found = initializer.state();
+  if (!found.locked && placed == 0) {
+    found.why_not = "none of the detections could be used: " + std::to_string(skipped) +
+                    " outside the odometry's time span, the others refused by PnP";
+  }
+  return found;
+}
+
 Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRunParams& params,
                                       const RunProgress& progress) {
   if (sequence.odometry.samples.empty()) return Status(StatusCode::kInvalidArgument, sequence.dir + ": no odometry samples");
   auto known_map = sequence.map.gateMap();
   if (!known_map.ok()) return Status(known_map.status().code(), sequence.dir + ": " + known_map.status().message());
-  auto localizer = Localizer::create(params.localizer, params.localizer.mapping ? GateMap{} : *known_map);
-  if (!localizer.ok()) return localizer.status();
   GateFrontendParams frontend_params = params.frontend;
   frontend_params.mapping = params.localizer.mapping;
   auto frontend = GateFrontend::create(frontend_params, sequence.map, sequence.camera);
   if (!frontend.ok()) return frontend.status();
-  return runSequenceWith(**localizer, *frontend, sequence, progress);
+  LocalizerParams localizer_params = params.localizer;
+  std::optional<FrameInitialization> initialization;
+  if (params.auto_initialize && !params.localizer.mapping) {
+    initialization = findOdometryFrame(sequence, params, *frontend);
+    if (initialization->locked) localizer_params.initial_world_T_odom = initialization->world_T_odom;
+  }
+  auto localizer = Localizer::create(localizer_params, params.localizer.mapping ? GateMap{} : *known_map);
+  if (!localizer.ok()) return localizer.status();
+  // No frame, no detection: associating them in a wrong frame would give a plausible wrong answer.
+  const bool withhold = initialization && !initialization->locked;
+  Sequence odometry_only;
+  if (withhold) {
+    odometry_only = sequence;
+    odometry_only.corners.clear();
+    odometry_only.pose_detections.clear();
+  }
+  Result<SequenceRunResult> result = runSequenceWith(**localizer, *frontend, withhold ? odometry_only : sequence, progress);
+  if (!result.ok()) return result;
+  result->initialization = initialization;
+  if (withhold) {  // the detections outside the odometry's span are still counted as such
+    DetectionFeed feed(sequence);
+    const std::vector<OdometrySample>& samples = sequence.odometry.samples;
+    while (!feed.done()) {
+      const double t = feed.nextTime();
+      const int n = static_cast<int>(feed.skipInstant());
+      if (t < samples.front().t) result->detections_before_odometry += n;
+      if (t > samples.back().t) result->detections_after_odometry += n;
+    }
+  }
+  return result;
 }
 
 Result<SequenceRunResult> runSequenceWith(Localizer& localizer, GateFrontend& frontend, const Sequence& sequence,

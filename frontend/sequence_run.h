@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "core/status.h"
@@ -25,6 +26,9 @@ struct SequenceRunResult {
   int detections_before_odometry = 0;         ///< earlier than the first odometry sample: not usable
   int detections_after_odometry = 0;          ///< later than the last odometry sample: not usable
   int observations_rejected = 0;              ///< refused by the Localizer (see localizer_counters.last_error)
+  /// With `auto_initialize`: how the VIO's frame was found (or why not: then no detection was used and the
+  /// estimate is the odometry as it is). The Localizer started from `initialization.world_T_odom`.
+  std::optional<FrameInitialization> initialization;
   double wall_seconds = 0.0;                  ///< whole run
 };
 
@@ -38,9 +42,17 @@ using RunProgress = std::function<void(size_t done, size_t total)>;
 /// observations go to the Localizer, which holds them until the sample arrives; then the sample itself.
 /// So a sample that closes a keyframe interval finds that interval's detections collected (none is
 /// refused as too late). `finish` at the end. Errors only for invalid parameters or a sequence without
-/// odometry; bad samples and detections are counted.
+/// odometry; bad samples and detections are counted. With `params.auto_initialize` (outside mapping mode) the
+/// VIO's frame is first found from the detections (findOdometryFrame) and the Localizer starts from it; when it
+/// cannot be found the run uses no detection and says why in `initialization`.
 Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRunParams& params,
                                       const RunProgress& progress = {});
+
+/// FrameInitializer over the sequence's detections in time order (PnP through `frontend`, each instant at
+/// odom_T_body interpolated), until it locks or the detections end. The coarse start pose, when given, is
+/// params.localizer.initial_world_T_body at the first odometry sample.
+FrameInitialization findOdometryFrame(const Sequence& sequence, const SequenceRunParams& params,
+                                      const GateFrontend& frontend);
 
 /// The same loop with a Localizer and a GateFrontend the caller made and keeps (to read the main graph
 /// afterwards, as the benchmarks do); `localizer` gets `finish`. runSequence is this after creating both.

@@ -89,9 +89,9 @@ int runAblationCommand(const AblationOptions& o) {
       auto race = simulateRace(*track, *camera, sim);
       if (!race.ok()) return fail(track_path + ": " + race.status().message());
       const std::string folder = staged->file("sequences/" + track_name + "_seed" + std::to_string(seed));
-      const Status written = writeRaceSequence(folder, *race, *track, *camera, sim);  // kept for `dualgraph run`
+      const Status written = writeRaceSequence(folder, *race, *track, sim);  // kept for `dualgraph run`
       if (!written.ok()) return failStaged(written.message());
-      auto sequence = raceSequence(*race, *camera, sim, folder);  // run from memory, not read back
+      auto sequence = raceSequence(*race, sim, folder);  // run from memory, not read back
       if (!sequence.ok()) return failStaged(sequence.status().message());
       for (const Variant& v : variants()) {
         SequenceRunParams params = *base;

@@ -75,6 +75,15 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
   cmd->add_flag("--unknown-ids", p.detection.unknown_ids, "Write gate_id -1 (the association decides)");
   cmd->add_option("--map-sigma", p.map_position_sigma, "Perturb the written map's gate centres [m]");
   cmd->add_option("--map-yaw-sigma", p.map_yaw_sigma, "Perturb the written map's gate yaw [rad]");
+  cmd->add_option("--profile", o.profile,
+                  "Error profile: clean (sensor models only), realistic or harsh (a real flight's errors; "
+                  "frontend/simulation/README.md lists each value); flags given explicitly win")
+      ->check(CLI::IsMember(simulationProfileNames()))
+      ->default_val("clean");
+  cmd->add_option("--vio-frame-yaw", p.field.vio_frame_yaw, "VIO in its own frame: yaw drawn in [-v, v] [rad]");
+  cmd->add_option("--vio-frame-offset", p.field.vio_frame_offset, "VIO in its own frame: offset up to this [m]");
+  cmd->add_option("--camera-time-offset", p.field.camera_time_offset, "Detections stamped this late [s]");
+  cmd->add_option("--camera-mount-error", p.field.camera_mount_error_deg, "Written camera mount off by [deg]");
   cmd->add_flag("--no-plot", o.no_plot, "Do not write xy.png");
   return cmd;
 }

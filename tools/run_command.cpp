@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
@@ -101,6 +102,12 @@ int runRunCommand(const RunOptions& o) {
     warn(std::to_string(unknown_gates_skipped) + " detections name a gate that is not in the map: skipped (--skip-unknown-gates)");
   }
   warnOutsideOdometry(*sequence, *run);
+  if (run->initialization && !run->initialization->locked) {
+    std::cerr << "dualgraph run: the VIO's frame in the gate map was not found (" << run->initialization->why_not
+              << "): no detection was used; the estimate is the raw odometry; outputs written to " << o.out
+              << "; exit " << kExitNothingLocalised << "\n";
+    return kExitNothingLocalised;
+  }
   if (metrics->detections_used == 0) {
     std::cerr << "dualgraph run: no detection was used (" << metrics->detections << " in the sequence; "
               << describeUnused(*run) << "): the estimate is the raw odometry in the map frame it started in; "
@@ -115,6 +122,13 @@ int runRunCommand(const RunOptions& o) {
             << metrics->detections;
   if (sequence->has_corners) std::cout << " (corner noise " << run->frontend_counters.pixel_sigma << " px)";
   std::cout << "\n";
+  if (run->initialization) {
+    const Eigen::Isometry3d& frame = run->initialization->world_T_odom;
+    std::cout << "  VIO frame found at t=" << run->initialization->locked_at << " s from " << run->initialization->inliers
+              << " agreeing detections (runner-up " << run->initialization->runner_up << "): yaw "
+              << std::atan2(frame.linear()(1, 0), frame.linear()(0, 0)) * 180.0 / M_PI << " deg, offset "
+              << frame.translation().norm() << " m\n";
+  }
   if (metrics->has_ground_truth) {
     std::cout << "  ATE (SE(3)-aligned) " << metrics->estimate.ate_se3_m << " m (VIO " << metrics->vio.ate_se3_m
               << " m, " << std::setprecision(3) << metrics->ate_reduction_pct << " % lower); unaligned "

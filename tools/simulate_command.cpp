@@ -40,6 +40,36 @@ Status writePlot(const std::string& path, const SimulatedRace& race) {
   return writeXyPlotPng(path, plot);
 }
 
+// The profile's parameters, except where the command line set a value other than the clean default (a
+// flag given with exactly the clean default value is taken as not given).
+Status applyProfileUnderFlags(const std::string& profile, RaceSimParams& p) {
+  const RaceSimParams flags = p;
+  const RaceSimParams clean;
+  DG_RETURN_IF_ERROR(applySimulationProfile(profile, p));
+  auto keep = [](const auto& flag, const auto& clean_value, auto& out) {
+    if (flag != clean_value) out = flag;
+  };
+  keep(flags.detection.pixel_sigma, clean.detection.pixel_sigma, p.detection.pixel_sigma);
+  keep(flags.detection.max_range, clean.detection.max_range, p.detection.max_range);
+  keep(flags.detection.miss_probability, clean.detection.miss_probability, p.detection.miss_probability);
+  keep(flags.detection.displaced_corner_probability, clean.detection.displaced_corner_probability,
+       p.detection.displaced_corner_probability);
+  keep(flags.detection.wrong_id_probability, clean.detection.wrong_id_probability, p.detection.wrong_id_probability);
+  keep(flags.detection.false_gate_probability, clean.detection.false_gate_probability, p.detection.false_gate_probability);
+  keep(flags.detection.unknown_ids, clean.detection.unknown_ids, p.detection.unknown_ids);
+  keep(flags.vio.yaw_rate_bias, clean.vio.yaw_rate_bias, p.vio.yaw_rate_bias);
+  keep(flags.vio.velocity_bias, clean.vio.velocity_bias, p.vio.velocity_bias);
+  keep(flags.vio.velocity_bias_random_walk, clean.vio.velocity_bias_random_walk, p.vio.velocity_bias_random_walk);
+  keep(flags.vio.scale_error_sigma, clean.vio.scale_error_sigma, p.vio.scale_error_sigma);
+  keep(flags.map_position_sigma, clean.map_position_sigma, p.map_position_sigma);
+  keep(flags.map_yaw_sigma, clean.map_yaw_sigma, p.map_yaw_sigma);
+  keep(flags.field.vio_frame_yaw, clean.field.vio_frame_yaw, p.field.vio_frame_yaw);
+  keep(flags.field.vio_frame_offset, clean.field.vio_frame_offset, p.field.vio_frame_offset);
+  keep(flags.field.camera_time_offset, clean.field.camera_time_offset, p.field.camera_time_offset);
+  keep(flags.field.camera_mount_error_deg, clean.field.camera_mount_error_deg, p.field.camera_mount_error_deg);
+  return Status();
+}
+
 }  // namespace
 
 int runSimulateCommand(SimulateOptions o) {
@@ -49,6 +79,8 @@ int runSimulateCommand(SimulateOptions o) {
   auto camera = loadCameraYaml(camera_path);
   if (!camera.ok()) return fail(camera.status().message());
   RaceSimParams& p = o.params;
+  const Status profiled = applyProfileUnderFlags(o.profile, p);
+  if (!profiled.ok()) return fail(profiled.message());
   p.output = o.detections == "poses" ? RaceSimParams::DetectionOutput::kPoses : RaceSimParams::DetectionOutput::kCorners;
   if (o.laps > 0) {
     p.override_laps = true;
@@ -63,7 +95,7 @@ int runSimulateCommand(SimulateOptions o) {
   // Staged: the sequence files and the plot appear in --out together or not at all.
   auto staged = StagedFolder::create(o.out);
   if (!staged.ok()) return fail(staged.status().message());
-  const Status written = writeRaceSequence(staged->path(), *race, *track, *camera, p);
+  const Status written = writeRaceSequence(staged->path(), *race, *track, p);
   if (!written.ok()) return fail(staged->unstaged(written).message());
   if (!o.no_plot) {
     const Status plotted = writePlot(staged->file("xy.png"), *race);

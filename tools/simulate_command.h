@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "frontend/simulation/race_profiles.h"
 #include "frontend/simulation/race_sequence.h"
 
 namespace dualgraph::tools {
@@ -19,6 +20,7 @@ struct SimulateOptions {
   int laps = 0;        ///< 0: the track's
   double speed = 0.0;  ///< 0: the track's
   bool no_plot = false;
+  std::string profile = "clean";  ///< simulationProfileNames(); a flag given explicitly wins over the profile
   RaceSimParams params;
 };
 

@@ -149,11 +149,6 @@ Status readMetrics(const fs::path& path, RunReport& run) {
   return Status();
 }
 
-StampedPoses stamped(const std::vector<CorrectedPose>& poses) {
-  StampedPoses out;
-  for (const CorrectedPose& pose : poses) out.emplace_back(pose.t, pose.world_T_body);
-  return out;
-}
 
 // One row per keyframe: keyframe 0 (created at the first odometry sample, not optimised: its vertex and,
 // in localisation mode with initial_sigma_t > 0, its prior), then one per main-graph optimisation.
@@ -221,6 +216,9 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run) {
       .add("detections_after_odometry", run.detections_after_odometry)
       .add("observations_too_late", run.localizer_counters.observations_too_late)
       .add("pixel_sigma_px", run.frontend_counters.pixel_sigma)
+      .add("initialized", run.initialization ? (run.initialization->locked ? 1L : 0L) : -1L)
+      .add("initialized_at_s", run.initialization && run.initialization->locked ? run.initialization->locked_at
+                                                                                : std::numeric_limits<double>::quiet_NaN())
       .add("pnp_rejected", run.frontend_counters.pnp_rejected)
       .add("not_associated", run.frontend_counters.not_associated)
       .add("reversed", run.frontend_counters.reversed)
@@ -245,8 +243,8 @@ std::string folderName(const std::string& dir) {
 Status writeRunFolder(const std::string& dir, const std::string& sequence_dir, const LocalizerParams& params,
                       const SequenceRunResult& run, const RunMetrics& metrics) {
   const fs::path folder(dir);
-  DG_RETURN_IF_ERROR(writeTum((folder / "estimate.tum").string(), stamped(run.estimate)));
-  DG_RETURN_IF_ERROR(writeTum((folder / "keyframes.tum").string(), stamped(run.keyframes)));
+  DG_RETURN_IF_ERROR(writeTum((folder / "estimate.tum").string(), stampedPoses(run.estimate)));
+  DG_RETURN_IF_ERROR(writeTum((folder / "keyframes.tum").string(), stampedPoses(run.keyframes)));
   DG_RETURN_IF_ERROR(writeStats((folder / "stats.csv").string(), run.stats, run.keyframes, params));
   DG_RETURN_IF_ERROR(writeRunYaml((folder / "run.yaml").string(), sequence_dir, params));
   if (!metrics.has_ground_truth) return Status();

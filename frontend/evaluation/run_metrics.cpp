@@ -8,14 +8,8 @@
 namespace dualgraph {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();  // a figure without data
 
-StampedPoses stamped(const std::vector<CorrectedPose>& poses) {
-  StampedPoses out;
-  out.reserve(poses.size());
-  for (const CorrectedPose& pose : poses) out.emplace_back(pose.t, pose.world_T_body);
-  return out;
-}
 
 // Position of a stamped trajectory at t (linear between samples, clamped at the ends).
 Eigen::Vector3d positionAt(const StampedPoses& poses, double t) {
@@ -53,8 +47,15 @@ std::vector<std::vector<double>> gatePasses(const StampedPoses& reference, const
 
 }  // namespace
 
+StampedPoses stampedPoses(const std::vector<CorrectedPose>& poses) {
+  StampedPoses out;
+  out.reserve(poses.size());
+  for (const CorrectedPose& pose : poses) out.emplace_back(pose.t, pose.world_T_body);
+  return out;
+}
+
 double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return kNaN;
+  if (values.empty()) return kNoValue;
   std::sort(values.begin(), values.end());
   const double rank = std::clamp(p, 0.0, 100.0) / 100.0 * static_cast<double>(values.size() - 1);
   const auto low = static_cast<size_t>(std::floor(rank));
@@ -64,13 +65,13 @@ double percentile(std::vector<double> values, double p) {
 
 Result<RunMetrics> computeRunMetrics(const Sequence& sequence, const SequenceRunResult& run) {
   RunMetrics m;
-  const StampedPoses estimate = stamped(run.estimate);
+  const StampedPoses estimate = stampedPoses(run.estimate);
   const StampedPoses vio = stampedPosesFromSamples(sequence.odometry.samples);
   m.has_ground_truth = sequence.ground_truth.has_value();
-  m.estimate.ate_m = m.estimate.ate_rot_deg = m.estimate.ate_se3_m = m.estimate.ate_4dof_m = kNaN;
-  m.estimate.ate_unaligned_m = kNaN;
+  m.estimate.ate_m = m.estimate.ate_rot_deg = m.estimate.ate_se3_m = m.estimate.ate_4dof_m = kNoValue;
+  m.estimate.ate_unaligned_m = kNoValue;
   m.vio = m.estimate;
-  m.ate_reduction_pct = m.ate_unaligned_reduction_pct = kNaN;
+  m.ate_reduction_pct = m.ate_unaligned_reduction_pct = kNoValue;
   if (m.has_ground_truth && !estimate.empty()) {
     const StampedPoses truth = stampedPosesFromSamples(sequence.ground_truth->samples);
     auto evaluated = evaluateTrajectory(truth, estimate);
@@ -91,7 +92,7 @@ Result<RunMetrics> computeRunMetrics(const Sequence& sequence, const SequenceRun
   for (const KeyframeStats& row : run.stats) optimize_ms.push_back(row.optimize_ms);
   m.opt_ms_p50 = percentile(optimize_ms, 50);
   m.opt_ms_p95 = percentile(optimize_ms, 95);
-  m.opt_ms_max = optimize_ms.empty() ? kNaN : *std::max_element(optimize_ms.begin(), optimize_ms.end());
+  m.opt_ms_max = optimize_ms.empty() ? kNoValue : *std::max_element(optimize_ms.begin(), optimize_ms.end());
 
   // Table III: lap k holds the k-th pass of every gate.
   if (!estimate.empty()) {

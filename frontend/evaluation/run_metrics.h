@@ -42,6 +42,9 @@ struct RunMetrics {
   int detections_between_nodes = 0;
 };
 
+/// The (t, world_T_body) of corrected poses, for the trajectory writers and metrics.
+StampedPoses stampedPoses(const std::vector<CorrectedPose>& poses);
+
 /// Percentile p ∈ [0, 100] of `values` by linear interpolation between order statistics (NaN when empty).
 double percentile(std::vector<double> values, double p);
 

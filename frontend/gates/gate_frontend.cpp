@@ -85,6 +85,24 @@ Result<std::vector<GateObservation>> GateFrontend::processCorners(const std::vec
   return associate(std::move(solved), world_T_body);
 }
 
+Result<std::vector<GateObservation>> GateFrontend::solveCorners(const std::vector<CornerDetection>& image) const {
+  if (!camera_) return Status(StatusCode::kFailedPrecondition, "gate frontend: corner detections need a camera");
+  GatePnpParams pnp = params_.pnp;
+  pnp.gate_size = gate_size_;
+  if (params_.adaptive_pixel_sigma) {
+    pnp.max_reprojection_rms = params_.pnp.max_reprojection_rms * noise_.sigma() / params_.pnp.pixel_sigma;
+    pnp.pixel_sigma = noise_.sigma();
+  }
+  std::vector<GateObservation> solved;
+  for (const CornerDetection& detection : image) {
+    GateCornerPixels pixels;
+    for (int i = 0; i < 4; ++i) pixels.col(i) = detection.corners[static_cast<size_t>(i)];
+    const GatePnpSolution solution = solveGatePnp(pixels, *camera_, GateSide::kFront, pnp);
+    if (solution.ok()) solved.push_back(solution.observation(detection.t, detection.gate_id));
+  }
+  return solved;
+}
+
 Result<std::vector<GateObservation>> GateFrontend::processPoses(const std::vector<GateObservation>& detections,
                                                                 const Eigen::Isometry3d& world_T_body) {
   counters_.detections += static_cast<int>(detections.size());

@@ -57,6 +57,9 @@ class GateFrontend {
   /// of the accepted ones. kFailedPrecondition without a camera; other errors are counted, not returned.
   Result<std::vector<GateObservation>> processCorners(const std::vector<CornerDetection>& image,
                                                       const Eigen::Isometry3d& world_T_body);
+  /// The PnP step alone (no association, nothing counted): the corner detections of one image as pose
+  /// observations keeping the detector's gate ids (for FrameInitializer). kFailedPrecondition without a camera.
+  Result<std::vector<GateObservation>> solveCorners(const std::vector<CornerDetection>& image) const;
   /// Pose detections of one instant → observations with map ids (association as above).
   Result<std::vector<GateObservation>> processPoses(const std::vector<GateObservation>& detections,
                                                     const Eigen::Isometry3d& world_T_body);

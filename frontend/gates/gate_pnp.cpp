@@ -20,7 +20,6 @@ using pnp_detail::Matrix86d;
 using pnp_detail::residuals;
 using pnp_detail::Vector8d;
 
-constexpr double kPi = 3.14159265358979323846;
 
 GatePnpSolution reject(GatePnpSolution solution, GatePnpRejection why, std::string message) {
   solution.rejection = why;
@@ -84,7 +83,7 @@ Eigen::Matrix3d gateRotationFromSquare() {
 
 /// The interior-angle checks on the undistorted corners (clockwise in the image: every cross > 0).
 GatePnpRejection checkQuadrilateral(const Eigen::Matrix2Xd& xy, double min_angle_deg, std::string& message) {
-  const double min_sine = std::sin(min_angle_deg * kPi / 180.0);
+  const double min_sine = std::sin(min_angle_deg * M_PI / 180.0);
   GatePnpRejection result = GatePnpRejection::kNone;
   for (int i = 0; i < 4; ++i) {
     const Eigen::Vector2d a = xy.col((i + 1) % 4) - xy.col(i);
@@ -180,7 +179,7 @@ PnpCandidates solveAndRefine(const GateCornerPixels& corners, const Eigen::Matri
   if (rvecs.empty()) why = "IPPE returned no pose";
   Eigen::Isometry3d square_T_gate = Eigen::Isometry3d::Identity();
   square_T_gate.linear() = gateRotationFromSquare().transpose();
-  if (side == GateSide::kBack) square_T_gate.linear() = square_T_gate.linear() * so3Exp(Eigen::Vector3d(0, 0, kPi));
+  if (side == GateSide::kBack) square_T_gate.linear() = square_T_gate.linear() * so3Exp(Eigen::Vector3d(0, 0, M_PI));
   PnpCandidates candidates;
   for (size_t k = 0; k < rvecs.size(); ++k) {
     cv::Matx33d R;
@@ -209,7 +208,7 @@ int alternativeCandidate(PnpCandidates& candidates, size_t best, const Corners3&
   int alternative = -1;
   for (size_t k = 0; k < candidates.poses.size(); ++k) {
     const double angle = so3Log(chosen.linear().transpose() * candidates.poses[k].linear()).norm();
-    if (angle > kPi / 180.0 &&
+    if (angle > M_PI / 180.0 &&
         (alternative < 0 || candidates.rms[k] < candidates.rms[static_cast<size_t>(alternative)])) {
       alternative = static_cast<int>(k);
     }
@@ -217,7 +216,7 @@ int alternativeCandidate(PnpCandidates& candidates, size_t best, const Corners3&
   if (alternative >= 0 || params.covariance_model != PnpCovarianceModel::kTiltPosterior) return alternative;
   Eigen::Isometry3d mirror = mirroredTilt(chosen);
   const double error = refine(mirror, p_gate, corners, camera, params.max_refinement_iterations, true);
-  if (error < 0.0 || so3Log(chosen.linear().transpose() * mirror.linear()).norm() <= kPi / 180.0) return -1;
+  if (error < 0.0 || so3Log(chosen.linear().transpose() * mirror.linear()).norm() <= M_PI / 180.0) return -1;
   candidates.poses.push_back(mirror);
   candidates.rms.push_back(error);
   return static_cast<int>(candidates.poses.size() - 1);

@@ -100,6 +100,12 @@ Status readField(const std::string& source, const YAML::Node& key, const YAML::N
     return readEnum(source, name, value, kTemporarySolvers, &temporarySolverKindName, params.temp_solver);
   }
   if (name == "robust_kernel") return readString(source, name, value, params.robust_kernel);
+  if (name == "initial_world_T_body") {
+    Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
+    DG_RETURN_IF_ERROR(readTransform(source, name, value, start, TransformParts::kBoth));
+    params.initial_world_T_body = start;
+    return Status::okStatus();
+  }
   if (name == "initial_world_T_odom") {
     return readTransform(source, name, value, params.initial_world_T_odom, TransformParts::kKeepMissing);
   }

@@ -21,6 +21,14 @@ Status readPnpCovariance(const std::string& source, const std::string& field, co
   return fieldError(source, node.Mark(), field, "expected tilt_posterior or laplace, got " + describe(node));
 }
 
+Status readInitialization(const std::string& source, const std::string& field, const YAML::Node& node, bool& automatic) {
+  if (node.IsScalar() && (node.Scalar() == "auto" || node.Scalar() == "given")) {
+    automatic = node.Scalar() == "auto";
+    return Status();
+  }
+  return fieldError(source, node.Mark(), field, "expected auto or given, got " + describe(node));
+}
+
 Status readNonNegativeInt(const std::string& source, const std::string& field, const YAML::Node& node, int& out, int min) {
   DG_RETURN_IF_ERROR(readInteger(source, field, node, out));
   if (out < min) return fieldError(source, node.Mark(), field, "must be >= " + std::to_string(min));
@@ -53,6 +61,8 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
     else if (key == "allow_reversed") status = readBool(source, field, value, association.allow_reversed);
     else if (key == "mapping_min_sightings") status = readNonNegativeInt(source, field, value, association.mapping_min_sightings, 1);
     else if (key == "mapping_consistency") status = readPositive(source, field, value, association.mapping_consistency);
+    else if (key == "initialization") status = readInitialization(source, field, value, params.auto_initialize);
+    else if (key == "initialization_min_inliers") status = readNonNegativeInt(source, field, value, params.initialization.min_inliers, 1);
     else if (key == "pose_detection_sigma_t") status = readPositive(source, field, value, params.pose_detection_sigma_t);
     else if (key == "pose_detection_sigma_r") status = readPositive(source, field, value, params.pose_detection_sigma_r);
     else return fieldError(source, entry.first.Mark(), field, "unknown key");

@@ -6,6 +6,7 @@
 
 #include "core/status.h"
 #include "dual_graph/localizer_params.h"
+#include "frontend/gates/frame_initializer.h"
 #include "frontend/gates/gate_frontend.h"
 #include "types/se3_math.h"
 
@@ -17,6 +18,11 @@ struct SequenceRunParams {
   GateFrontendParams frontend;
   double pose_detection_sigma_t = 0.1;   ///< covariance of detections.csv rows without one: σ [m]
   double pose_detection_sigma_r = 0.05;  ///< and [rad] (diagonal, metric [t; θ])
+  /// true (`initialization: auto`): world_T_odom is found from the first detections (FrameInitializer, with
+  /// localizer.initial_world_T_body as its coarse start pose when given) before the Localizer starts; false
+  /// (`given`): localizer.initial_world_T_odom is taken as it is.
+  bool auto_initialize = true;
+  FrameInitializerParams initialization;
 
   /// The diagonal covariance from the two sigmas above.
   Matrix6d defaultPoseDetectionCovariance() const;

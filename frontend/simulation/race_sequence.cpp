@@ -20,6 +20,10 @@ std::string raceSequenceYaml(const SimulatedRace& race, const Track& track, cons
       << "detections: " << detectionOutputName(p.output) << "\n"
       << "gt_rate_hz: " << p.gt_rate << "\nvio_rate_hz: " << p.vio_rate << "\n"
       << "map_position_sigma: " << p.map_position_sigma << "\nmap_yaw_sigma: " << p.map_yaw_sigma << "\n"
+      << "field_errors:\n"
+      << "  vio_frame_yaw: " << p.field.vio_frame_yaw << "\n  vio_frame_offset: " << p.field.vio_frame_offset << "\n"
+      << "  camera_time_offset: " << p.field.camera_time_offset << "\n"
+      << "  camera_mount_error_deg: " << p.field.camera_mount_error_deg << "\n"
       << "flight:\n"
       << "  laps: " << (p.override_laps ? f.laps : track.laps) << "\n"
       << "  max_speed: " << (p.override_speed ? f.max_speed : track.speed) << "\n"
@@ -56,8 +60,7 @@ std::string raceSequenceYaml(const SimulatedRace& race, const Track& track, cons
   return out.str();
 }
 
-Result<Sequence> raceSequence(const SimulatedRace& race, const CameraModel& camera, const RaceSimParams& params,
-                              const std::string& name) {
+Result<Sequence> raceSequence(const SimulatedRace& race, const RaceSimParams& params, const std::string& name) {
   Sequence sequence;
   sequence.dir = name;
   sequence.odometry = race.vio;
@@ -74,7 +77,7 @@ Result<Sequence> raceSequence(const SimulatedRace& race, const CameraModel& came
     sequence.pose_detections = race.pose_detections;
   }
   sequence.map = race.map;
-  sequence.camera = camera;
+  sequence.camera = race.camera;
   OdometryLog truth;
   truth.samples.reserve(race.ground_truth.size());
   for (const auto& [t, world_T_body] : race.ground_truth) {
@@ -88,8 +91,8 @@ Result<Sequence> raceSequence(const SimulatedRace& race, const CameraModel& came
 }
 
 Status writeRaceSequence(const std::string& dir, const SimulatedRace& race, const Track& track,
-                         const CameraModel& camera, const RaceSimParams& params) {
-  Result<Sequence> sequence = raceSequence(race, camera, params, dir);
+                         const RaceSimParams& params) {
+  Result<Sequence> sequence = raceSequence(race, params, dir);
   if (!sequence.ok()) return sequence.status();
   // The written vio.tum carries the absolute covariances, not the relative ones made from them.
   sequence->odometry = race.vio;

@@ -12,9 +12,9 @@ namespace dualgraph {
 
 /// The race as the Sequence loadSequence would read from its folder: the VIO with relative covariances made
 /// from its absolute ones (toRelativeCovariances), corners or pose detections (params.output), the written
-/// map, `camera`, the ground truth. `name` stands for the folder in messages. Errors: toRelativeCovariances'.
-Result<Sequence> raceSequence(const SimulatedRace& race, const CameraModel& camera, const RaceSimParams& params,
-                              const std::string& name);
+/// map, the written camera (`race.camera`), the ground truth. `name` stands for the folder in messages.
+/// Errors: toRelativeCovariances'.
+Result<Sequence> raceSequence(const SimulatedRace& race, const RaceSimParams& params, const std::string& name);
 
 /// sequence.yaml of the race: the seed, every parameter (so that the same values make the same files
 /// again), a summary measured on the flight and the track.
@@ -23,6 +23,6 @@ std::string raceSequenceYaml(const SimulatedRace& race, const Track& track, cons
 /// writeSequence of raceSequence(race, ...) into `dir`, with raceSequenceYaml as sequence.yaml (DESIGN.md §6).
 /// kIoError naming the file.
 Status writeRaceSequence(const std::string& dir, const SimulatedRace& race, const Track& track,
-                         const CameraModel& camera, const RaceSimParams& params);
+                         const RaceSimParams& params);
 
 }  // namespace dualgraph

@@ -41,6 +41,34 @@ void alignToTrueGate(GateObservation& observation, const Eigen::Isometry3d& true
   observation.pose_covariance = adjoint * observation.pose_covariance * adjoint.transpose();
 }
 
+// The VIO frame of a flight: world_T_odom with a yaw and a horizontal offset drawn from stream 4 (identity
+// when both are 0, without a draw, so a clean race keeps its bits).
+Eigen::Isometry3d vioFrame(const FieldErrorParams& field, std::uint64_t seed) {
+  Eigen::Isometry3d world_T_odom = Eigen::Isometry3d::Identity();
+  if (field.vio_frame_yaw == 0.0 && field.vio_frame_offset == 0.0) return world_T_odom;
+  std::mt19937_64 rng(streamSeed(seed, 4));
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double yaw = field.vio_frame_yaw * (2.0 * unit(rng) - 1.0);
+  const double radius = field.vio_frame_offset * std::sqrt(unit(rng));
+  const double bearing = 2.0 * M_PI * unit(rng);
+  world_T_odom.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  world_T_odom.translation() << radius * std::cos(bearing), radius * std::sin(bearing), 0.0;
+  return world_T_odom;
+}
+
+// The camera as written: body_T_camera turned by the mount error about a random axis (stream 5).
+CameraModel mountedCamera(const CameraModel& camera, const FieldErrorParams& field, std::uint64_t seed) {
+  CameraModel written = camera;
+  if (field.camera_mount_error_deg == 0.0) return written;
+  std::mt19937_64 rng(streamSeed(seed, 5));
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::Vector3d axis(normal(rng), normal(rng), normal(rng));
+  axis.normalize();
+  written.body_T_camera.linear() =
+      written.body_T_camera.linear() * Eigen::AngleAxisd(field.camera_mount_error_deg * M_PI / 180.0, axis).toRotationMatrix();
+  return written;
+}
+
 }  // namespace
 
 const char* detectionOutputName(RaceSimParams::DetectionOutput output) {
@@ -56,6 +84,11 @@ Result<SimulatedRace> simulateRace(const Track& track, const CameraModel& camera
     return invalid("map perturbation sigmas must be >= 0");
   }
   DG_RETURN_IF_ERROR(camera.validate());
+  const FieldErrorParams& field = params.field;
+  for (double value : {field.vio_frame_yaw, field.vio_frame_offset, field.camera_mount_error_deg}) {
+    if (!std::isfinite(value) || value < 0.0) return invalid("field errors: frame yaw, offset and mount error must be >= 0");
+  }
+  if (!std::isfinite(field.camera_time_offset)) return invalid("field errors: camera_time_offset must be finite");
   FlightParams flight_params = params.flight;
   if (!params.override_laps) flight_params.laps = track.laps;
   if (!params.override_speed) flight_params.max_speed = track.speed;
@@ -78,11 +111,18 @@ Result<SimulatedRace> simulateRace(const Track& track, const CameraModel& camera
   auto vio = simulateVio(vio_t, vio_truth, params.vio, streamSeed(params.seed, 1));
   if (!vio.ok()) return vio.status();
   race.vio = std::move(vio).value();
+  race.world_T_odom = vioFrame(field, params.seed);
+  if (!race.world_T_odom.matrix().isIdentity(0.0)) {  // right perturbations: the covariances stay as they are
+    const Eigen::Isometry3d odom_T_world = race.world_T_odom.inverse();
+    for (OdometrySample& sample : race.vio.samples) sample.odom_T_body = odom_T_world * sample.odom_T_body;
+  }
 
   auto detections = simulateDetections(race.flight, track, camera, params.detection, streamSeed(params.seed, 2),
                                        &race.detection_stats);
   if (!detections.ok()) return detections.status();
   race.detections = std::move(detections).value();
+  for (SimulatedDetection& detection : race.detections) detection.corners.t += field.camera_time_offset;
+  race.camera = mountedCamera(camera, field, params.seed);
 
   if (params.output == RaceSimParams::DetectionOutput::kPoses) {
     GatePnpParams pnp;
@@ -102,7 +142,7 @@ Result<SimulatedRace> simulateRace(const Track& track, const CameraModel& camera
         ++race.pnp_rejected;
         continue;
       }
-      GateObservation observation = solution.observation(d.corners.t, d.corners.gate_id);
+      GateObservation observation = solution.observation(d.corners.t, d.corners.gate_id);  // time offset included
       if (truth_known) alignToTrueGate(observation, d.body_T_gate);
       race.pose_detections.push_back(observation);
     }

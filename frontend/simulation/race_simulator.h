@@ -16,6 +16,20 @@
 
 namespace dualgraph {
 
+/// The errors of a real flight that the sensor models leave out; 0 turns each off (the `clean` profile).
+struct FieldErrorParams {
+  /// VIO in its own frame: odom is world turned by a yaw drawn uniformly in [−v, v] [rad] ...
+  double vio_frame_yaw = 0.0;
+  /// ... and moved by an offset drawn uniformly in a horizontal disc of this radius [m] (VIO is gravity aligned).
+  double vio_frame_offset = 0.0;
+  /// The detections are stamped this much later than the instant the image shows [s] (camera vs VIO clock;
+  /// negative: earlier).
+  double camera_time_offset = 0.0;
+  /// The written camera's body_T_camera is off from the one that made the images by a rotation of this angle
+  /// about a random axis [deg] (a camera-mount calibration error).
+  double camera_mount_error_deg = 0.0;
+};
+
 /// Everything a simulated race depends on besides the track and the camera. The seed decides every
 /// random draw (VIO drift, detections, map perturbation, each from its own derived stream), so the
 /// same parameters give byte-identical sequences.
@@ -31,6 +45,7 @@ struct RaceSimParams {
   enum class DetectionOutput { kCorners, kPoses } output = DetectionOutput::kCorners;
   double map_position_sigma = 0.0;  ///< σ of the perturbation of the written map's gate centres [m] (per axis)
   double map_yaw_sigma = 0.0;       ///< σ of the perturbation of the written map's gate yaw [rad]
+  FieldErrorParams field;           ///< VIO frame, camera clock and mount (each from its own stream)
 };
 
 /// "corners" or "poses".
@@ -47,6 +62,9 @@ struct SimulatedRace {
   std::vector<GateObservation> pose_detections;  ///< kPoses output: one per accepted PnP solution
   int pnp_rejected = 0;                          ///< kPoses output: detections PnP refused
   Track map;                                     ///< the written gates.yaml (perturbed when asked), no path
+  CameraModel camera;                            ///< the written camera.yaml (with the mount error when asked)
+  Eigen::Isometry3d world_T_odom = Eigen::Isometry3d::Identity();  ///< the VIO frame's truth (field errors)
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
 /// Flies `track` (which must have a path) with `camera` and simulates all sensors. kInvalidArgument

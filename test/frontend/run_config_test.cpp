@@ -211,5 +211,26 @@ TEST(RunConfig, UnreadableFileIsAnIoErrorNamingIt) {
   EXPECT_NE(missing.status().message().find("/nonexistent/run.yaml"), std::string::npos);
 }
 
+TEST(RunConfig, InitializationAndTheCoarseStartPose) {
+  auto given = parseRunConfig("frontend:\n  initialization: given\n  initialization_min_inliers: 12\n", kSource);
+  ASSERT_TRUE(given.ok()) << given.status().message();
+  EXPECT_FALSE(given->auto_initialize);
+  EXPECT_EQ(given->initialization.min_inliers, 12);
+  EXPECT_TRUE(SequenceRunParams{}.auto_initialize);
+  auto wrong = parseRunConfig("frontend:\n  initialization: guess\n", kSource);
+  EXPECT_EQ(wrong.status().code(), StatusCode::kParseError);
+  EXPECT_NE(wrong.status().message().find("run.yaml:2: field 'frontend.initialization': expected auto or given"),
+            std::string::npos)
+      << wrong.status().message();
+  auto start = parseRunConfig("localizer:\n  initial_world_T_body: {position: [1, 2, 0], quaternion_xyzw: [0, 0, 1, 0]}\n",
+                              kSource);
+  ASSERT_TRUE(start.ok()) << start.status().message();
+  ASSERT_TRUE(start->localizer.initial_world_T_body.has_value());
+  EXPECT_EQ(start->localizer.initial_world_T_body->translation(), Eigen::Vector3d(1, 2, 0));
+  EXPECT_FALSE(SequenceRunParams{}.localizer.initial_world_T_body.has_value());
+  auto half = parseRunConfig("localizer:\n  initial_world_T_body: {position: [1, 2, 0]}\n", kSource);  // both parts
+  EXPECT_EQ(half.status().code(), StatusCode::kParseError);
+}
+
 }  // namespace
 }  // namespace dualgraph

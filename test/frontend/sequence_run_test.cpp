@@ -41,7 +41,7 @@ std::string simulateEllipse(const std::string& name, std::uint64_t seed, const S
   if (tweak) tweak(params);
   auto race = simulateRace(*track, *camera, params);
   EXPECT_TRUE(race.ok()) << race.status().message();
-  const Status written = writeRaceSequence(dir, *race, *track, *camera, params);
+  const Status written = writeRaceSequence(dir, *race, *track, params);
   EXPECT_TRUE(written.ok()) << written.message();
   return dir;
 }
@@ -139,7 +139,7 @@ TEST(SequenceRun, NoObservationArrivesAfterItsIntervalClosedOverAWholeRace) {
   params.seed = 1;
   auto race = simulateRace(*track, *camera, params);
   ASSERT_TRUE(race.ok()) << race.status().message();
-  auto sequence = raceSequence(*race, *camera, params, "ellipse seed 1");
+  auto sequence = raceSequence(*race, params, "ellipse seed 1");
   ASSERT_TRUE(sequence.ok()) << sequence.status().message();
   for (LocalizerMode mode : {LocalizerMode::kDual, LocalizerMode::kSingle}) {
     const Outcome outcome = runAndMeasure(*sequence, mode);

@@ -46,7 +46,7 @@ Written simulateAndWrite(const std::string& dir, const RaceSimParams& params) {
   EXPECT_TRUE(race.ok()) << race.status().toString();
   if (!race.ok()) return out;
   out.race = std::move(race).value();
-  const Status status = writeRaceSequence(dir, out.race, out.track, out.camera, params);
+  const Status status = writeRaceSequence(dir, out.race, out.track, params);
   EXPECT_TRUE(status.ok()) << status.toString();
   return out;
 }
@@ -172,7 +172,7 @@ TEST(SimulatedSequence, InMemorySequenceEqualsTheFolderReadBack) {
   const Written written = simulateAndWrite(folder.path(), params);
   auto read = loadSequence(folder.path(), Matrix6d::Identity());
   ASSERT_TRUE(read.ok()) << read.status().toString();
-  auto made = raceSequence(written.race, written.camera, params, "in memory");
+  auto made = raceSequence(written.race, params, "in memory");
   ASSERT_TRUE(made.ok()) << made.status().toString();
   EXPECT_EQ(made->dir, "in memory");
   ASSERT_EQ(made->odometry.samples.size(), read->odometry.samples.size());
@@ -300,12 +300,12 @@ TEST(SimulatedSequence, UnwritableFolderIsIoErrorAndLeavesNoTemporaryFile) {
   {
     std::ofstream(folder / "plain_file") << "x";
   }
-  const Status under_file = writeRaceSequence(folder / "plain_file/sequence", *race, track, camera, params);
+  const Status under_file = writeRaceSequence(folder / "plain_file/sequence", *race, track, params);
   EXPECT_EQ(under_file.code(), StatusCode::kIoError) << under_file.toString();
   // corners.csv taken by a non-empty folder: its temporary file is written, the rename fails (also as
   // root, which ignores permission bits).
   fs::create_directories(folder / "seq/corners.csv/occupied");
-  const Status blocked = writeRaceSequence(folder / "seq", *race, track, camera, params);
+  const Status blocked = writeRaceSequence(folder / "seq", *race, track, params);
   EXPECT_EQ(blocked.code(), StatusCode::kIoError) << blocked.toString();
   EXPECT_NE(blocked.message().find("corners.csv"), std::string::npos) << blocked.message();
   for (const auto& entry : fs::directory_iterator(folder / "seq")) {

@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: MIT
+#include "frontend/gates/frame_initializer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace dualgraph {
+namespace {
+
+double wrapAngle(double angle) { return std::atan2(std::sin(angle), std::cos(angle)); }
+
+double headingOf(const Eigen::Matrix3d& rotation) { return std::atan2(rotation(1, 0), rotation(0, 0)); }
+
+Eigen::Isometry3d gravityAligned(double yaw, const Eigen::Vector3d& translation) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = translation;
+  return pose;
+}
+
+}  // namespace
+
+FrameInitializer::FrameInitializer(const FrameInitializerParams& params, GateMap map)
+    : params_(params), map_(std::move(map)) {
+  state_.why_not = "no gate detection yet";
+}
+
+const FrameInitialization& FrameInitializer::add(double t, const Eigen::Isometry3d& odom_T_body,
+                                                 const std::vector<GateObservation>& observations) {
+  if (state_.locked || observations.empty()) return state_;
+  if (!start_odom_T_body_) start_odom_T_body_ = odom_T_body;
+  for (const GateObservation& observation : observations) {
+    if (observation.kind != ObservationKind::kPose) continue;
+    const Eigen::Isometry3d odom_T_gate = odom_T_body * observation.body_T_gate;
+    window_.push_back({t, observation.gate_id, odom_T_gate.translation(), headingOf(odom_T_gate.linear())});
+  }
+  window_.erase(window_.begin(), std::find_if(window_.begin(), window_.end(), [&](const Sighting& s) {
+                  return s.t >= t - params_.window_s;
+                }));
+  if (t - last_search_t_ < 0.2) return state_;
+  last_search_t_ = t;
+  search();
+  if (state_.locked) state_.locked_at = t;
+  return state_;
+}
+
+bool FrameInitializer::allowedByStart(const Hypothesis& h) const {
+  if (!params_.start_world_T_body || !start_odom_T_body_) return true;
+  const Eigen::Isometry3d world_T_body = gravityAligned(h.yaw, h.translation) * *start_odom_T_body_;
+  const double distance = (world_T_body.translation() - params_.start_world_T_body->translation()).norm();
+  const double yaw = wrapAngle(headingOf(world_T_body.linear()) - headingOf(params_.start_world_T_body->linear()));
+  return distance <= 3.0 * params_.start_sigma_t && std::abs(yaw) <= 3.0 * params_.start_sigma_r;
+}
+
+int FrameInitializer::score(Hypothesis& h, std::vector<std::pair<size_t, int>>* matches) const {
+  const Eigen::Matrix3d rotation = Eigen::AngleAxisd(h.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  int inliers = 0;
+  std::vector<int> gates;
+  for (size_t k = 0; k < window_.size(); ++k) {
+    const Sighting& s = window_[k];
+    const Eigen::Vector3d p_world = rotation * s.p_odom + h.translation;
+    for (const auto& [id, world_T_gate] : map_.world_T_gate) {
+      if (params_.use_ids && s.gate_id >= 0 && map_.contains(s.gate_id) && id != s.gate_id) continue;
+      if ((p_world - world_T_gate.translation()).norm() > params_.inlier_distance) continue;
+      const double turn = wrapAngle(s.yaw_odom + h.yaw - headingOf(world_T_gate.linear()));
+      if (std::min(std::abs(turn), M_PI - std::abs(turn)) > params_.inlier_normal_angle) continue;  // either side
+      ++inliers;
+      if (std::find(gates.begin(), gates.end(), id) == gates.end()) gates.push_back(id);
+      if (matches != nullptr) matches->emplace_back(k, id);
+      break;
+    }
+  }
+  h.inliers = inliers;
+  h.gates = static_cast<int>(gates.size());
+  return inliers;
+}
+
+FrameInitializer::Hypothesis FrameInitializer::refine(const Hypothesis& h) const {
+  // Least squares over the inliers: the yaw of the horizontal centroids' cross-covariance (2-D Procrustes),
+  // then the translation between the centroids.
+  std::vector<std::pair<size_t, int>> matches;
+  Hypothesis copy = h;
+  score(copy, &matches);
+  if (matches.size() < 2) return h;
+  Eigen::Vector3d mean_odom = Eigen::Vector3d::Zero(), mean_world = Eigen::Vector3d::Zero();
+  for (const auto& [k, id] : matches) {
+    mean_odom += window_[k].p_odom;
+    mean_world += map_.world_T_gate.at(id).translation();
+  }
+  mean_odom /= static_cast<double>(matches.size());
+  mean_world /= static_cast<double>(matches.size());
+  double sin_sum = 0.0, cos_sum = 0.0;
+  for (const auto& [k, id] : matches) {
+    const Eigen::Vector2d a = (window_[k].p_odom - mean_odom).head<2>();
+    const Eigen::Vector2d b = (map_.world_T_gate.at(id).translation() - mean_world).head<2>();
+    cos_sum += a.dot(b);
+    sin_sum += a.x() * b.y() - a.y() * b.x();
+  }
+  Hypothesis refined = h;
+  // Gates seen from one place only do not fix the yaw: keep the normals' yaw then.
+  if (std::hypot(sin_sum, cos_sum) > 1.0) refined.yaw = std::atan2(sin_sum, cos_sum);
+  const Eigen::Matrix3d rotation = Eigen::AngleAxisd(refined.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  refined.translation = mean_world - rotation * mean_odom;
+  score(refined, nullptr);
+  return (refined < h) || (refined.gates == h.gates && refined.inliers == h.inliers) ? refined : h;
+}
+
+void FrameInitializer::search() {
+  std::vector<Hypothesis> candidates;
+  for (const Sighting& s : window_) {
+    for (const auto& [id, world_T_gate] : map_.world_T_gate) {
+      if (params_.use_ids && s.gate_id >= 0 && map_.contains(s.gate_id) && id != s.gate_id) continue;
+      for (double side : {0.0, M_PI}) {
+        Hypothesis h;
+        h.yaw = wrapAngle(headingOf(world_T_gate.linear()) + side - s.yaw_odom);
+        h.translation = world_T_gate.translation() - Eigen::AngleAxisd(h.yaw, Eigen::Vector3d::UnitZ()) * s.p_odom;
+        if (!allowedByStart(h)) continue;
+        score(h, nullptr);
+        candidates.push_back(h);
+      }
+    }
+  }
+  std::stable_sort(candidates.begin(), candidates.end());
+  if (candidates.empty()) {
+    state_.why_not = window_.empty() ? "no gate detection yet" : "no hypothesis agrees with the coarse start pose";
+    return;
+  }
+  const Hypothesis best = refine(candidates.front());
+  int runner_up = 0;
+  int runner_up_gates = 0;
+  for (const Hypothesis& h : candidates) {
+    const bool distinct = std::abs(wrapAngle(h.yaw - best.yaw)) > 10.0 * M_PI / 180.0 ||
+                          (h.translation - best.translation).norm() > 1.0;
+    if (distinct) {
+      runner_up = h.inliers;
+      runner_up_gates = h.gates;
+      break;
+    }
+  }
+  state_.inliers = best.inliers;
+  state_.gates = best.gates;
+  state_.runner_up = runner_up;
+  const int gates_needed = params_.start_world_T_body ? 1 : 2;
+  std::ostringstream why;
+  if (best.inliers < params_.min_inliers || best.gates < gates_needed) {
+    why << best.inliers << " detections of " << best.gates << " gates agree with the best hypothesis, "
+        << params_.min_inliers << " of " << gates_needed << " needed";
+  } else if (runner_up_gates >= best.gates && runner_up >= params_.ambiguity_ratio * best.inliers) {
+    why << "ambiguous layout: two distinct frames explain " << best.inliers << " and " << runner_up
+        << " detections (give detection ids or a coarse start pose, localizer.initial_world_T_body)";
+  } else {
+    state_.locked = true;
+    state_.world_T_odom = gravityAligned(best.yaw, best.translation);
+  }
+  state_.why_not = why.str();
+}
+
+}  // namespace dualgraph

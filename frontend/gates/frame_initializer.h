@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: MIT
+// Where the VIO's frame lies in the gate map, found from the first gate detections without any prior.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dual_graph/gate_map.h"
+#include "dual_graph/measurements.h"
+
+namespace dualgraph {
+
+/// How FrameInitializer searches (units: m, rad, s).
+struct FrameInitializerParams {
+  double window_s = 4.0;            ///< detections older than this before the newest are forgotten [s]
+  int min_inliers = 8;              ///< detections that must agree with a hypothesis before it locks
+  double inlier_distance = 1.0;     ///< a detection's gate centre within this of its map gate, in the map [m]
+  double inlier_normal_angle = 0.5; ///< and its normal within this of the gate's (either side) [rad]
+  /// The runner-up hypothesis (one that differs by more than 1 m or 10°) must have fewer than this share of
+  /// the best one's inliers, else the layout is ambiguous and nothing locks.
+  double ambiguity_ratio = 0.7;
+  bool use_ids = true;              ///< a detection's own gate id (≥ 0) restricts it to that map gate
+  /// A coarse start pose world_T_body at the start (setStartOdometry; else the first detection) with its position and yaw sigmas
+  /// (m, rad): hypotheses further than 3 σ from it are discarded. Breaks a symmetric layout.
+  std::optional<Eigen::Isometry3d> start_world_T_body;
+  double start_sigma_t = 1.0;
+  double start_sigma_r = 0.5;
+};
+
+/// What the search has found so far.
+struct FrameInitialization {
+  bool locked = false;
+  Eigen::Isometry3d world_T_odom = Eigen::Isometry3d::Identity();  ///< when locked: yaw and translation
+  int inliers = 0;          ///< detections agreeing with the best hypothesis
+  int gates = 0;            ///< distinct map gates among them
+  int runner_up = 0;        ///< inliers of the best distinct hypothesis
+  double locked_at = 0.0;   ///< time of the detection that locked it [s]
+  std::string why_not;      ///< when not locked: too few detections, or an ambiguous layout (with counts)
+};
+
+/// Finds world_T_odom from gate detections alone (issue 24: "automatic initialisation"). Every detection,
+/// placed in the odometry frame through odom_T_body at its instant, against every map gate it may be (its
+/// own id when the detector gives one and use_ids) and both gate sides, gives one gravity-aligned
+/// hypothesis (the VIO's frame is gravity-aligned: a yaw from the gate normals and the translation that puts
+/// the detection on the gate). Each hypothesis is scored by the detections of the window it explains; the best
+/// one (most distinct gates, then most detections) locks when at least min_inliers detections of two gates or more
+/// (one with a start pose) agree and no distinct hypothesis explains as many gates with ambiguity_ratio of its detections
+/// (a layout with a symmetry, such as the RATM ellipse's half turn, without ids or a start pose never
+/// locks and says so). The locked hypothesis is refined on its inliers (least squares in yaw and
+/// translation). Deterministic; never prints.
+class FrameInitializer {
+ public:
+  FrameInitializer(const FrameInitializerParams& params, GateMap map);
+
+  /// Adds one instant's pose observations (body_T_gate; gate_id −1 when unknown) taken at odom_T_body and
+  /// searches again; the answer once locked stays as it is.
+  const FrameInitialization& add(double t, const Eigen::Isometry3d& odom_T_body,
+                                 const std::vector<GateObservation>& observations);
+  const FrameInitialization& state() const { return state_; }
+  /// odom_T_body where the flight starts (the first odometry sample), where the coarse start pose applies.
+  void setStartOdometry(const Eigen::Isometry3d& odom_T_body) { start_odom_T_body_ = odom_T_body; }
+
+ private:
+  struct Sighting {
+    double t;
+    int gate_id;
+    Eigen::Vector3d p_odom;  ///< gate centre in the odometry frame [m]
+    double yaw_odom;         ///< heading of the gate normal in the odometry frame [rad]
+  };
+  struct Hypothesis {
+    double yaw = 0.0;
+    Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+    int inliers = 0;  ///< detections it explains
+    int gates = 0;    ///< distinct map gates among them (one gate seen again and again fixes neither which
+                      ///< gate it is nor the side it was flown from)
+    bool operator<(const Hypothesis& other) const {  // better first: more gates, then more detections
+      return gates != other.gates ? gates > other.gates : inliers > other.inliers;
+    }
+  };
+  void search();
+  int score(Hypothesis& hypothesis, std::vector<std::pair<size_t, int>>* matches) const;
+  bool allowedByStart(const Hypothesis& hypothesis) const;
+  Hypothesis refine(const Hypothesis& hypothesis) const;
+
+  FrameInitializerParams params_;
+  GateMap map_;
+  std::vector<Sighting> window_;
+  std::optional<Eigen::Isometry3d> start_odom_T_body_;
+  double last_search_t_ = -1e300;  ///< searches at most every 0.2 s of detections
+  FrameInitialization state_;
+};
+
+}  // namespace dualgraph

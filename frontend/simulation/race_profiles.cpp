@@ -1,0 +1,61 @@
+// SPDX-License-Identifier: MIT
+#include "frontend/simulation/race_profiles.h"
+
+#include <cmath>
+
+namespace dualgraph {
+namespace {
+
+constexpr double kDegree = M_PI / 180.0;
+
+// VIO drift `factor` times the model's defaults (biases, random walks, scale error).
+VioDriftParams scaledDrift(double factor) {
+  VioDriftParams vio;
+  vio.yaw_rate_bias *= factor;
+  vio.yaw_random_walk *= factor;
+  vio.velocity_bias *= factor;
+  vio.vertical_velocity_bias *= factor;
+  vio.velocity_bias_random_walk *= factor;
+  vio.scale_error_sigma *= factor;
+  return vio;
+}
+
+}  // namespace
+
+const std::vector<std::string>& simulationProfileNames() {
+  static const std::vector<std::string> names = {"clean", "realistic", "harsh"};
+  return names;
+}
+
+Status applySimulationProfile(const std::string& name, RaceSimParams& params) {
+  const bool realistic = name == "realistic";
+  const bool harsh = name == "harsh";
+  if (name != "clean" && !realistic && !harsh) {
+    return Status(StatusCode::kInvalidArgument, "unknown simulation profile '" + name + "' (clean, realistic or harsh)");
+  }
+  DetectionSimParams detection;  // the clean models
+  FieldErrorParams field;
+  VioDriftParams vio;
+  double map_position_sigma = 0.0, map_yaw_sigma = 0.0;
+  if (realistic || harsh) {
+    detection.pixel_sigma = harsh ? 4.0 : 3.0;
+    detection.displaced_corner_probability = harsh ? 0.05 : 0.03;
+    detection.miss_probability = harsh ? 0.3 : 0.2;
+    if (harsh) detection.keep_every = 8;  // 120 Hz camera, 15 Hz detector
+    field.camera_mount_error_deg = harsh ? 2.0 : 1.5;
+    field.camera_time_offset = 0.015;
+    field.vio_frame_yaw = M_PI;
+    field.vio_frame_offset = 10.0;
+    vio = scaledDrift(harsh ? 3.0 : 2.0);
+    map_position_sigma = 0.05 / std::sqrt(3.0);  // 5 cm in 3-D
+    map_yaw_sigma = 1.5 * kDegree;
+  }
+  params.detection = detection;
+  params.field = field;
+  params.vio = vio;
+  params.map_position_sigma = map_position_sigma;
+  params.map_yaw_sigma = map_yaw_sigma;
+  return Status();
+}
+
+}  // namespace dualgraph

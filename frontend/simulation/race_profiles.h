@@ -1,0 +1,24 @@
+// SPDX-License-Identifier: MIT
+// Named sets of simulation parameters: clean (the sensor models alone), realistic and harsh (a real flight's errors).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/status.h"
+#include "frontend/simulation/race_simulator.h"
+
+namespace dualgraph {
+
+/// The profile names, mildest first: "clean", "realistic", "harsh".
+const std::vector<std::string>& simulationProfileNames();
+
+/// Sets every parameter a profile fixes (the table in frontend/simulation/README.md) in `params`, leaving the
+/// seed, laps, speed, rates and output alone. clean: the sensor models' defaults (1 px corners, VIO in the map's
+/// frame, exact calibration and clock); realistic: 3 px corners with 3 % displaced ones, 20 % misses, 1.5°
+/// camera-mount error, 15 ms camera clock offset, 5 cm / 1.5° map error, twice the VIO drift, the VIO in its
+/// own frame (any yaw, up to 10 m away); harsh: 4 px, 5 % displaced, 30 % misses at 15 Hz, 2°, 15 ms,
+/// 5 cm / 1.5°, three times the drift, own frame. kInvalidArgument naming the known profiles otherwise.
+Status applySimulationProfile(const std::string& name, RaceSimParams& params);
+
+}  // namespace dualgraph

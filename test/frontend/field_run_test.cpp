@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: MIT
+// The run path under a real flight's conditions (the `realistic` simulation profile: 3 px corners, 1.5°
+// camera-mount error, 15 ms camera clock offset, 5 cm map error, twice the drift, the VIO in its own frame
+// at any yaw and up to 10 m away): the frame is found from the detections alone, and the correction holds.
+// Without the automatic initialisation the same flight ended 126 % worse than the VIO, with exit 0.
+#include <gtest/gtest.h>
+
+#include "frontend/evaluation/run_metrics.h"
+#include "frontend/io/camera_io.h"
+#include "frontend/io/track_io.h"
+#include "frontend/sequence_run.h"
+#include "frontend/simulation/race_profiles.h"
+#include "frontend/simulation/race_sequence.h"
+#include "test/testing/shared_data.h"
+
+namespace dualgraph {
+namespace {
+
+Sequence realisticFlight(const std::string& track_name, std::uint64_t seed, int laps) {
+  auto track = loadTrackYaml(testing::sourcePath("data/tracks/" + track_name));
+  auto camera = loadCameraYaml(testing::sourcePath("data/cameras/ratm_piloted.yaml"));
+  EXPECT_TRUE(track.ok() && camera.ok());
+  RaceSimParams params;
+  params.seed = seed;
+  params.override_laps = true;
+  params.flight.laps = laps;
+  EXPECT_TRUE(applySimulationProfile("realistic", params).ok());
+  auto race = simulateRace(*track, *camera, params);
+  EXPECT_TRUE(race.ok()) << race.status().message();
+  EXPECT_GT(race->world_T_odom.translation().norm(), 0.5);  // the VIO really is in its own frame
+  auto sequence = raceSequence(*race, params, track_name);
+  EXPECT_TRUE(sequence.ok());
+  return std::move(sequence).value();
+}
+
+// Measured (Release, 4 laps, default configuration): ATE reduction 61 % (seed 1) and 47 % (seed 2), frame
+// found within 2 s of the first detection; over whole races (12 laps, `dualgraph simulate --profile
+// realistic`, the drift grows) ellipse 85-90 %, lemniscate 49-91 %. What is left is mostly the camera-mount
+// error and the clock offset, which nothing estimates yet.
+TEST(FieldRun, TheVioFrameIsFoundAndTheCorrectionHoldsOnTheRealisticProfile) {
+  for (std::uint64_t seed : {1, 2}) {
+    const Sequence sequence = realisticFlight("ratm_ellipse.yaml", seed, 4);
+    auto run = runSequence(sequence, SequenceRunParams{});
+    ASSERT_TRUE(run.ok()) << run.status().message();
+    ASSERT_TRUE(run->initialization.has_value());
+    ASSERT_TRUE(run->initialization->locked) << run->initialization->why_not;
+    EXPECT_LT(run->initialization->locked_at - sequence.corners.front().t, 2.0) << seed;
+    auto metrics = computeRunMetrics(sequence, *run);
+    ASSERT_TRUE(metrics.ok());
+    EXPECT_GT(metrics->ate_reduction_pct, 35.0) << seed;
+    EXPECT_GT(metrics->detections_used, 0.8 * metrics->detections) << seed;
+  }
+}
+
+TEST(FieldRun, GivenInsteadOfFoundTheFrameIsWrongAndTheRunSaysNothingUseful) {
+  // The control: `initialization: given` keeps the identity prior, which is wrong here; the estimate is then
+  // worse than the VIO (what the automatic initialisation exists for).
+  const Sequence sequence = realisticFlight("ratm_ellipse.yaml", 1, 4);
+  SequenceRunParams given;
+  given.auto_initialize = false;
+  auto run = runSequence(sequence, given);
+  ASSERT_TRUE(run.ok());
+  EXPECT_FALSE(run->initialization.has_value());
+  auto metrics = computeRunMetrics(sequence, *run);
+  ASSERT_TRUE(metrics.ok());
+  EXPECT_LT(metrics->ate_reduction_pct, 50.0);
+}
+
+TEST(FieldRun, AFrameThatCannotBeFoundUsesNoDetectionAndSaysWhy) {
+  Sequence sequence = realisticFlight("ratm_ellipse.yaml", 3, 2);
+  for (CornerDetection& detection : sequence.corners) detection.gate_id = -1;  // no ids: the ellipse is symmetric
+  SequenceRunParams params;
+  auto run = runSequence(sequence, params);
+  ASSERT_TRUE(run.ok());
+  ASSERT_TRUE(run->initialization.has_value());
+  EXPECT_FALSE(run->initialization->locked);
+  EXPECT_NE(run->initialization->why_not.find("ambiguous"), std::string::npos) << run->initialization->why_not;
+  EXPECT_EQ(run->frontend_counters.used, 0);
+  EXPECT_EQ(run->localizer_counters.observations_accepted, 0);
+}
+
+}  // namespace
+}  // namespace dualgraph

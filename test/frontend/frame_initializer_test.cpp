@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: MIT
+// FrameInitializer: the VIO's frame in the gate map from the first detections, at any yaw and up to 10 m
+// away, within 2 s of the second distinct gate in view; a symmetric layout is reported ambiguous until
+// detection ids or a coarse start pose break it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <set>
+
+#include "frontend/gates/frame_initializer.h"
+#include "types/se3_math.h"
+
+namespace dualgraph {
+namespace {
+
+Eigen::Isometry3d gravityAligned(double yaw, const Eigen::Vector3d& t) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = t;
+  return pose;
+}
+
+// The RATM ellipse's four gates (a half turn maps the layout onto itself), or the same with one gate moved.
+GateMap ellipseGates(bool symmetric) {
+  GateMap map;
+  map.world_T_gate[1] = gravityAligned(0.0, {4.0, 1.3, 1.2});
+  map.world_T_gate[2] = gravityAligned(0.0, {4.0, -1.3, 1.2});
+  map.world_T_gate[3] = gravityAligned(0.0, {-4.0, -1.3, 1.2});
+  map.world_T_gate[4] = gravityAligned(0.0, {-4.0, symmetric ? 1.3 : 3.0, 1.2});
+  return map;
+}
+
+struct Flight {
+  std::vector<double> t;
+  std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>> world_T_body;
+};
+
+// Around the ellipse (semi-axes 5 m and 2.5 m) at 3 m/s, facing along the path, 20 Hz for `seconds`.
+Flight ellipseFlight(double seconds) {
+  Flight flight;
+  for (double t = 0.0; t <= seconds; t += 0.05) {
+    const double phase = 0.6 * t;
+    const Eigen::Vector3d p(5.0 * std::cos(phase), 2.5 * std::sin(phase), 1.2);
+    const Eigen::Vector3d v(-5.0 * std::sin(phase), 2.5 * std::cos(phase), 0.0);
+    flight.t.push_back(t);
+    flight.world_T_body.push_back(gravityAligned(std::atan2(v.y(), v.x()), p));
+  }
+  return flight;
+}
+
+// When the flight had seen two distinct gates (without ids, one gate seen again and again cannot tell which
+// gate it is, nor from which side it was flown) [s].
+double secondGateSeenAt = 0.0;
+
+// Feeds the gates within 8 m and ahead of the body (pose detections with 5 cm / 2° noise) at every step,
+// the odometry in its own frame world_T_odom; returns the state after `seconds`.
+FrameInitialization run(const GateMap& map, const Eigen::Isometry3d& world_T_odom, bool ids, double seconds,
+                        FrameInitializerParams params = {}) {
+  params.use_ids = ids;
+  FrameInitializer initializer(params, map);
+  const Flight flight = ellipseFlight(seconds);
+  initializer.setStartOdometry(world_T_odom.inverse() * flight.world_T_body.front());
+  std::mt19937 rng(1);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  std::set<int> gates_seen;
+  secondGateSeenAt = -1.0;
+  for (size_t k = 0; k < flight.t.size(); ++k) {
+    const Eigen::Isometry3d odom_T_body = world_T_odom.inverse() * flight.world_T_body[k];
+    std::vector<GateObservation> seen;
+    for (const auto& [id, world_T_gate] : map.world_T_gate) {
+      const Eigen::Isometry3d body_T_gate = flight.world_T_body[k].inverse() * world_T_gate;
+      if (body_T_gate.translation().x() < 0.5 || body_T_gate.translation().norm() > 8.0) continue;
+      Vector6d noise;
+      noise << 0.05 * unit(rng), 0.05 * unit(rng), 0.05 * unit(rng), 0.035 * unit(rng), 0.035 * unit(rng),
+          0.035 * unit(rng);
+      seen.push_back(GateObservation::pose(flight.t[k], ids ? id : -1, body_T_gate * se3Exp(noise), Matrix6d::Identity()));
+      gates_seen.insert(id);
+      if (gates_seen.size() == 2 && secondGateSeenAt < 0.0) secondGateSeenAt = flight.t[k];
+    }
+    initializer.add(flight.t[k], odom_T_body, seen);
+  }
+  return initializer.state();
+}
+
+void expectFrame(const FrameInitialization& found, const Eigen::Isometry3d& truth) {
+  ASSERT_TRUE(found.locked) << found.why_not;
+  EXPECT_LT((found.world_T_odom.translation() - truth.translation()).norm(), 0.3);
+  EXPECT_LT(so3Log(found.world_T_odom.linear().transpose() * truth.linear()).norm(), 5.0 * M_PI / 180.0);
+}
+
+TEST(FrameInitializer, FindsTheFrameAtAnyYawAndUpToTenMetresWithinTwoSeconds) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> yaw(-M_PI, M_PI), offset(-7.0, 7.0);
+  for (int trial = 0; trial < 8; ++trial) {
+    const Eigen::Isometry3d truth = gravityAligned(yaw(rng), {offset(rng), offset(rng), 0.0});
+    const FrameInitialization found = run(ellipseGates(false), truth, false, 10.0);
+    SCOPED_TRACE(trial);
+    expectFrame(found, truth);
+    ASSERT_GE(secondGateSeenAt, 0.0);
+    EXPECT_LE(found.locked_at, secondGateSeenAt + 2.0);
+  }
+}
+
+TEST(FrameInitializer, ASymmetricLayoutIsAmbiguousWithoutIdsOrAStartPose) {
+  const Eigen::Isometry3d truth = gravityAligned(1.0, {3.0, -2.0, 0.0});
+  const FrameInitialization blind = run(ellipseGates(true), truth, false, 10.0);
+  EXPECT_FALSE(blind.locked);
+  EXPECT_NE(blind.why_not.find("ambiguous"), std::string::npos) << blind.why_not;
+  EXPECT_GE(blind.runner_up, blind.inliers * 0.7);
+  // Detection ids break the symmetry ...
+  expectFrame(run(ellipseGates(true), truth, true, 10.0), truth);
+  // ... and so does the start pad known to a metre and tens of degrees.
+  FrameInitializerParams with_start;
+  with_start.start_world_T_body = ellipseFlight(0.0).world_T_body.front() * gravityAligned(0.3, {0.6, -0.4, 0.0});
+  with_start.start_sigma_t = 1.0;
+  with_start.start_sigma_r = 0.5;
+  expectFrame(run(ellipseGates(true), truth, false, 10.0, with_start), truth);
+}
+
+TEST(FrameInitializer, TooFewDetectionsSayHowMany) {
+  const FrameInitialization early = run(ellipseGates(false), Eigen::Isometry3d::Identity(), false, 0.2);
+  EXPECT_FALSE(early.locked);
+  EXPECT_NE(early.why_not.find("needed"), std::string::npos) << early.why_not;
+}
+
+}  // namespace
+}  // namespace dualgraph
