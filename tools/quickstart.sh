@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 # The README's quick start. On a fresh Debian bookworm machine (as root it installs what is missing):
 #   bash tools/quickstart.sh demo   -> builds (Release), simulates a race on the bundled RATM ellipse track
-#                                      and localises it with the dual pose graph (the main job)
+#                                      (realistic profile) and localises it with the dual pose graph (the main job)
 #   bash tools/quickstart.sh test   -> builds (Release) and runs the whole test suite
 # Build folder: ./build (override with BUILD_DIR=...). Extra CMake flags: CMAKE_ARGS="...".
 set -euo pipefail
@@ -37,9 +37,12 @@ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release ${CMAKE_ARGS:-} >/dev/nu
 cmake --build "$build" -j "$jobs"
 
 if [ "$mode" = demo ]; then
-  # The main job: a simulated race on the bundled RATM ellipse track, localised with the dual graph.
+  # The main job: a simulated race on the bundled RATM ellipse track under a real flight's conditions (the
+  # realistic profile: VIO in its own frame, 3 px corners, camera mount and clock errors, map error),
+  # localised with the dual graph, the VIO's frame found from the detections.
   out="$build/demo"
-  "$build/bin/dualgraph" simulate --track "$root/data/tracks/ratm_ellipse.yaml" --seed 1 --out "$out/sequence"
+  "$build/bin/dualgraph" simulate --track "$root/data/tracks/ratm_ellipse.yaml" --seed 1 --profile realistic \
+    --out "$out/sequence"
   "$build/bin/dualgraph" run --sequence "$out/sequence" --out "$out/run"
   "$build/bin/dualgraph" report --run "$out/run" --out "$out/report.html"
 else
