@@ -127,16 +127,28 @@ void FrameInitializer::search() {
     return;
   }
   const Hypothesis best = refine(candidates.front());
+  // The runner-up: the best hypothesis that explains mostly *other* detection-to-gate pairs than the best one
+  // (a neighbour in the same basin, a little off in yaw or position, explains the same pairs: not a rival).
+  std::vector<std::pair<size_t, int>> best_pairs;
+  Hypothesis scored = best;
+  score(scored, &best_pairs);
+  std::sort(best_pairs.begin(), best_pairs.end());
   int runner_up = 0;
   int runner_up_gates = 0;
   for (const Hypothesis& h : candidates) {
-    const bool distinct = std::abs(wrapAngle(h.yaw - best.yaw)) > 10.0 * M_PI / 180.0 ||
-                          (h.translation - best.translation).norm() > 1.0;
-    if (distinct) {
-      runner_up = h.inliers;
-      runner_up_gates = h.gates;
-      break;
-    }
+    const bool moved = std::abs(wrapAngle(h.yaw - best.yaw)) > 10.0 * M_PI / 180.0 ||
+                       (h.translation - best.translation).norm() > 1.0;
+    if (!moved) continue;
+    std::vector<std::pair<size_t, int>> pairs;
+    Hypothesis rival = h;
+    score(rival, &pairs);
+    const auto shared = std::count_if(pairs.begin(), pairs.end(), [&](const std::pair<size_t, int>& pair) {
+      return std::binary_search(best_pairs.begin(), best_pairs.end(), pair);
+    });
+    if (2 * static_cast<size_t>(shared) > pairs.size()) continue;
+    runner_up = h.inliers;
+    runner_up_gates = h.gates;
+    break;
   }
   state_.inliers = best.inliers;
   state_.gates = best.gates;
