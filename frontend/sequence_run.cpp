@@ -60,11 +60,15 @@ class DetectionFeed {
 
 /// Hands every instant up to `until` [s] to the frontend and its observations to the Localizer, the pose of
 /// an instant interpolated between `before` and `after` (instants older than `before` cannot be placed:
-/// counted as rejected).
+/// counted as rejected). `withhold`: the instants are passed over instead (the VIO's frame is unknown).
 Status handDetectionsUpTo(double until, const OdometrySample& before, const OdometrySample& after, DetectionFeed& feed,
-                          GateFrontend& frontend, Localizer& localizer, SequenceRunResult& result) {
+                          GateFrontend& frontend, Localizer& localizer, bool withhold, SequenceRunResult& result) {
   while (!feed.done() && feed.nextTime() <= until) {
     const double t = feed.nextTime();
+    if (withhold) {
+      feed.skipInstant();
+      continue;
+    }
     if (t < before.t) {
       result.observations_rejected += static_cast<int>(feed.skipInstant());
       continue;
@@ -77,6 +81,45 @@ Status handDetectionsUpTo(double until, const OdometrySample& before, const Odom
     }
   }
   return Status();
+}
+
+/// runSequenceWith's loop; `withhold`: no detection reaches the frontend (those outside the odometry's span
+/// are still counted as such).
+Result<SequenceRunResult> runLoop(Localizer& localizer, GateFrontend& frontend, const Sequence& sequence,
+                                  const RunProgress& progress, bool withhold) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<OdometrySample>& samples = sequence.odometry.samples;
+  if (samples.empty()) return Status(StatusCode::kInvalidArgument, sequence.dir + ": no odometry samples");
+  SequenceRunResult result;
+  DetectionFeed feed(sequence);
+  while (!feed.done() && feed.nextTime() < samples.front().t) {
+    result.detections_before_odometry += static_cast<int>(feed.skipInstant());
+  }
+  std::optional<OdometrySample> newest;  // the newest sample the Localizer accepted
+  for (size_t k = 0; k < samples.size(); ++k) {
+    const OdometrySample& sample = samples[k];
+    // The detections this sample covers go first: if it closes a keyframe interval, they are in it.
+    if (newest && localizer.checkOdometry(sample).ok()) {
+      DG_RETURN_IF_ERROR(handDetectionsUpTo(sample.t, *newest, sample, feed, frontend, localizer, withhold, result));
+    }
+    Result<CorrectedPose> corrected = localizer.addOdometry(sample);
+    if (corrected.ok()) {
+      result.estimate.push_back(*corrected);
+      if (!newest) {  // the first accepted sample: the detections at its own instant (earlier ones cannot be placed)
+        DG_RETURN_IF_ERROR(handDetectionsUpTo(sample.t, sample, sample, feed, frontend, localizer, withhold, result));
+      }
+      newest = sample;
+    }
+    if (progress) progress(k + 1, samples.size());
+  }
+  result.detections_after_odometry = static_cast<int>(feed.remaining());
+  DG_RETURN_IF_ERROR(localizer.finish());
+  result.keyframes = localizer.keyframeTrajectory();
+  result.stats = localizer.keyframeStats();
+  result.localizer_counters = localizer.counters();
+  result.frontend_counters = frontend.counters();
+  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
 }
 
 }  // namespace
@@ -134,63 +177,14 @@ Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRu
   if (!localizer.ok()) return localizer.status();
   // No frame, no detection: associating them in a wrong frame would give a plausible wrong answer.
   const bool withhold = initialization && !initialization->locked;
-  Sequence odometry_only;
-  if (withhold) {
-    odometry_only = sequence;
-    odometry_only.corners.clear();
-    odometry_only.pose_detections.clear();
-  }
-  Result<SequenceRunResult> result = runSequenceWith(**localizer, *frontend, withhold ? odometry_only : sequence, progress);
-  if (!result.ok()) return result;
-  result->initialization = initialization;
-  if (withhold) {  // the detections outside the odometry's span are still counted as such
-    DetectionFeed feed(sequence);
-    const std::vector<OdometrySample>& samples = sequence.odometry.samples;
-    while (!feed.done()) {
-      const double t = feed.nextTime();
-      const int n = static_cast<int>(feed.skipInstant());
-      if (t < samples.front().t) result->detections_before_odometry += n;
-      if (t > samples.back().t) result->detections_after_odometry += n;
-    }
-  }
+  Result<SequenceRunResult> result = runLoop(**localizer, *frontend, sequence, progress, withhold);
+  if (result.ok()) result->initialization = initialization;
   return result;
 }
 
 Result<SequenceRunResult> runSequenceWith(Localizer& localizer, GateFrontend& frontend, const Sequence& sequence,
                                           const RunProgress& progress) {
-  const auto start = std::chrono::steady_clock::now();
-  const std::vector<OdometrySample>& samples = sequence.odometry.samples;
-  if (samples.empty()) return Status(StatusCode::kInvalidArgument, sequence.dir + ": no odometry samples");
-  SequenceRunResult result;
-  DetectionFeed feed(sequence);
-  while (!feed.done() && feed.nextTime() < samples.front().t) {
-    result.detections_before_odometry += static_cast<int>(feed.skipInstant());
-  }
-  std::optional<OdometrySample> newest;  // the newest sample the Localizer accepted
-  for (size_t k = 0; k < samples.size(); ++k) {
-    const OdometrySample& sample = samples[k];
-    // The detections this sample covers go first: if it closes a keyframe interval, they are in it.
-    if (newest && localizer.checkOdometry(sample).ok()) {
-      DG_RETURN_IF_ERROR(handDetectionsUpTo(sample.t, *newest, sample, feed, frontend, localizer, result));
-    }
-    Result<CorrectedPose> corrected = localizer.addOdometry(sample);
-    if (corrected.ok()) {
-      result.estimate.push_back(*corrected);
-      if (!newest) {  // the first accepted sample: the detections at its own instant (earlier ones cannot be placed)
-        DG_RETURN_IF_ERROR(handDetectionsUpTo(sample.t, sample, sample, feed, frontend, localizer, result));
-      }
-      newest = sample;
-    }
-    if (progress) progress(k + 1, samples.size());
-  }
-  result.detections_after_odometry = static_cast<int>(feed.remaining());
-  DG_RETURN_IF_ERROR(localizer.finish());
-  result.keyframes = localizer.keyframeTrajectory();
-  result.stats = localizer.keyframeStats();
-  result.localizer_counters = localizer.counters();
-  result.frontend_counters = frontend.counters();
-  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return result;
+  return runLoop(localizer, frontend, sequence, progress, false);
 }
 
 }  // namespace dualgraph

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <sstream>
 
+#include "types/se2.h"
+
 namespace dualgraph {
 namespace {
-
-double wrapAngle(double angle) { return std::atan2(std::sin(angle), std::cos(angle)); }
 
 double headingOf(const Eigen::Matrix3d& rotation) { return std::atan2(rotation(1, 0), rotation(0, 0)); }
 
@@ -49,7 +49,7 @@ bool FrameInitializer::allowedByStart(const Hypothesis& h) const {
   if (!params_.start_world_T_body || !start_odom_T_body_) return true;
   const Eigen::Isometry3d world_T_body = gravityAligned(h.yaw, h.translation) * *start_odom_T_body_;
   const double distance = (world_T_body.translation() - params_.start_world_T_body->translation()).norm();
-  const double yaw = wrapAngle(headingOf(world_T_body.linear()) - headingOf(params_.start_world_T_body->linear()));
+  const double yaw = normalizeAngle(headingOf(world_T_body.linear()) - headingOf(params_.start_world_T_body->linear()));
   return distance <= 3.0 * params_.start_sigma_t && std::abs(yaw) <= 3.0 * params_.start_sigma_r;
 }
 
@@ -63,7 +63,7 @@ int FrameInitializer::score(Hypothesis& h, std::vector<std::pair<size_t, int>>* 
     for (const auto& [id, world_T_gate] : map_.world_T_gate) {
       if (params_.use_ids && s.gate_id >= 0 && map_.contains(s.gate_id) && id != s.gate_id) continue;
       if ((p_world - world_T_gate.translation()).norm() > params_.inlier_distance) continue;
-      const double turn = wrapAngle(s.yaw_odom + h.yaw - headingOf(world_T_gate.linear()));
+      const double turn = normalizeAngle(s.yaw_odom + h.yaw - headingOf(world_T_gate.linear()));
       if (std::min(std::abs(turn), M_PI - std::abs(turn)) > params_.inlier_normal_angle) continue;  // either side
       ++inliers;
       if (std::find(gates.begin(), gates.end(), id) == gates.end()) gates.push_back(id);
@@ -113,7 +113,7 @@ void FrameInitializer::search() {
       if (params_.use_ids && s.gate_id >= 0 && map_.contains(s.gate_id) && id != s.gate_id) continue;
       for (double side : {0.0, M_PI}) {
         Hypothesis h;
-        h.yaw = wrapAngle(headingOf(world_T_gate.linear()) + side - s.yaw_odom);
+        h.yaw = normalizeAngle(headingOf(world_T_gate.linear()) + side - s.yaw_odom);
         h.translation = world_T_gate.translation() - Eigen::AngleAxisd(h.yaw, Eigen::Vector3d::UnitZ()) * s.p_odom;
         if (!allowedByStart(h)) continue;
         score(h, nullptr);
@@ -136,7 +136,7 @@ void FrameInitializer::search() {
   int runner_up = 0;
   int runner_up_gates = 0;
   for (const Hypothesis& h : candidates) {
-    const bool moved = std::abs(wrapAngle(h.yaw - best.yaw)) > 10.0 * M_PI / 180.0 ||
+    const bool moved = std::abs(normalizeAngle(h.yaw - best.yaw)) > 10.0 * M_PI / 180.0 ||
                        (h.translation - best.translation).norm() > 1.0;
     if (!moved) continue;
     std::vector<std::pair<size_t, int>> pairs;

@@ -53,18 +53,23 @@ Result<GateFrontend> GateFrontend::create(const GateFrontendParams& params, cons
   return GateFrontend(params, std::move(gate_map).value(), size, std::move(camera));
 }
 
+GatePnpParams GateFrontend::pnpParams() const {
+  GatePnpParams pnp = params_.pnp;
+  pnp.gate_size = gate_size_;
+  if (params_.adaptive_pixel_sigma) {  // the gate stays as many σ wide as configured
+    pnp.max_reprojection_rms = params_.pnp.max_reprojection_rms * noise_.sigma() / params_.pnp.pixel_sigma;
+    pnp.pixel_sigma = noise_.sigma();
+  }
+  return pnp;
+}
+
 Result<std::vector<GateObservation>> GateFrontend::processCorners(const std::vector<CornerDetection>& image,
                                                                   const Eigen::Isometry3d& world_T_body) {
   if (!camera_) return Status(StatusCode::kFailedPrecondition, "gate frontend: corner detections need a camera");
-  GatePnpParams pnp = params_.pnp;
-  pnp.gate_size = gate_size_;
   std::vector<GateObservation> solved;
   for (const CornerDetection& detection : image) {
     ++counters_.detections;
-    if (params_.adaptive_pixel_sigma) {  // the gate stays as many σ wide as configured
-      pnp.max_reprojection_rms = params_.pnp.max_reprojection_rms * noise_.sigma() / params_.pnp.pixel_sigma;
-      pnp.pixel_sigma = noise_.sigma();
-    }
+    const GatePnpParams pnp = pnpParams();
     counters_.pixel_sigma = pnp.pixel_sigma;
     GateCornerPixels pixels;
     for (int i = 0; i < 4; ++i) pixels.col(i) = detection.corners[static_cast<size_t>(i)];
@@ -87,12 +92,7 @@ Result<std::vector<GateObservation>> GateFrontend::processCorners(const std::vec
 
 Result<std::vector<GateObservation>> GateFrontend::solveCorners(const std::vector<CornerDetection>& image) const {
   if (!camera_) return Status(StatusCode::kFailedPrecondition, "gate frontend: corner detections need a camera");
-  GatePnpParams pnp = params_.pnp;
-  pnp.gate_size = gate_size_;
-  if (params_.adaptive_pixel_sigma) {
-    pnp.max_reprojection_rms = params_.pnp.max_reprojection_rms * noise_.sigma() / params_.pnp.pixel_sigma;
-    pnp.pixel_sigma = noise_.sigma();
-  }
+  const GatePnpParams pnp = pnpParams();
   std::vector<GateObservation> solved;
   for (const CornerDetection& detection : image) {
     GateCornerPixels pixels;

@@ -73,6 +73,8 @@ class GateFrontend {
         associator_(params.association), noise_(params.pnp.pixel_sigma) {
     counters_.pixel_sigma = params.pnp.pixel_sigma;
   }
+  /// The PnP parameters now: the map's gate size, and σ and the gate from the noise estimate when adaptive.
+  GatePnpParams pnpParams() const;
   Result<std::vector<GateObservation>> associate(std::vector<GateObservation> detections,
                                                  const Eigen::Isometry3d& world_T_body);
 

@@ -60,15 +60,13 @@ std::string raceSequenceYaml(const SimulatedRace& race, const Track& track, cons
   return out.str();
 }
 
-Result<Sequence> raceSequence(const SimulatedRace& race, const RaceSimParams& params, const std::string& name) {
+namespace {
+
+// The race as a sequence, its odometry as simulated (absolute covariances, as vio.tum holds them).
+Sequence asWritten(const SimulatedRace& race, const RaceSimParams& params, const std::string& name) {
   Sequence sequence;
   sequence.dir = name;
   sequence.odometry = race.vio;
-  if (!sequence.odometry.absolute_covariances.empty()) {  // as loadSequence does with vio.tum's columns
-    auto report = toRelativeCovariances(sequence.odometry);
-    if (!report.ok()) return Status(report.status().code(), name + ": " + report.status().message());
-    sequence.covariance_clamped = report->clamped;
-  }
   sequence.has_corners = params.output == RaceSimParams::DetectionOutput::kCorners;
   if (sequence.has_corners) {
     sequence.corners.reserve(race.detections.size());
@@ -90,13 +88,21 @@ Result<Sequence> raceSequence(const SimulatedRace& race, const RaceSimParams& pa
   return sequence;
 }
 
+}  // namespace
+
+Result<Sequence> raceSequence(const SimulatedRace& race, const RaceSimParams& params, const std::string& name) {
+  Sequence sequence = asWritten(race, params, name);
+  if (!sequence.odometry.absolute_covariances.empty()) {  // as loadSequence does with vio.tum's columns
+    auto report = toRelativeCovariances(sequence.odometry);
+    if (!report.ok()) return Status(report.status().code(), name + ": " + report.status().message());
+    sequence.covariance_clamped = report->clamped;
+  }
+  return sequence;
+}
+
 Status writeRaceSequence(const std::string& dir, const SimulatedRace& race, const Track& track,
                          const RaceSimParams& params) {
-  Result<Sequence> sequence = raceSequence(race, params, dir);
-  if (!sequence.ok()) return sequence.status();
-  // The written vio.tum carries the absolute covariances, not the relative ones made from them.
-  sequence->odometry = race.vio;
-  return writeSequence(dir, *sequence, raceSequenceYaml(race, track, params));
+  return writeSequence(dir, asWritten(race, params, dir), raceSequenceYaml(race, track, params));
 }
 
 }  // namespace dualgraph
