@@ -9,17 +9,19 @@
 namespace dualgraph {
 namespace {
 
-/// The sequence's detections (corners or poses) in time order, handed out one instant at a time.
+/// The sequence's detections (corners or poses) in time order, handed out one instant at a time, their stamps
+/// moved to the odometry's clock (t − time_offset, CameraModel::time_offset).
 class DetectionFeed {
  public:
-  explicit DetectionFeed(const Sequence& sequence)
+  DetectionFeed(const Sequence& sequence, double time_offset)
       : sequence_(sequence),
-        size_(sequence.has_corners ? sequence.corners.size() : sequence.pose_detections.size()) {}
+        size_(sequence.has_corners ? sequence.corners.size() : sequence.pose_detections.size()),
+        time_offset_(time_offset) {}
 
   bool done() const { return next_ >= size_; }
   size_t remaining() const { return size_ - next_; }
-  /// Time stamp of the next detection (not done()).
-  double nextTime() const { return sequence_.has_corners ? sequence_.corners[next_].t : sequence_.pose_detections[next_].t; }
+  /// Time of the next detection on the odometry's clock (not done()).
+  double nextTime() const { return stampAt(next_) - time_offset_; }
   /// Skips the next instant's detections; returns how many.
   size_t skipInstant() {
     const size_t begin = next_;
@@ -28,33 +30,44 @@ class DetectionFeed {
   }
   /// The next instant's detections through PnP alone (pose detections as they are), detector ids kept.
   Result<std::vector<GateObservation>> solveInstant(const GateFrontend& frontend) {
-    const auto begin = static_cast<long>(next_);
-    const auto end = static_cast<long>(next_ = instantEnd());
-    if (sequence_.has_corners) return frontend.solveCorners({sequence_.corners.begin() + begin, sequence_.corners.begin() + end});
-    return std::vector<GateObservation>(sequence_.pose_detections.begin() + begin, sequence_.pose_detections.begin() + end);
+    if (sequence_.has_corners) return frontend.solveCorners(nextCorners());
+    return nextPoses();
   }
   /// The next instant's detections through the frontend at `world_T_body`.
   Result<std::vector<GateObservation>> processInstant(GateFrontend& frontend, const Eigen::Isometry3d& world_T_body) {
-    const auto begin = static_cast<long>(next_);
-    const auto end = static_cast<long>(next_ = instantEnd());
-    if (sequence_.has_corners) {
-      return frontend.processCorners({sequence_.corners.begin() + begin, sequence_.corners.begin() + end}, world_T_body);
-    }
-    return frontend.processPoses({sequence_.pose_detections.begin() + begin, sequence_.pose_detections.begin() + end},
-                                 world_T_body);
+    if (sequence_.has_corners) return frontend.processCorners(nextCorners(), world_T_body);
+    return frontend.processPoses(nextPoses(), world_T_body);
   }
 
  private:
+  double stampAt(size_t i) const { return sequence_.has_corners ? sequence_.corners[i].t : sequence_.pose_detections[i].t; }
   size_t instantEnd() const {
     size_t end = next_ + 1;
-    while (end < size_ && (sequence_.has_corners ? sequence_.corners[end].t : sequence_.pose_detections[end].t) == nextTime()) {
-      ++end;
-    }
+    while (end < size_ && stampAt(end) == stampAt(next_)) ++end;
     return end;
+  }
+  /// The next instant's corner detections (has_corners), on the odometry's clock; advances.
+  std::vector<CornerDetection> nextCorners() {
+    const size_t begin = next_;
+    next_ = instantEnd();
+    std::vector<CornerDetection> instant(sequence_.corners.begin() + static_cast<long>(begin),
+                                         sequence_.corners.begin() + static_cast<long>(next_));
+    for (CornerDetection& detection : instant) detection.t -= time_offset_;
+    return instant;
+  }
+  /// The next instant's pose detections, likewise.
+  std::vector<GateObservation> nextPoses() {
+    const size_t begin = next_;
+    next_ = instantEnd();
+    std::vector<GateObservation> instant(sequence_.pose_detections.begin() + static_cast<long>(begin),
+                                         sequence_.pose_detections.begin() + static_cast<long>(next_));
+    for (GateObservation& detection : instant) detection.t -= time_offset_;
+    return instant;
   }
 
   const Sequence& sequence_;
   const size_t size_;
+  const double time_offset_;
   size_t next_ = 0;
 };
 
@@ -86,12 +99,12 @@ Status handDetectionsUpTo(double until, const OdometrySample& before, const Odom
 /// runSequenceWith's loop; `withhold`: no detection reaches the frontend (those outside the odometry's span
 /// are still counted as such).
 Result<SequenceRunResult> runLoop(Localizer& localizer, GateFrontend& frontend, const Sequence& sequence,
-                                  const RunProgress& progress, bool withhold) {
+                                  const RunProgress& progress, bool withhold, double time_offset) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<OdometrySample>& samples = sequence.odometry.samples;
   if (samples.empty()) return Status(StatusCode::kInvalidArgument, sequence.dir + ": no odometry samples");
   SequenceRunResult result;
-  DetectionFeed feed(sequence);
+  DetectionFeed feed(sequence, time_offset);
   while (!feed.done() && feed.nextTime() < samples.front().t) {
     result.detections_before_odometry += static_cast<int>(feed.skipInstant());
   }
@@ -124,6 +137,11 @@ Result<SequenceRunResult> runLoop(Localizer& localizer, GateFrontend& frontend, 
 
 }  // namespace
 
+double detectionTimeOffset(const Sequence& sequence, const SequenceRunParams& params) {
+  if (params.time_offset) return *params.time_offset;
+  return sequence.camera ? sequence.camera->time_offset : 0.0;
+}
+
 FrameInitialization findOdometryFrame(const Sequence& sequence, const SequenceRunParams& params,
                                       const GateFrontend& frontend) {
   FrameInitializerParams search = params.initialization;
@@ -136,7 +154,7 @@ FrameInitialization findOdometryFrame(const Sequence& sequence, const SequenceRu
   const std::vector<OdometrySample>& samples = sequence.odometry.samples;
   if (samples.empty()) return initializer.state();
   initializer.setStartOdometry(samples.front().odom_T_body);
-  DetectionFeed feed(sequence);
+  DetectionFeed feed(sequence, detectionTimeOffset(sequence, params));
   size_t placed = 0, skipped = 0;
   while (!feed.done() && !initializer.state().locked) {
     const double t = feed.nextTime();
@@ -177,14 +195,15 @@ Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRu
   if (!localizer.ok()) return localizer.status();
   // No frame, no detection: associating them in a wrong frame would give a plausible wrong answer.
   const bool withhold = initialization && !initialization->locked;
-  Result<SequenceRunResult> result = runLoop(**localizer, *frontend, sequence, progress, withhold);
+  Result<SequenceRunResult> result = runLoop(**localizer, *frontend, sequence, progress, withhold, detectionTimeOffset(sequence, params));
   if (result.ok()) result->initialization = initialization;
   return result;
 }
 
 Result<SequenceRunResult> runSequenceWith(Localizer& localizer, GateFrontend& frontend, const Sequence& sequence,
                                           const RunProgress& progress) {
-  return runLoop(localizer, frontend, sequence, progress, false);
+  const double time_offset = sequence.camera ? sequence.camera->time_offset : 0.0;
+  return runLoop(localizer, frontend, sequence, progress, false, time_offset);
 }
 
 }  // namespace dualgraph

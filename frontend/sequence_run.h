@@ -48,6 +48,10 @@ using RunProgress = std::function<void(size_t done, size_t total)>;
 Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRunParams& params,
                                       const RunProgress& progress = {});
 
+/// The camera-to-VIO clock offset a run uses [s]: params.time_offset when set, else the sequence camera's
+/// CameraModel::time_offset, else 0. Every detection stamped t is used at t − this.
+double detectionTimeOffset(const Sequence& sequence, const SequenceRunParams& params);
+
 /// FrameInitializer over the sequence's detections in time order (PnP through `frontend`, each instant at
 /// odom_T_body interpolated), until it locks or the detections end. The coarse start pose, when given, is
 /// params.localizer.initial_world_T_body at the first odometry sample.
@@ -56,6 +60,7 @@ FrameInitialization findOdometryFrame(const Sequence& sequence, const SequenceRu
 
 /// The same loop with a Localizer and a GateFrontend the caller made and keeps (to read the main graph
 /// afterwards, as the benchmarks do); `localizer` gets `finish`. runSequence is this after creating both.
+/// The detections are moved by the sequence camera's time_offset.
 Result<SequenceRunResult> runSequenceWith(Localizer& localizer, GateFrontend& frontend, const Sequence& sequence,
                                           const RunProgress& progress = {});
 

@@ -166,6 +166,9 @@ Status CameraModel::validate() const {
   if (!distortion.allFinite()) return invalid("distortion", "has a non-finite coefficient");
   if (width <= 0) return invalid("width", "must be > 0, got " + std::to_string(width));
   if (height <= 0) return invalid("height", "must be > 0, got " + std::to_string(height));
+  if (!std::isfinite(time_offset) || std::abs(time_offset) > 1.0) {
+    return invalid("time_offset", "must be finite and at most 1 s in magnitude");
+  }
   const Status rigid = checkRigidTransform(body_T_camera, "body_T_camera");
   if (!rigid.ok()) return invalid("body_T_camera", rigid.message());
   return Status::okStatus();

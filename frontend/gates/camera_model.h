@@ -38,6 +38,10 @@ struct CameraModel {
   int width = 0;   ///< [px]
   int height = 0;  ///< [px]
   Eigen::Isometry3d body_T_camera = Eigen::Isometry3d::Identity();
+  /// Camera-to-VIO clock offset [s]: a detection stamped t was taken at t − time_offset on the odometry's
+  /// clock (the camera's stamps are late by it; negative when they are early). OpenVINS's
+  /// `timeshift_cam_imu` (t_imu = t_cam + shift) is −time_offset. At most 1 s in magnitude.
+  double time_offset = 0.0;
 
   /// Pinhole camera with fx, fy, cx, cy [px] and the given model with zero distortion.
   static CameraModel pinhole(double fx, double fy, double cx, double cy, int width, int height,

@@ -78,6 +78,8 @@ Result<CameraModel> parseCameraYaml(const std::string& yaml_text, const std::str
         DG_RETURN_IF_ERROR(readList(source, key, value, 0, coefficients));
       } else if (key == "body_T_camera") {
         DG_RETURN_IF_ERROR(readTransform(source, key, value, camera.body_T_camera));
+      } else if (key == "time_offset") {
+        DG_RETURN_IF_ERROR(readNumber(source, key, value, camera.time_offset));
       } else {
         int i = 0;
         while (i < 4 && key != kIntrinsicNames[i]) ++i;
@@ -125,6 +127,7 @@ std::string cameraToYaml(const CameraModel& camera) {
   const Eigen::Quaterniond q(camera.body_T_camera.linear());
   out << "]\nbody_T_camera:\n  position: [" << p.x() << ", " << p.y() << ", " << p.z() << "]\n  quaternion_xyzw: ["
       << q.x() << ", " << q.y() << ", " << q.z() << ", " << q.w() << "]\n";
+  if (camera.time_offset != 0.0) out << "time_offset: " << camera.time_offset << "\n";
   return out.str();
 }
 

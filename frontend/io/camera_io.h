@@ -22,6 +22,8 @@ namespace dualgraph {
 ///     body_T_camera:                # optional, identity if absent; camera RDF axes → body
 ///       position: [x, y, z]         # [m], the camera's optical centre in the body frame
 ///       quaternion_xyzw: [qx, qy, qz, qw]   # Hamilton, normalised on reading
+///     time_offset: 0.0              # optional [s]: detections stamped t were taken at t − time_offset on
+///                                   #   the odometry's clock (OpenVINS's timeshift_cam_imu = −time_offset)
 ///
 /// Unknown or duplicate keys, missing required keys, lists of the wrong length, non-finite or
 /// non-numeric values and an invalid camera (CameraModel::validate) are kParseError with

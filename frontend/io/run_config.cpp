@@ -35,6 +35,15 @@ Status readNonNegativeInt(const std::string& source, const std::string& field, c
   return Status();
 }
 
+Status readTimeOffset(const std::string& source, const std::string& field, const YAML::Node& node,
+                      std::optional<double>& out) {
+  double offset = 0.0;
+  DG_RETURN_IF_ERROR(readNumber(source, field, node, offset));
+  if (std::abs(offset) > 1.0) return fieldError(source, node.Mark(), field, "must be at most 1 s in magnitude [s]");
+  out = offset;
+  return Status();
+}
+
 Status readFrontend(const std::string& source, const YAML::Node& section, SequenceRunParams& params) {
   if (!section.IsMap()) return fieldError(source, section.Mark(), "frontend", "expected a mapping, got " + describe(section));
   GatePnpParams& pnp = params.frontend.pnp;
@@ -65,6 +74,7 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
     else if (key == "initialization_min_inliers") status = readNonNegativeInt(source, field, value, params.initialization.min_inliers, 1);
     else if (key == "pose_detection_sigma_t") status = readPositive(source, field, value, params.pose_detection_sigma_t);
     else if (key == "pose_detection_sigma_r") status = readPositive(source, field, value, params.pose_detection_sigma_r);
+    else if (key == "time_offset") status = readTimeOffset(source, field, value, params.time_offset);
     else return fieldError(source, entry.first.Mark(), field, "unknown key");
     DG_RETURN_IF_ERROR(status);
   }

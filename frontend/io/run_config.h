@@ -2,6 +2,7 @@
 // SequenceRunParams, `dualgraph run`'s configuration: the localizer: and frontend: sections of a YAML file.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "core/status.h"
@@ -23,6 +24,9 @@ struct SequenceRunParams {
   /// (`given`): localizer.initial_world_T_odom is taken as it is.
   bool auto_initialize = true;
   FrameInitializerParams initialization;
+  /// Camera-to-VIO clock offset [s] (`frontend.time_offset`): when set, used instead of the camera file's
+  /// CameraModel::time_offset (and for pose detections, which have no camera file).
+  std::optional<double> time_offset;
 
   /// The diagonal covariance from the two sigmas above.
   Matrix6d defaultPoseDetectionCovariance() const;
@@ -41,6 +45,7 @@ struct SequenceRunParams {
 ///       max_association_distance: 2.0  # AssociationParams::max_distance [m]; likewise max_normal_angle
 ///                                      #   [rad], allow_reversed, mapping_min_sightings, mapping_consistency [m]
 ///       pose_detection_sigma_t: 0.1  # SequenceRunParams [m], [rad] (_r)
+///       time_offset: 0.015           # optional [s]: overrides the camera file's time_offset
 ///
 /// Either section may be missing (defaults). Errors are "source:LINE: field 'NAME': why": kParseError
 /// for an unknown or duplicate key, a wrong type, NaN or a `frontend:` value out of range;

@@ -56,6 +56,27 @@ TEST(CameraYaml, RoundTripGivesTheSameCamera) {
   }
 }
 
+TEST(CameraYaml, TheClockOffsetIsReadWrittenAndChecked) {
+  CameraModel camera = ratmRadtan();
+  EXPECT_EQ(cameraToYaml(camera).find("time_offset"), std::string::npos);  // 0: not written, as before
+  camera.time_offset = -0.0125;
+  auto back = parseCameraYaml(cameraToYaml(camera), "cam.yaml");
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  EXPECT_EQ(back->time_offset, -0.0125);
+  auto absent = parseCameraYaml(cameraToYaml(ratmRadtan()), "cam.yaml");
+  ASSERT_TRUE(absent.ok());
+  EXPECT_EQ(absent->time_offset, 0.0);
+  const std::string text = cameraToYaml(ratmRadtan());
+  for (const std::string& bad : {std::string("time_offset: 2.5\n"), std::string("time_offset: .nan\n"),
+                                 std::string("time_offset: late\n")}) {
+    auto refused = parseCameraYaml(text + bad, "cam.yaml");
+    ASSERT_FALSE(refused.ok()) << bad;
+    EXPECT_NE(refused.status().message().find("field 'time_offset'"), std::string::npos) << refused.status().message();
+    const std::string line = "cam.yaml:" + std::to_string(std::count(text.begin(), text.end(), '\n') + 1) + ":";
+    EXPECT_EQ(refused.status().message().rfind(line, 0), 0u) << refused.status().message();
+  }
+}
+
 TEST(CameraYaml, KMatrixFormEqualsTheScalarForm) {
   auto a = parseCameraYaml("model: radtan\nwidth: 640\nheight: 480\nK: [[300, 0, 320], [0, 310, 240], [0, 0, 1]]\n"
                            "distortion: [0.1, 0.01, 0, 0]\n", "k.yaml");

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "frontend/io/run_config.h"
+#include "frontend/sequence_run.h"
 #include "test/testing/shared_data.h"
 
 namespace dualgraph {
@@ -230,6 +231,25 @@ TEST(RunConfig, InitializationAndTheCoarseStartPose) {
   EXPECT_FALSE(SequenceRunParams{}.localizer.initial_world_T_body.has_value());
   auto half = parseRunConfig("localizer:\n  initial_world_T_body: {position: [1, 2, 0]}\n", kSource);  // both parts
   EXPECT_EQ(half.status().code(), StatusCode::kParseError);
+}
+
+TEST(RunConfig, TheClockOffsetOverridesTheCameraFile) {
+  EXPECT_FALSE(SequenceRunParams{}.time_offset.has_value());
+  auto given = parseRunConfig("frontend:\n  time_offset: -0.015\n", kSource);
+  ASSERT_TRUE(given.ok()) << given.status().message();
+  ASSERT_TRUE(given->time_offset.has_value());
+  EXPECT_EQ(*given->time_offset, -0.015);
+  Sequence sequence;
+  sequence.camera = CameraModel::pinhole(300, 300, 320, 240, 640, 480);
+  sequence.camera->time_offset = 0.02;
+  EXPECT_EQ(detectionTimeOffset(sequence, SequenceRunParams{}), 0.02);
+  EXPECT_EQ(detectionTimeOffset(sequence, *given), -0.015);
+  sequence.camera.reset();
+  EXPECT_EQ(detectionTimeOffset(sequence, SequenceRunParams{}), 0.0);
+  auto far = parseRunConfig("frontend:\n  time_offset: 3\n", kSource);
+  EXPECT_EQ(far.status().code(), StatusCode::kParseError);
+  EXPECT_NE(far.status().message().find("run.yaml:2: field 'frontend.time_offset'"), std::string::npos)
+      << far.status().message();
 }
 
 }  // namespace
