@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "dual_graph/localizer.h"
 
+#include <cmath>
 
 #include "core/wall_clock.h"
 #include "types/se3_covariance.h"
@@ -8,14 +9,23 @@
 namespace dualgraph {
 namespace {
 
+/// Odometry kept while initialising or lost, so `relocalize` can anchor where a frame search began [s]
+/// (FrameInitializerParams::window_s is 4 s by default).
+constexpr double kSearchHistorySeconds = 5.0;
+
 bool exceeds(const Eigen::Isometry3d& increment, double distance, double angle) {
   return translationOf(increment) >= distance || rotationAngleOf(increment) >= angle;
 }
 
 }  // namespace
 
-Result<std::unique_ptr<Localizer>> Localizer::create(const LocalizerParams& params, GateMap map) {
+Result<std::unique_ptr<Localizer>> Localizer::create(const LocalizerParams& params, GateMap map,
+                                                     TrackingState initial) {
   DG_RETURN_IF_ERROR(validateLocalizerParams(params));
+  if (initial == TrackingState::kLost) {
+    return Status(StatusCode::kInvalidArgument, "a Localizer starts tracking or initialising, not lost");
+  }
+  if (params.mapping) initial = TrackingState::kTracking;
   if (!params.mapping && map.world_T_gate.empty()) {
     return Status(StatusCode::kInvalidArgument, "localization mode needs a gate map (or set mapping: true)");
   }
@@ -29,11 +39,16 @@ Result<std::unique_ptr<Localizer>> Localizer::create(const LocalizerParams& para
     if (!parsed.ok()) return parsed.status();
     kernel = *parsed;
   }
-  return std::unique_ptr<Localizer>(new Localizer(params, std::move(map), std::move(kernel)));
+  return std::unique_ptr<Localizer>(new Localizer(params, std::move(map), std::move(kernel), initial));
 }
 
-Localizer::Localizer(const LocalizerParams& params, GateMap map, std::shared_ptr<const RobustKernel> kernel)
-    : params_(params), map_(std::move(map)), kernel_(kernel), temporary_(params, kernel) {
+Localizer::Localizer(const LocalizerParams& params, GateMap map, std::shared_ptr<const RobustKernel> kernel,
+                     TrackingState initial)
+    : params_(params),
+      map_(std::move(map)),
+      kernel_(kernel),
+      temporary_(params, kernel),
+      monitor_(initial, params.lost_after_s, params.lost_min_failures) {
   main_ = std::make_unique<MainGraph>(params_, map_, kernel_);
 }
 
@@ -59,6 +74,10 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
   }
   ++counters_.odometry_accepted;
   history_.push(sample);
+  if (monitor_.state() == TrackingState::kInitialising) {  // no graph until the frame is known
+    history_.discardBefore(sample.t - kSearchHistorySeconds);
+    return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body, TrackingState::kInitialising};
+  }
   if (main_->keyframes().empty()) {
     const Status first = main_->addFirstKeyframe(sample.t, sample.odom_T_body);
     if (!first.ok()) counters_.last_error = first.message();
@@ -78,13 +97,16 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
     const Status closed = closeInterval();
     if (!closed.ok()) counters_.last_error = closed.message();
   }
-  return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body};
+  return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body, monitor_.state()};
 }
 
 Status Localizer::checkObservation(const GateObservation& observation) const {
   DG_RETURN_IF_ERROR(validateGateObservation(observation));
   const std::string what = "observation of gate " + std::to_string(observation.gate_id) + " at t=" + formatTimestamp(observation.t);
   if (history_.empty()) return Status(StatusCode::kFailedPrecondition, what + " arrived before any odometry");
+  if (monitor_.state() == TrackingState::kInitialising) {
+    return Status(StatusCode::kFailedPrecondition, what + ": initialising, the odometry's frame in the map is not known yet");
+  }
   if (!params_.mapping && !map_.contains(observation.gate_id)) {
     return Status(StatusCode::kNotFound, what + ": gate " + std::to_string(observation.gate_id) + " is not in the map");
   }
@@ -111,6 +133,7 @@ Status Localizer::addObservation(const GateObservation& observation) {
   if (!valid.ok()) {
     ++counters_.observations_rejected;
     if (valid.code() == StatusCode::kFailedPrecondition && tooLate(observation)) ++counters_.observations_too_late;
+    if (monitor_.state() == TrackingState::kInitialising && !history_.empty()) ++counters_.observations_without_frame;
     counters_.last_error = valid.message();
     return valid;
   }
@@ -174,13 +197,14 @@ Status Localizer::closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body
   const GateEdgeOutcome outcome = main_->addGateEdges(owner, single_edges_);
   row.gate_edges_added = outcome.added;
   row.gate_edges_rejected = outcome.rejected;
+  row.observations_rejected = outcome.rejected_observations;
   row.gates_skipped = outcome.failed;
   row.observations = single_observations_;
   if (!outcome.message.empty()) counters_.last_error = outcome.message;
   single_edges_.clear();
   single_observations_ = 0;
   optimizeAndRecord(row, start);
-  history_.discardBefore(main_->keyframes().back().t);
+  discardHistory(main_->keyframes().back().t);
   return Status();
 }
 
@@ -203,11 +227,12 @@ Status Localizer::closeInterval() {
   const GateEdgeOutcome outcome = main_->addGateEdges(main_->keyframes().size() - 1, distilled.gates);
   row.gate_edges_added = outcome.added;
   row.gate_edges_rejected = outcome.rejected;
+  row.observations_rejected = outcome.rejected_observations;
   row.gates_skipped = distilled.skipped_gates + outcome.failed;
   if (!distilled.skip_reason.empty()) counters_.last_error = distilled.skip_reason;
   if (!outcome.message.empty()) counters_.last_error = outcome.message;
   optimizeAndRecord(row, start);
-  history_.discardBefore(newest.t);
+  discardHistory(newest.t);
   return Status();
 }
 
@@ -227,12 +252,64 @@ void Localizer::optimizeAndRecord(KeyframeStats& row, double start_ms) {
     counters_.last_error = "main graph optimisation: " + row.termination + " " + summary.message;
   }
   stats_.push_back(row);
+  if (!params_.mapping) {
+    monitor_.addUpdate(row.t, row.gate_edges_added, row.observations_rejected);
+    counters_.losses = monitor_.losses();
+    counters_.recoveries = monitor_.recoveries();
+  }
+}
+
+Status Localizer::reportUnmatched(double t, const std::vector<Eigen::Vector3d>& p_world) {
+  bool finite = std::isfinite(t);
+  for (const Eigen::Vector3d& p : p_world) finite = finite && p.allFinite();
+  if (!finite) {
+    return Status(StatusCode::kInvalidArgument, "reportUnmatched: needs a finite time and positions, got t=" +
+                                                    formatTimestamp(t));
+  }
+  if (params_.mapping) return Status();
+  monitor_.addUnmatched(t, p_world);
+  counters_.losses = monitor_.losses();
+  return Status();
+}
+
+void Localizer::discardHistory(double keyframe_t) {
+  const bool searching = monitor_.state() != TrackingState::kTracking;
+  history_.discardBefore(searching ? std::min(keyframe_t, history_.newest().t - kSearchHistorySeconds) : keyframe_t);
+}
+
+Result<double> Localizer::relocalize(const Eigen::Isometry3d& world_T_odom, double since, double sigma_t,
+                                     double sigma_r) {
+  if (history_.empty()) return Status(StatusCode::kFailedPrecondition, "relocalize: no odometry yet");
+  DG_RETURN_IF_ERROR(checkRigidTransform(world_T_odom, "relocalize: world_T_odom"));
+  const std::vector<CorrectedPose> so_far = keyframeTrajectory();
+  given_up_keyframes_ = so_far;
+  const int dropped = static_cast<int>(pending_.size() + temporary_.numObservations()) + single_observations_;
+  counters_.observations_without_frame += dropped;
+  pending_.clear();
+  temporary_.clear();
+  single_edges_.clear();
+  single_observations_ = 0;
+  if (monitor_.state() == TrackingState::kLost) ++counters_.relocalizations;
+  LocalizerParams in_frame = params_;
+  in_frame.initial_world_T_odom = world_T_odom;
+  if (sigma_t > 0.0 && sigma_r > 0.0 && std::isfinite(sigma_t) && std::isfinite(sigma_r)) {
+    in_frame.initial_sigma_t = sigma_t;
+    in_frame.initial_sigma_r = sigma_r;
+  }
+  main_ = std::make_unique<MainGraph>(in_frame, map_, kernel_);
+  const OdometrySample anchor = history_.sampleAtOrBefore(std::min(since, history_.newest().t));
+  history_.discardBefore(anchor.t);
+  monitor_.locked(history_.newest().t);
+  last_observation_t_ = -std::numeric_limits<double>::infinity();
+  DG_RETURN_IF_ERROR(main_->addFirstKeyframe(anchor.t, anchor.odom_T_body));
+  return anchor.t;
 }
 
 Status Localizer::finish() {
   counters_.observations_never_processed += static_cast<int>(pending_.size());
   pending_.clear();
   if (history_.empty()) return Status(StatusCode::kFailedPrecondition, "finish: no odometry was given");
+  if (monitor_.state() == TrackingState::kInitialising) return Status();  // no graph to finish
   if (params_.mode == LocalizerMode::kSingle) return closeSingleNode(history_.newest().t, history_.newest().odom_T_body, true);
   return closeInterval();
 }
@@ -244,7 +321,7 @@ Eigen::Isometry3d Localizer::mapTOdom() const {
 }
 
 std::vector<CorrectedPose> Localizer::keyframeTrajectory() const {
-  std::vector<CorrectedPose> trajectory;
+  std::vector<CorrectedPose> trajectory = given_up_keyframes_;
   for (size_t k = 0; k < main_->keyframes().size(); ++k) {
     trajectory.push_back(CorrectedPose{main_->keyframes()[k].t, main_->keyframePose(k)});
   }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <deque>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,13 +14,17 @@
 #include "dual_graph/measurements.h"
 #include "dual_graph/odometry_history.h"
 #include "dual_graph/temporary_graph.h"
+#include "dual_graph/tracking_monitor.h"
 
 namespace dualgraph {
 
-/// The corrected pose at one odometry sample: world_T_body(t) = map_T_odom · odom_T_body(t).
+/// The corrected pose at one odometry sample: world_T_body(t) = map_T_odom · odom_T_body(t), and whether it is
+/// a map pose (`state`: tracking; lost: the last correction carried on by the odometry; initialising: not
+/// one, the odometry through the initial guess of world_T_odom).
 struct CorrectedPose {
   double t = 0.0;
   Eigen::Isometry3d world_T_body = Eigen::Isometry3d::Identity();
+  TrackingState state = TrackingState::kTracking;
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
@@ -37,6 +42,7 @@ struct KeyframeStats {
   std::string termination;
   int gate_edges_added = 0;    ///< distilled (dual) or detection (single) edges that entered the main graph
   int gate_edges_rejected = 0; ///< by the χ² gate
+  int observations_rejected = 0; ///< detections the rejected edges stood for
   int gates_skipped = 0;       ///< unusable marginals or edges that could not be added
   int observations = 0;        ///< detections this row's edges stand for
   int temp_nodes = 0;          ///< dual mode: the temporary graph's pose nodes (keyframe included)
@@ -59,6 +65,12 @@ struct LocalizerCounters {
   /// Single mode with `single_all_detections` false: detections after a node's instant that did not start
   /// a node, which that baseline does not use (by its definition, not for a fault).
   int observations_between_nodes = 0;
+  /// Refused while initialising (the VIO's frame in the map not known yet) or dropped by `relocalize`
+  /// (associated in the frame that was given up).
+  int observations_without_frame = 0;
+  int losses = 0;          ///< tracking turned lost (TrackingMonitor)
+  int recoveries = 0;      ///< lost turned tracking by a gate edge accepted again, without a new frame
+  int relocalizations = 0; ///< `relocalize` calls while lost: a new frame, the main graph started again
   std::string last_error;
 };
 
@@ -74,8 +86,11 @@ struct LocalizerCounters {
 /// Not thread-safe.
 class Localizer {
  public:
-  /// kInvalidArgument for invalid parameters, or localization mode with an empty map.
-  static Result<std::unique_ptr<Localizer>> create(const LocalizerParams& params, GateMap map);
+  /// kInvalidArgument for invalid parameters, or localization mode with an empty map, or `initial` lost.
+  /// `initial` kTracking: params.initial_world_T_odom is the frame (a prior, initial_sigma_t/_r); kInitialising:
+  /// the frame is unknown, no observation is used until `relocalize` gives it (mapping mode: always tracking).
+  static Result<std::unique_ptr<Localizer>> create(const LocalizerParams& params, GateMap map,
+                                                   TrackingState initial = TrackingState::kTracking);
 
   /// OK when addOdometry would accept `sample` (valid, and newer than the newest accepted sample);
   /// otherwise the Status it would reject it with. Changes nothing.
@@ -84,13 +99,32 @@ class Localizer {
   Result<CorrectedPose> addOdometry(const OdometrySample& sample);
   /// OK when accepted (used now or queued until odometry covers its time).
   Status addObservation(const GateObservation& observation);
+  /// Frontend evidence for the TrackingMonitor: the gate centres [m, world frame through the current estimate]
+  /// of the detections at time t [s] that passed PnP but matched no map gate near the estimate.
+  /// kInvalidArgument for a non-finite time or position.
+  Status reportUnmatched(double t, const std::vector<Eigen::Vector3d>& p_world);
+  /// The VIO's frame in the map was found (initialising) or found again (lost, or on demand): the main graph
+  /// starts again with its first keyframe at the last odometry sample at or before `since` [s] (the newest by
+  /// default; while initialising or lost the Localizer keeps the last 5 s of odometry, so a search's own
+  /// detections can be handed over again, oldest first, from that keyframe on), world_T_body = world_T_odom ·
+  /// odom_T_body, held by a prior with `sigma_t` [m] and `sigma_r` [rad] (initial_sigma_t/_r when ≤ 0). The
+  /// keyframes so far stay in
+  /// keyframeTrajectory; collected and queued observations, associated in the old frame, are dropped
+  /// (counted). State: tracking. Returns the first keyframe's time. kFailedPrecondition before any odometry;
+  /// kInvalidArgument for a non-rigid transform.
+  Result<double> relocalize(const Eigen::Isometry3d& world_T_odom,
+                            double since = std::numeric_limits<double>::infinity(), double sigma_t = 0.0,
+                            double sigma_r = 0.0);
+  TrackingState trackingState() const { return monitor_.state(); }
+
   /// End of input: uses what is still collected (dual: distils into a keyframe at the newest sample;
   /// single: commits the newest node's edges) and optimises once more.
   Status finish();
 
   /// map_T_odom = K · odom_T_body(t_K)⁻¹ with K the newest optimised keyframe (identity-based guess before).
   Eigen::Isometry3d mapTOdom() const;
-  /// The keyframes' current estimates (world_T_body) with their times.
+  /// The keyframes' current estimates (world_T_body) with their times, those of main graphs given up at a
+  /// `relocalize` first (as they were then).
   std::vector<CorrectedPose> keyframeTrajectory() const;
   const std::vector<KeyframeStats>& keyframeStats() const { return stats_; }
   const LocalizerCounters& counters() const { return counters_; }
@@ -98,7 +132,8 @@ class Localizer {
   const LocalizerParams& params() const { return params_; }
 
  private:
-  Localizer(const LocalizerParams& params, GateMap map, std::shared_ptr<const RobustKernel> kernel);
+  Localizer(const LocalizerParams& params, GateMap map, std::shared_ptr<const RobustKernel> kernel,
+            TrackingState initial);
   Status checkObservation(const GateObservation& observation) const;
   /// True when the interval `observation` belongs to was closed already (checkObservation's last check).
   bool tooLate(const GateObservation& observation) const;
@@ -110,6 +145,8 @@ class Localizer {
   Status closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body, bool final_row);
   /// Optimises (and slides the window), fills `row` and appends it; `start_ms` is when the update began.
   void optimizeAndRecord(KeyframeStats& row, double start_ms);
+  /// Forgets odometry before the keyframe at keyframe_t (tracking), or kept for `relocalize` (otherwise).
+  void discardHistory(double keyframe_t);
   /// Time before which no observation can be used any more (the interval's or the node's start).
   double openIntervalStart() const;
 
@@ -125,6 +162,8 @@ class Localizer {
   double last_observation_t_ = -std::numeric_limits<double>::infinity();
   std::vector<KeyframeStats> stats_;
   LocalizerCounters counters_;
+  TrackingMonitor monitor_;
+  std::vector<CorrectedPose> given_up_keyframes_;  ///< keyframes of the main graphs before a `relocalize`
 };
 
 }  // namespace dualgraph

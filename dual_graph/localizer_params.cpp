@@ -115,7 +115,9 @@ Status validateOptimisation(const LocalizerParams& params) {
     if (!kernel.ok()) return invalid("robust_kernel", kernel.status().message() + " (\"none\" for no kernel)");
   }
   DG_RETURN_IF_ERROR(requireNonNegativeFinite("chi2_gate_pose", params.chi2_gate_pose));
-  return requireNonNegativeFinite("chi2_gate_point", params.chi2_gate_point);
+  DG_RETURN_IF_ERROR(requireNonNegativeFinite("chi2_gate_point", params.chi2_gate_point));
+  DG_RETURN_IF_ERROR(requirePositiveFinite("lost_after_s", params.lost_after_s));
+  return requireAtLeastOne("lost_min_failures", params.lost_min_failures);
 }
 
 }  // namespace

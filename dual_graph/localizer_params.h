@@ -128,6 +128,11 @@ struct LocalizerParams {
   /// of the residual. Defaults: the 99.9 % quantiles of χ² with 6 and 3 degrees of freedom; 0 disables.
   double chi2_gate_pose = 22.458;
   double chi2_gate_point = 16.266;
+
+  // Loss of lock (TrackingMonitor): `lost` when for lost_after_s no gate edge entered the main graph while at
+  // least lost_min_failures detections failed (matched no map gate, or stood in edges the χ² gate rejected).
+  double lost_after_s = 1.0;   ///< [s]
+  int lost_min_failures = 5;   ///< [count]
 };
 
 /// OK when every field is in its domain (positive spacings and σ where required, finite numbers, a rigid

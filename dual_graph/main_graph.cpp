@@ -219,6 +219,7 @@ GateEdgeOutcome MainGraph::addGateEdges(size_t keyframe_index, const GateEdgeMea
     if (to_gate[k] != nullptr && !(innovationChi2(*edges[k], joint[k]) <= gateThreshold())) {
       (void)graph_.removeEdge(edges[k]);
       ++outcome.rejected;
+      outcome.rejected_observations += measurements[k].observations;
       continue;
     }
     ++outcome.added;

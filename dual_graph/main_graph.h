@@ -29,6 +29,7 @@ struct Keyframe {
 struct GateEdgeOutcome {
   int added = 0;
   int rejected = 0;  ///< failed the χ² gate
+  int rejected_observations = 0;  ///< detections the rejected edges stood for
   int failed = 0;    ///< could not be added (message says why)
   std::string message;
 };

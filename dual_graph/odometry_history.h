@@ -53,6 +53,8 @@ class OdometryHistory {
   bool empty() const { return samples_.empty(); }
   const OdometrySample& newest() const { return samples_.back(); }
   double oldestTime() const { return samples_.front().t; }
+  /// The last sample at or before t, or the oldest when t is older (not empty()).
+  const OdometrySample& sampleAtOrBefore(double t) const { return samples_[indexAtOrBefore(t)]; }
 
   /// odom_T_body at `t` (odometryPoseAt); kFailedPrecondition when t lies outside [oldest, newest].
   Result<Eigen::Isometry3d> poseAt(double t) const { return odometryPoseAt(samples_, t); }

@@ -1,105 +1,174 @@
 // SPDX-License-Identifier: MIT
 #include "frontend/sequence_run.h"
 
+#include <algorithm>
 #include <chrono>
+#include <deque>
+#include <limits>
 #include <optional>
 
 #include "dual_graph/odometry_history.h"
+#include "frontend/detection_feed.h"
 
 namespace dualgraph {
 namespace {
 
-/// The sequence's detections (corners or poses) in time order, handed out one instant at a time, their stamps
-/// moved to the odometry's clock (t − time_offset, CameraModel::time_offset).
-class DetectionFeed {
+/// While the Localizer is initialising or lost: a FrameInitializer over the instants' PnP solutions, and the
+/// frame it finds handed to the Localizer (`relocalize`). The first search starts at the first odometry
+/// sample with the coarse start pose, when given; a relocalisation search starts where the Localizer was
+/// lost, with the estimate then as its start pose (relocalization_sigma_t/_r), and searches globally after
+/// relocalization_global_after_s without a lock.
+class FrameSearch {
  public:
-  DetectionFeed(const Sequence& sequence, double time_offset)
-      : sequence_(sequence),
-        size_(sequence.has_corners ? sequence.corners.size() : sequence.pose_detections.size()),
-        time_offset_(time_offset) {}
+  FrameSearch(const SequenceRunParams& params, const GateMap& map) : params_(params), map_(map) {}
 
-  bool done() const { return next_ >= size_; }
-  size_t remaining() const { return size_ - next_; }
-  /// Time of the next detection on the odometry's clock (not done()).
-  double nextTime() const { return stampAt(next_) - time_offset_; }
-  /// Skips the next instant's detections; returns how many.
-  size_t skipInstant() {
-    const size_t begin = next_;
-    next_ = instantEnd();
-    return next_ - begin;
+  bool active() const { return initializer_.has_value(); }
+  void startInitial(const Eigen::Isometry3d& first_odom_T_body) {
+    FrameInitializerParams search = params_.initialization;
+    if (params_.localizer.initial_world_T_body) {
+      search.start_world_T_body = params_.localizer.initial_world_T_body;
+      search.start_sigma_t = params_.localizer.initial_sigma_t;
+      search.start_sigma_r = params_.localizer.initial_sigma_r;
+    }
+    start(search, first_odom_T_body, -1.0);
+    initial_ = true;
   }
-  /// The next instant's detections through PnP alone (pose detections as they are), detector ids kept.
-  Result<std::vector<GateObservation>> solveInstant(const GateFrontend& frontend) {
-    if (sequence_.has_corners) return frontend.solveCorners(nextCorners());
-    return nextPoses();
+  void startRelocalization(double t, const Eigen::Isometry3d& world_T_body, const Eigen::Isometry3d& odom_T_body) {
+    FrameInitializerParams search = params_.initialization;
+    search.start_world_T_body = world_T_body;
+    search.start_sigma_t = params_.relocalization.sigma_t;
+    search.start_sigma_r = params_.relocalization.sigma_r;
+    start(search, odom_T_body, t);
+    initial_ = false;
   }
-  /// The next instant's detections through the frontend at `world_T_body`.
-  Result<std::vector<GateObservation>> processInstant(GateFrontend& frontend, const Eigen::Isometry3d& world_T_body) {
-    if (sequence_.has_corners) return frontend.processCorners(nextCorners(), world_T_body);
-    return frontend.processPoses(nextPoses(), world_T_body);
+  void stop() {
+    initializer_.reset();
+    seen_.clear();
+  }
+  /// The first search's instants (not yet through the frontend), oldest first, within the search's window.
+  struct Seen {
+    DetectionInstant instant;
+    Eigen::Isometry3d odom_T_body;
+  };
+  /// One instant's PnP solutions at odom_T_body. On lock: relocalises `localizer` and returns the first
+  /// search's instants from the new first keyframe on, to be handed over again (empty for a relocalisation,
+  /// whose instants went through the frontend already).
+  Result<std::vector<Seen>> add(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body,
+                                const std::vector<GateObservation>& solved, Localizer& localizer,
+                                SequenceRunResult& result) {
+    if (!initializer_) return std::vector<Seen>{};
+    placed_ += solved.size();
+    if (initial_) {
+      seen_.push_back(Seen{instant, odom_T_body});
+      while (seen_.front().instant.t < instant.t - params_.initialization.window_s) seen_.pop_front();
+    }
+    const FrameInitialization& found = initializer_->add(instant.t, odom_T_body, solved);
+    if (initial_) result.initialization = found;
+    if (found.locked) {
+      const Eigen::Isometry3d world_T_odom = found.world_T_odom;
+      const double since = seen_.empty() ? std::numeric_limits<double>::infinity() : seen_.front().instant.t;
+      // The found frame is held as well as its own inliers say (at least 0.1 m; no worse than the configured
+      // initial prior), the rotation σ in the configured proportion (1 m ↔ 0.2 rad by default).
+      const LocalizerParams& lp = params_.localizer;
+      const double sigma_t = std::clamp(found.residual_rms_m, 0.1, std::max(0.1, lp.initial_sigma_t));
+      const double sigma_r = lp.initial_sigma_t > 0.0 ? lp.initial_sigma_r * sigma_t / lp.initial_sigma_t : lp.initial_sigma_r;
+      Result<double> anchor = localizer.relocalize(world_T_odom, since, sigma_t, sigma_r);
+      if (!anchor.ok()) return anchor.status();
+      std::vector<Seen> replay;
+      for (Seen& seen : seen_) {
+        if (seen.instant.t >= *anchor) replay.push_back(std::move(seen));
+      }
+      stop();
+      return replay;
+    }
+    if (!initial_ && started_t_ >= 0.0 && instant.t - started_t_ > params_.relocalization.global_after_s) {
+      start(params_.initialization, odom_T_body, -1.0);  // the estimate was no guide: anywhere in the map
+    }
+    return std::vector<Seen>{};
+  }
+  /// The first search's answer when it never locked and saw nothing it could use.
+  void explainNothingPlaced(SequenceRunResult& result, size_t skipped) const {
+    if (!result.initialization || result.initialization->locked || placed_ > 0) return;
+    result.initialization->why_not = "none of the detections could be used: " + std::to_string(skipped) +
+                                     " outside the odometry's time span, the others refused by PnP";
   }
 
  private:
-  double stampAt(size_t i) const { return sequence_.has_corners ? sequence_.corners[i].t : sequence_.pose_detections[i].t; }
-  size_t instantEnd() const {
-    size_t end = next_ + 1;
-    while (end < size_ && stampAt(end) == stampAt(next_)) ++end;
-    return end;
-  }
-  /// The next instant's corner detections (has_corners), on the odometry's clock; advances.
-  std::vector<CornerDetection> nextCorners() {
-    const size_t begin = next_;
-    next_ = instantEnd();
-    std::vector<CornerDetection> instant(sequence_.corners.begin() + static_cast<long>(begin),
-                                         sequence_.corners.begin() + static_cast<long>(next_));
-    for (CornerDetection& detection : instant) detection.t -= time_offset_;
-    return instant;
-  }
-  /// The next instant's pose detections, likewise.
-  std::vector<GateObservation> nextPoses() {
-    const size_t begin = next_;
-    next_ = instantEnd();
-    std::vector<GateObservation> instant(sequence_.pose_detections.begin() + static_cast<long>(begin),
-                                         sequence_.pose_detections.begin() + static_cast<long>(next_));
-    for (GateObservation& detection : instant) detection.t -= time_offset_;
-    return instant;
+  void start(const FrameInitializerParams& search, const Eigen::Isometry3d& odom_T_body, double t) {
+    initializer_.emplace(search, map_);
+    initializer_->setStartOdometry(odom_T_body);
+    started_t_ = t;
   }
 
-  const Sequence& sequence_;
-  const size_t size_;
-  const double time_offset_;
-  size_t next_ = 0;
+  const SequenceRunParams& params_;
+  const GateMap& map_;
+  std::optional<FrameInitializer> initializer_;
+  std::deque<Seen> seen_;
+  bool initial_ = false;
+  double started_t_ = -1.0;  ///< a relocalisation search's start [s]; −1: global already
+  size_t placed_ = 0;
 };
 
-/// Hands every instant up to `until` [s] to the frontend and its observations to the Localizer, the pose of
-/// an instant interpolated between `before` and `after` (instants older than `before` cannot be placed:
-/// counted as rejected). `withhold`: the instants are passed over instead (the VIO's frame is unknown).
-Status handDetectionsUpTo(double until, const OdometrySample& before, const OdometrySample& after, DetectionFeed& feed,
-                          GateFrontend& frontend, Localizer& localizer, bool withhold, SequenceRunResult& result) {
-  while (!feed.done() && feed.nextTime() <= until) {
-    const double t = feed.nextTime();
-    if (withhold) {
-      feed.skipInstant();
-      continue;
-    }
-    if (t < before.t) {
-      result.observations_rejected += static_cast<int>(feed.skipInstant());
-      continue;
-    }
-    const Eigen::Isometry3d world_T_body = localizer.mapTOdom() * interpolateOdometry(before, after, t);
-    Result<std::vector<GateObservation>> observations = feed.processInstant(frontend, world_T_body);
-    if (!observations.ok()) return observations.status();
-    for (const GateObservation& observation : *observations) {
-      if (!localizer.addObservation(observation).ok()) ++result.observations_rejected;
-    }
+/// One instant through the frontend into the Localizer at the Localizer's estimate; the detections that
+/// matched no map gate go to its TrackingMonitor. With `search`: while initialising the instant goes to the
+/// search alone; while lost to both.
+Status handInstant(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body, GateFrontend& frontend,
+                   Localizer& localizer, FrameSearch* search, SequenceRunResult& result);
+
+/// `instant` to the frame search; on lock, the search's own instants again, now through the frontend.
+Status searchWith(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body, GateFrontend& frontend,
+                  Localizer& localizer, FrameSearch& search, SequenceRunResult& result) {
+  Result<std::vector<GateObservation>> solved = solveInstant(frontend, instant);
+  if (!solved.ok()) return Status();  // PnP's own failures are counted by the frontend when it sees them
+  Result<std::vector<FrameSearch::Seen>> replay = search.add(instant, odom_T_body, *solved, localizer, result);
+  if (!replay.ok()) return replay.status();
+  for (const FrameSearch::Seen& seen : *replay) {
+    result.detections_frame_search_only -= static_cast<int>(seen.instant.size());
+    DG_RETURN_IF_ERROR(handInstant(seen.instant, seen.odom_T_body, frontend, localizer, &search, result));
   }
   return Status();
 }
 
-/// runSequenceWith's loop; `withhold`: no detection reaches the frontend (those outside the odometry's span
-/// are still counted as such).
+Status handInstant(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body, GateFrontend& frontend,
+                   Localizer& localizer, FrameSearch* search, SequenceRunResult& result) {
+  if (search && localizer.trackingState() == TrackingState::kInitialising) {
+    result.detections_frame_search_only += static_cast<int>(instant.size());
+    return searchWith(instant, odom_T_body, frontend, localizer, *search, result);
+  }
+  const Eigen::Isometry3d world_T_body = localizer.mapTOdom() * odom_T_body;
+  Result<std::vector<GateObservation>> observations = processInstant(frontend, instant, world_T_body);
+  if (!observations.ok()) return observations.status();
+  for (const GateObservation& observation : *observations) {
+    if (!localizer.addObservation(observation).ok()) ++result.observations_rejected;
+  }
+  if (!frontend.lastUnmatched().empty()) DG_RETURN_IF_ERROR(localizer.reportUnmatched(instant.t, frontend.lastUnmatched()));
+  if (!search) return Status();
+  if (localizer.trackingState() != TrackingState::kLost) {
+    search->stop();
+    return Status();
+  }
+  if (!search->active()) search->startRelocalization(instant.t, world_T_body, odom_T_body);
+  return searchWith(instant, odom_T_body, frontend, localizer, *search, result);
+}
+
+/// Hands every instant up to `until` [s] on, the pose of an instant interpolated between `before` and `after`
+/// (instants older than `before` cannot be placed: counted as rejected).
+Status handDetectionsUpTo(double until, const OdometrySample& before, const OdometrySample& after, DetectionFeed& feed,
+                          GateFrontend& frontend, Localizer& localizer, FrameSearch* search, SequenceRunResult& result) {
+  while (!feed.done() && feed.nextTime() <= until) {
+    if (feed.nextTime() < before.t) {
+      result.observations_rejected += static_cast<int>(feed.skipInstant());
+      continue;
+    }
+    const DetectionInstant instant = feed.next();
+    DG_RETURN_IF_ERROR(handInstant(instant, interpolateOdometry(before, after, instant.t), frontend, localizer, search, result));
+  }
+  return Status();
+}
+
+/// runSequenceWith's loop; `search` (may be null) finds the frame while initialising or lost.
 Result<SequenceRunResult> runLoop(Localizer& localizer, GateFrontend& frontend, const Sequence& sequence,
-                                  const RunProgress& progress, bool withhold, double time_offset) {
+                                  const RunProgress& progress, double time_offset, FrameSearch* search) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<OdometrySample>& samples = sequence.odometry.samples;
   if (samples.empty()) return Status(StatusCode::kInvalidArgument, sequence.dir + ": no odometry samples");
@@ -113,19 +182,21 @@ Result<SequenceRunResult> runLoop(Localizer& localizer, GateFrontend& frontend, 
     const OdometrySample& sample = samples[k];
     // The detections this sample covers go first: if it closes a keyframe interval, they are in it.
     if (newest && localizer.checkOdometry(sample).ok()) {
-      DG_RETURN_IF_ERROR(handDetectionsUpTo(sample.t, *newest, sample, feed, frontend, localizer, withhold, result));
+      DG_RETURN_IF_ERROR(handDetectionsUpTo(sample.t, *newest, sample, feed, frontend, localizer, search, result));
     }
     Result<CorrectedPose> corrected = localizer.addOdometry(sample);
     if (corrected.ok()) {
-      result.estimate.push_back(*corrected);
       if (!newest) {  // the first accepted sample: the detections at its own instant (earlier ones cannot be placed)
-        DG_RETURN_IF_ERROR(handDetectionsUpTo(sample.t, sample, sample, feed, frontend, localizer, withhold, result));
+        DG_RETURN_IF_ERROR(handDetectionsUpTo(sample.t, sample, sample, feed, frontend, localizer, search, result));
+        corrected->state = localizer.trackingState();
       }
+      result.estimate.push_back(*corrected);
       newest = sample;
     }
     if (progress) progress(k + 1, samples.size());
   }
   result.detections_after_odometry = static_cast<int>(feed.remaining());
+  if (search) search->explainNothingPlaced(result, result.detections_before_odometry + result.detections_after_odometry);
   DG_RETURN_IF_ERROR(localizer.finish());
   result.keyframes = localizer.keyframeTrajectory();
   result.stats = localizer.keyframeStats();
@@ -142,40 +213,6 @@ double detectionTimeOffset(const Sequence& sequence, const SequenceRunParams& pa
   return sequence.camera ? sequence.camera->time_offset : 0.0;
 }
 
-FrameInitialization findOdometryFrame(const Sequence& sequence, const SequenceRunParams& params,
-                                      const GateFrontend& frontend) {
-  FrameInitializerParams search = params.initialization;
-  if (params.localizer.initial_world_T_body) {
-    search.start_world_T_body = params.localizer.initial_world_T_body;
-    search.start_sigma_t = params.localizer.initial_sigma_t;
-    search.start_sigma_r = params.localizer.initial_sigma_r;
-  }
-  FrameInitializer initializer(search, frontend.map());
-  const std::vector<OdometrySample>& samples = sequence.odometry.samples;
-  if (samples.empty()) return initializer.state();
-  initializer.setStartOdometry(samples.front().odom_T_body);
-  DetectionFeed feed(sequence, detectionTimeOffset(sequence, params));
-  size_t placed = 0, skipped = 0;
-  while (!feed.done() && !initializer.state().locked) {
-    const double t = feed.nextTime();
-    Result<Eigen::Isometry3d> odom_T_body = odometryPoseAt(samples, t);
-    if (!odom_T_body.ok()) {
-      skipped += feed.skipInstant();
-      continue;
-    }
-    Result<std::vector<GateObservation>> observations = feed.solveInstant(frontend);
-    if (!observations.ok()) continue;
-    placed += observations->size();
-    initializer.add(t, *odom_T_body, *observations);
-  }
-  FrameInitialization found = initializer.state();
-  if (!found.locked && placed == 0) {
-    found.why_not = "none of the detections could be used: " + std::to_string(skipped) +
-                    " outside the odometry's time span, the others refused by PnP";
-  }
-  return found;
-}
-
 Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRunParams& params,
                                       const RunProgress& progress) {
   if (sequence.odometry.samples.empty()) return Status(StatusCode::kInvalidArgument, sequence.dir + ": no odometry samples");
@@ -186,24 +223,25 @@ Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRu
   auto frontend = GateFrontend::create(frontend_params, sequence.map, sequence.camera);
   if (!frontend.ok()) return frontend.status();
   LocalizerParams localizer_params = params.localizer;
-  std::optional<FrameInitialization> initialization;
-  if (params.auto_initialize && !params.localizer.mapping) {
-    initialization = findOdometryFrame(sequence, params, *frontend);
-    if (initialization->locked) localizer_params.initial_world_T_odom = initialization->world_T_odom;
+  const Eigen::Isometry3d& first_odom_T_body = sequence.odometry.samples.front().odom_T_body;
+  const bool find_frame = params.auto_initialize && !params.localizer.mapping;
+  // Until the frame is found, the estimate is the odometry through the best guess there is: the start pose.
+  if (find_frame && params.localizer.initial_world_T_body) {
+    localizer_params.initial_world_T_odom = *params.localizer.initial_world_T_body * first_odom_T_body.inverse();
   }
-  auto localizer = Localizer::create(localizer_params, params.localizer.mapping ? GateMap{} : *known_map);
+  auto localizer = Localizer::create(localizer_params, params.localizer.mapping ? GateMap{} : *known_map,
+                                     find_frame ? TrackingState::kInitialising : TrackingState::kTracking);
   if (!localizer.ok()) return localizer.status();
-  // No frame, no detection: associating them in a wrong frame would give a plausible wrong answer.
-  const bool withhold = initialization && !initialization->locked;
-  Result<SequenceRunResult> result = runLoop(**localizer, *frontend, sequence, progress, withhold, detectionTimeOffset(sequence, params));
-  if (result.ok()) result->initialization = initialization;
-  return result;
+  FrameSearch search(params, *known_map);
+  if (find_frame) search.startInitial(first_odom_T_body);
+  return runLoop(**localizer, *frontend, sequence, progress, detectionTimeOffset(sequence, params),
+                 params.localizer.mapping ? nullptr : &search);
 }
 
 Result<SequenceRunResult> runSequenceWith(Localizer& localizer, GateFrontend& frontend, const Sequence& sequence,
                                           const RunProgress& progress) {
   const double time_offset = sequence.camera ? sequence.camera->time_offset : 0.0;
-  return runLoop(localizer, frontend, sequence, progress, false, time_offset);
+  return runLoop(localizer, frontend, sequence, progress, time_offset, nullptr);
 }
 
 }  // namespace dualgraph

@@ -17,7 +17,8 @@ namespace dualgraph {
 /// The outputs of one run over a sequence.
 struct SequenceRunResult {
   /// world_T_body at every accepted odometry sample as the Localizer returned it at that moment
-  /// (causal: what the drone knew then, the newest optimised keyframe composed with the VIO increment).
+  /// (causal: what the drone knew then, the newest optimised keyframe composed with the VIO increment),
+  /// with its tracking state (initialising samples are no map pose).
   std::vector<CorrectedPose> estimate;
   std::vector<CorrectedPose> keyframes;       ///< the keyframes' final estimates
   std::vector<KeyframeStats> stats;           ///< one row per main-graph optimisation
@@ -25,9 +26,12 @@ struct SequenceRunResult {
   GateFrontendCounters frontend_counters;
   int detections_before_odometry = 0;         ///< earlier than the first odometry sample: not usable
   int detections_after_odometry = 0;          ///< later than the last odometry sample: not usable
+  /// While initialising: given to the frame search alone (PnP), not to the frontend's association or the
+  /// Localizer (the frame they need was not known yet).
+  int detections_frame_search_only = 0;
   int observations_rejected = 0;              ///< refused by the Localizer (see localizer_counters.last_error)
-  /// With `auto_initialize`: how the VIO's frame was found (or why not: then no detection was used and the
-  /// estimate is the odometry as it is). The Localizer started from `initialization.world_T_odom`.
+  /// With `auto_initialize`: how the first search found the VIO's frame (or why not: then no detection was
+  /// used and every sample stayed initialising). The Localizer was relocalised at `initialization.world_T_odom`.
   std::optional<FrameInitialization> initialization;
   double wall_seconds = 0.0;                  ///< whole run
 };
@@ -43,20 +47,17 @@ using RunProgress = std::function<void(size_t done, size_t total)>;
 /// So a sample that closes a keyframe interval finds that interval's detections collected (none is
 /// refused as too late). `finish` at the end. Errors only for invalid parameters or a sequence without
 /// odometry; bad samples and detections are counted. With `params.auto_initialize` (outside mapping mode) the
-/// VIO's frame is first found from the detections (findOdometryFrame) and the Localizer starts from it; when it
-/// cannot be found the run uses no detection and says why in `initialization`.
+/// Localizer starts initialising: each instant goes to a FrameInitializer instead (PnP alone) until it locks,
+/// then the Localizer is given the frame (`relocalize`) and tracks; when it never locks the run uses no
+/// detection and says why in `initialization`. Whenever the Localizer turns lost (its TrackingMonitor, fed the
+/// frontend's unmatched detections), a new search starts with the estimate as its coarse start pose
+/// (params.relocalization) and relocalises it on lock, unless gates fit again first.
 Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRunParams& params,
                                       const RunProgress& progress = {});
 
 /// The camera-to-VIO clock offset a run uses [s]: params.time_offset when set, else the sequence camera's
 /// CameraModel::time_offset, else 0. Every detection stamped t is used at t − this.
 double detectionTimeOffset(const Sequence& sequence, const SequenceRunParams& params);
-
-/// FrameInitializer over the sequence's detections in time order (PnP through `frontend`, each instant at
-/// odom_T_body interpolated), until it locks or the detections end. The coarse start pose, when given, is
-/// params.localizer.initial_world_T_body at the first odometry sample.
-FrameInitialization findOdometryFrame(const Sequence& sequence, const SequenceRunParams& params,
-                                      const GateFrontend& frontend);
 
 /// The same loop with a Localizer and a GateFrontend the caller made and keeps (to read the main graph
 /// afterwards, as the benchmarks do); `localizer` gets `finish`. runSequence is this after creating both.

@@ -101,6 +101,9 @@ CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
   cmd->add_flag("--quiet", o.quiet, "No progress line and no summary (warnings still go to stderr)");
   cmd->add_flag("--skip-unknown-gates", o.skip_unknown_gates,
                 "Drop detections naming a gate that is not in gates.yaml, with a warning (default: exit 1 naming the line)");
+  cmd->add_option("--max-lost-share", o.max_lost_share_pct,
+                  "Exit 4 when lost for more than this share of the time after the first lock, or lost at the end [%] (default 20)")
+      ->check(CLI::Range(0.0, 100.0));
   return cmd;
 }
 

@@ -104,8 +104,8 @@ int runRunCommand(const RunOptions& o) {
   warnOutsideOdometry(*sequence, *run);
   if (run->initialization && !run->initialization->locked) {
     std::cerr << "dualgraph run: the VIO's frame in the gate map was not found (" << run->initialization->why_not
-              << "): no detection was used; the estimate is the raw odometry; outputs written to " << o.out
-              << "; exit " << kExitNothingLocalised << "\n";
+              << "): no detection was used and no sample has a map pose (estimate.tum is empty, tracking_state.csv "
+              << "says initialising throughout); outputs written to " << o.out << "; exit " << kExitNothingLocalised << "\n";
     return kExitNothingLocalised;
   }
   if (metrics->detections_used == 0) {
@@ -114,7 +114,16 @@ int runRunCommand(const RunOptions& o) {
               << "outputs written to " << o.out << "; exit " << kExitNothingLocalised << "\n";
     return kExitNothingLocalised;
   }
-  if (o.quiet) return 0;
+  int exit_code = 0;
+  if (metrics->lost_share_pct > o.max_lost_share_pct || metrics->final_state == "lost") {
+    std::cerr << "dualgraph run: lost for " << metrics->time_lost_s << " s, " << metrics->lost_share_pct
+              << " % of the time after the VIO's frame was found (limit " << o.max_lost_share_pct << " %), ended "
+              << metrics->final_state << "; " << metrics->losses << " losses, " << metrics->relocalizations
+              << " relocalisations: tracking_state.csv says when the estimate is not to be trusted; outputs written to "
+              << o.out << "; exit " << kExitMostlyLost << "\n";
+    exit_code = kExitMostlyLost;
+  }
+  if (o.quiet) return exit_code;
   std::cout << std::setprecision(4) << "dualgraph run (" << localizerModeName(params->localizer.mode) << "): "
             << run->estimate.size() << " poses, " << metrics->keyframes << " keyframes, main graph " << metrics->nodes
             << " nodes / " << metrics->edges << " edges, optimisation P50 " << metrics->opt_ms_p50 << " ms, P95 "
@@ -129,6 +138,10 @@ int runRunCommand(const RunOptions& o) {
               << std::atan2(frame.linear()(1, 0), frame.linear()(0, 0)) * 180.0 / M_PI << " deg, offset "
               << frame.translation().norm() << " m\n";
   }
+  std::cout << "  tracking " << metrics->time_tracking_s << " s, lost " << metrics->time_lost_s << " s ("
+            << metrics->lost_share_pct << " %), initialising " << metrics->time_initialising_s << " s; "
+            << metrics->losses << " losses, " << metrics->recoveries << " recovered, " << metrics->relocalizations
+            << " relocalisations; final state " << metrics->final_state << "\n";
   if (metrics->has_ground_truth) {
     std::cout << "  ATE (SE(3)-aligned) " << metrics->estimate.ate_se3_m << " m (VIO " << metrics->vio.ate_se3_m
               << " m, " << std::setprecision(3) << metrics->ate_reduction_pct << " % lower); unaligned "
@@ -136,7 +149,7 @@ int runRunCommand(const RunOptions& o) {
               << " m); rotation " << metrics->estimate.ate_rot_deg << " deg (VIO " << metrics->vio.ate_rot_deg << ")\n";
   }
   std::cout << "  wrote " << o.out << "\n";
-  return 0;
+  return exit_code;
 }
 
 }  // namespace dualgraph::tools

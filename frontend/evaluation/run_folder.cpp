@@ -172,6 +172,16 @@ Status writeStats(const std::string& path, const std::vector<KeyframeStats>& sta
   });
 }
 
+// tracking_state.csv: `t,state` at every accepted odometry sample.
+Status writeTrackingStates(const std::string& path, const std::vector<CorrectedPose>& estimate) {
+  return writeFileAtomically(path, [&](std::ostream& out) {
+    out.precision(std::numeric_limits<double>::max_digits10);
+    out << "t,state\n";
+    for (const CorrectedPose& pose : estimate) out << pose.t << ',' << trackingStateName(pose.state) << '\n';
+    return Status();
+  });
+}
+
 // run.yaml: the sequence (absolute) and the graph settings of the run, for `dualgraph report`.
 Status writeRunYaml(const std::string& path, const std::string& sequence, const LocalizerParams& p) {
   return writeFileAtomically(path, [&](std::ostream& out) {
@@ -227,7 +237,15 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run) {
         for (const KeyframeStats& row : run.stats) total += row.gate_edges_rejected;
         return total;
       }())
-      .add("estimate_poses", static_cast<long>(run.estimate.size()))
+      .add("estimate_poses", static_cast<long>(mapPoses(run.estimate).size()))
+      .add("final_state", m.final_state)
+      .add("time_initialising_s", m.time_initialising_s)
+      .add("time_tracking_s", m.time_tracking_s)
+      .add("time_lost_s", m.time_lost_s)
+      .add("lost_share_pct", m.lost_share_pct)
+      .add("losses", m.losses)
+      .add("recoveries", m.recoveries)
+      .add("relocalizations", m.relocalizations)
       .add("wall_s", run.wall_seconds);
   return json;
 }
@@ -243,7 +261,8 @@ std::string folderName(const std::string& dir) {
 Status writeRunFolder(const std::string& dir, const std::string& sequence_dir, const LocalizerParams& params,
                       const SequenceRunResult& run, const RunMetrics& metrics) {
   const fs::path folder(dir);
-  DG_RETURN_IF_ERROR(writeTum((folder / "estimate.tum").string(), stampedPoses(run.estimate)));
+  DG_RETURN_IF_ERROR(writeTum((folder / "estimate.tum").string(), stampedPoses(mapPoses(run.estimate))));
+  DG_RETURN_IF_ERROR(writeTrackingStates((folder / "tracking_state.csv").string(), run.estimate));
   DG_RETURN_IF_ERROR(writeTum((folder / "keyframes.tum").string(), stampedPoses(run.keyframes)));
   DG_RETURN_IF_ERROR(writeStats((folder / "stats.csv").string(), run.stats, run.keyframes, params));
   DG_RETURN_IF_ERROR(writeRunYaml((folder / "run.yaml").string(), sequence_dir, params));

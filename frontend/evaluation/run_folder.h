@@ -17,7 +17,9 @@
 namespace dualgraph {
 
 /// Writes a run's files into the existing folder `dir` (e.g. a staging folder), each atomically:
-///   estimate.tum   world_T_body at every accepted odometry sample (TUM: t [s], m, quaternion xyzw)
+///   estimate.tum   world_T_body at every accepted odometry sample that is a map pose, i.e. not initialising
+///                  (TUM: t [s], m, quaternion xyzw)
+///   tracking_state.csv  `t,state` at every accepted odometry sample: initialising, tracking or lost
 ///   keyframes.tum  the keyframes' final estimates (TUM)
 ///   stats.csv      one row per keyframe: `t,keyframe,nodes,edges,iterations,optimization_ms,distilled_edges,
 ///                  rejected_edges,skipped_gates,observations,temp_nodes,temp_edges,temp_iterations,temp_ms,

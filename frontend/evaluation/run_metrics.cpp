@@ -63,16 +63,53 @@ double percentile(std::vector<double> values, double p) {
   return values[low] + (rank - static_cast<double>(low)) * (values[high] - values[low]);
 }
 
+std::vector<CorrectedPose> mapPoses(const std::vector<CorrectedPose>& estimate) {
+  std::vector<CorrectedPose> out;
+  out.reserve(estimate.size());
+  for (const CorrectedPose& pose : estimate) {
+    if (pose.state != TrackingState::kInitialising) out.push_back(pose);
+  }
+  return out;
+}
+
+namespace {
+
+void addStateTimes(const SequenceRunResult& run, RunMetrics& m) {
+  const std::vector<CorrectedPose>& e = run.estimate;
+  for (size_t k = 0; k + 1 < e.size(); ++k) {
+    const double dt = e[k + 1].t - e[k].t;
+    switch (e[k].state) {
+      case TrackingState::kInitialising: m.time_initialising_s += dt; break;
+      case TrackingState::kTracking: m.time_tracking_s += dt; break;
+      case TrackingState::kLost: m.time_lost_s += dt; break;
+    }
+  }
+  const double after_lock = m.time_tracking_s + m.time_lost_s;
+  m.lost_share_pct = after_lock > 0.0 ? 100.0 * m.time_lost_s / after_lock : 0.0;
+  m.final_state = e.empty() ? "" : trackingStateName(e.back().state);
+  m.losses = run.localizer_counters.losses;
+  m.recoveries = run.localizer_counters.recoveries;
+  m.relocalizations = run.localizer_counters.relocalizations;
+}
+
+}  // namespace
+
 Result<RunMetrics> computeRunMetrics(const Sequence& sequence, const SequenceRunResult& run) {
   RunMetrics m;
-  const StampedPoses estimate = stampedPoses(run.estimate);
-  const StampedPoses vio = stampedPosesFromSamples(sequence.odometry.samples);
+  const StampedPoses estimate = stampedPoses(mapPoses(run.estimate));
+  StampedPoses vio;  // the odometry over the estimate's span, so both are judged on the same flight
+  for (const OdometrySample& sample : sequence.odometry.samples) {
+    if (!estimate.empty() && sample.t >= estimate.front().first && sample.t <= estimate.back().first) {
+      vio.emplace_back(sample.t, sample.odom_T_body);
+    }
+  }
+  addStateTimes(run, m);
   m.has_ground_truth = sequence.ground_truth.has_value();
   m.estimate.ate_m = m.estimate.ate_rot_deg = m.estimate.ate_se3_m = m.estimate.ate_4dof_m = kNoValue;
   m.estimate.ate_unaligned_m = kNoValue;
   m.vio = m.estimate;
   m.ate_reduction_pct = m.ate_unaligned_reduction_pct = kNoValue;
-  if (m.has_ground_truth && !estimate.empty()) {
+  if (m.has_ground_truth && estimate.size() >= 3) {
     const StampedPoses truth = stampedPosesFromSamples(sequence.ground_truth->samples);
     auto evaluated = evaluateTrajectory(truth, estimate);
     if (!evaluated.ok()) return Status(evaluated.status().code(), "estimate vs gt.tum: " + evaluated.status().message());

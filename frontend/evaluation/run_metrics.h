@@ -21,11 +21,13 @@ struct LapCorrection {
   double std_m = 0.0;   ///< population standard deviation [m]
 };
 
-/// Every figure `dualgraph run` reports (metrics.json). ATE figures are NaN without ground truth.
+/// Every figure `dualgraph run` reports (metrics.json). ATE figures are NaN without ground truth, and
+/// without any map pose (a run that never found the VIO's frame).
 struct RunMetrics {
   bool has_ground_truth = false;
-  TrajectoryMetrics estimate;  ///< SE(3)-aligned, with 4-DoF and unaligned figures
-  TrajectoryMetrics vio;       ///< the raw odometry, same evaluation
+  /// The estimate's map poses (every sample not initialising), SE(3)-aligned, with 4-DoF and unaligned figures.
+  TrajectoryMetrics estimate;
+  TrajectoryMetrics vio;       ///< the raw odometry over the same time span, same evaluation
   double ate_reduction_pct = 0.0;            ///< 100 (1 − estimate.ate_m / vio.ate_m), SE(3)-aligned
   double ate_unaligned_reduction_pct = 0.0;  ///< the same without alignment
   int keyframes = 0;
@@ -40,7 +42,19 @@ struct RunMetrics {
   /// Of the rejected: single mode with `single_all_detections` false, detections between node instants
   /// (not used by that baseline's definition; LocalizerCounters::observations_between_nodes).
   int detections_between_nodes = 0;
+  // Tracking state (CorrectedPose::state): each sample's state holds until the next sample.
+  double time_initialising_s = 0.0;  ///< before the VIO's frame was found [s]
+  double time_tracking_s = 0.0;      ///< [s]
+  double time_lost_s = 0.0;          ///< [s]
+  double lost_share_pct = 0.0;       ///< time lost over the time after the first lock [%] (0 without one)
+  int losses = 0;                    ///< LocalizerCounters: tracking turned lost
+  int recoveries = 0;                ///< lost turned tracking again without a new frame
+  int relocalizations = 0;           ///< a new frame found while lost
+  std::string final_state;           ///< the last sample's state ("tracking", "lost", "initialising")
 };
+
+/// The samples of `estimate` that are map poses (state not initialising).
+std::vector<CorrectedPose> mapPoses(const std::vector<CorrectedPose>& estimate);
 
 /// The (t, world_T_body) of corrected poses, for the trajectory writers and metrics.
 StampedPoses stampedPoses(const std::vector<CorrectedPose>& poses);

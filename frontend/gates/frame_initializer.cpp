@@ -164,6 +164,11 @@ void FrameInitializer::search() {
   } else {
     state_.locked = true;
     state_.world_T_odom = gravityAligned(best.yaw, best.translation);
+    double sum_sq = 0.0;
+    for (const auto& [k, id] : best_pairs) {
+      sum_sq += (state_.world_T_odom * window_[k].p_odom - map_.world_T_gate.at(id).translation()).squaredNorm();
+    }
+    state_.residual_rms_m = best_pairs.empty() ? 0.0 : std::sqrt(sum_sq / static_cast<double>(best_pairs.size()));
   }
   state_.why_not = why.str();
 }

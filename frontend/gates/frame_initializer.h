@@ -36,6 +36,7 @@ struct FrameInitialization {
   int gates = 0;            ///< distinct map gates among them
   int runner_up = 0;        ///< inliers of the best distinct hypothesis
   double locked_at = 0.0;   ///< time of the detection that locked it [s]
+  double residual_rms_m = 0.0;  ///< when locked: RMS distance of the inliers' gate centres from their map gates [m]
   std::string why_not;      ///< when not locked: too few detections, or an ambiguous layout (with counts)
 };
 

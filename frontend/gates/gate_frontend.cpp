@@ -138,6 +138,7 @@ Result<std::vector<GateObservation>> GateFrontend::associate(std::vector<GateObs
     results = std::move(all).value();
   }
   std::vector<GateObservation> observations;
+  last_unmatched_.clear();
   for (AssociationResult& result : results) {
     if (result.outcome == AssociationOutcome::kNewLandmarkPending) {
       ++counters_.mapping_pending;
@@ -145,6 +146,8 @@ Result<std::vector<GateObservation>> GateFrontend::associate(std::vector<GateObs
     }
     if (!result.associated()) {
       ++counters_.not_associated;
+      const GateObservation& seen = result.observation;
+      last_unmatched_.push_back(world_T_body * (seen.kind == ObservationKind::kPose ? seen.body_T_gate.translation() : seen.p_body));
       continue;
     }
     GateObservation observation = result.observation;

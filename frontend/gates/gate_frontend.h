@@ -64,6 +64,10 @@ class GateFrontend {
   Result<std::vector<GateObservation>> processPoses(const std::vector<GateObservation>& detections,
                                                     const Eigen::Isometry3d& world_T_body);
   const GateFrontendCounters& counters() const { return counters_; }
+  /// The gate centres [m, world frame, through the world_T_body given] of the last processCorners /
+  /// processPoses call's detections that passed PnP but matched no map gate (evidence of a lost estimate
+  /// for the Localizer's TrackingMonitor).
+  const std::vector<Eigen::Vector3d>& lastUnmatched() const { return last_unmatched_; }
   /// The map as the frontend knows it (grows in mapping mode).
   const GateMap& map() const { return map_; }
 
@@ -85,6 +89,7 @@ class GateFrontend {
   GateAssociator associator_;
   PixelNoiseEstimator noise_;
   GateFrontendCounters counters_;
+  std::vector<Eigen::Vector3d> last_unmatched_;
 };
 
 }  // namespace dualgraph

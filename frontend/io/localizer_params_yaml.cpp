@@ -62,11 +62,13 @@ constexpr FieldSlot<double> kNumberFields[] = {
     {"temp_relative_decrease_stop", &LocalizerParams::temp_relative_decrease_stop},
     {"temp_model_decrease_stop", &LocalizerParams::temp_model_decrease_stop},
     {"chi2_gate_pose", &LocalizerParams::chi2_gate_pose}, {"chi2_gate_point", &LocalizerParams::chi2_gate_point},
+    {"lost_after_s", &LocalizerParams::lost_after_s},
 };
 constexpr FieldSlot<int> kIntegerFields[] = {
     {"main_max_iterations", &LocalizerParams::main_max_iterations},
     {"main_window", &LocalizerParams::main_window},
     {"temp_max_iterations", &LocalizerParams::temp_max_iterations},
+    {"lost_min_failures", &LocalizerParams::lost_min_failures},
 };
 constexpr FieldSlot<bool> kBoolFields[] = {
     {"mapping", &LocalizerParams::mapping},

@@ -74,6 +74,9 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
     else if (key == "initialization_min_inliers") status = readNonNegativeInt(source, field, value, params.initialization.min_inliers, 1);
     else if (key == "pose_detection_sigma_t") status = readPositive(source, field, value, params.pose_detection_sigma_t);
     else if (key == "pose_detection_sigma_r") status = readPositive(source, field, value, params.pose_detection_sigma_r);
+    else if (key == "relocalization_sigma_t") status = readPositive(source, field, value, params.relocalization.sigma_t);
+    else if (key == "relocalization_sigma_r") status = readPositive(source, field, value, params.relocalization.sigma_r);
+    else if (key == "relocalization_global_after_s") status = readPositive(source, field, value, params.relocalization.global_after_s);
     else if (key == "time_offset") status = readTimeOffset(source, field, value, params.time_offset);
     else return fieldError(source, entry.first.Mark(), field, "unknown key");
     DG_RETURN_IF_ERROR(status);

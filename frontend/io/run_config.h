@@ -13,6 +13,13 @@
 
 namespace dualgraph {
 
+/// How the run path searches for the VIO's frame again once the Localizer is lost (units m, rad, s).
+struct RelocalizationParams {
+  double sigma_t = 2.0;          ///< the estimate when lost, as the search's start pose: position σ [m]
+  double sigma_r = 0.5;          ///< and yaw σ [rad] (hypotheses beyond 3 σ are discarded)
+  double global_after_s = 5.0;   ///< no lock after this long: search the whole map instead [s]
+};
+
 /// Everything `dualgraph run` configures.
 struct SequenceRunParams {
   LocalizerParams localizer;
@@ -24,6 +31,7 @@ struct SequenceRunParams {
   /// (`given`): localizer.initial_world_T_odom is taken as it is.
   bool auto_initialize = true;
   FrameInitializerParams initialization;
+  RelocalizationParams relocalization;
   /// Camera-to-VIO clock offset [s] (`frontend.time_offset`): when set, used instead of the camera file's
   /// CameraModel::time_offset (and for pose detections, which have no camera file).
   std::optional<double> time_offset;
@@ -46,6 +54,7 @@ struct SequenceRunParams {
 ///                                      #   [rad], allow_reversed, mapping_min_sightings, mapping_consistency [m]
 ///       pose_detection_sigma_t: 0.1  # SequenceRunParams [m], [rad] (_r)
 ///       time_offset: 0.015           # optional [s]: overrides the camera file's time_offset
+///       relocalization_sigma_t: 2.0  # RelocalizationParams [m]; likewise _sigma_r [rad], _global_after_s [s]
 ///
 /// Either section may be missing (defaults). Errors are "source:LINE: field 'NAME': why": kParseError
 /// for an unknown or duplicate key, a wrong type, NaN or a `frontend:` value out of range;

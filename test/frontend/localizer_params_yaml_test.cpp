@@ -24,7 +24,7 @@ const std::vector<std::string> kFieldNames = {
     "single_all_detections", "use_input_covariance", "odom_sigma_t", "odom_sigma_r", "odom_min_distance", "map_sigma_t", "map_sigma_r",
     "fix_map_gates", "initial_world_T_odom", "initial_sigma_t", "initial_sigma_r", "main_max_iterations",
     "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "temp_relative_decrease_stop", "temp_model_decrease_stop", "linear_solver", "lm_damping", "temp_solver", "robust_kernel", "chi2_gate_pose",
-    "chi2_gate_point"};
+    "chi2_gate_point", "lost_after_s", "lost_min_failures"};
 
 /// Field by field; the transform to `pose_tolerance` (max abs difference of the 4x4 matrices).
 void expectSameParams(const LocalizerParams& a, const LocalizerParams& b, double pose_tolerance = 0.0) {
@@ -58,6 +58,8 @@ void expectSameParams(const LocalizerParams& a, const LocalizerParams& b, double
   EXPECT_EQ(a.temp_model_decrease_stop, b.temp_model_decrease_stop);
   EXPECT_EQ(a.linear_solver, b.linear_solver);
   EXPECT_EQ(a.lm_damping, b.lm_damping);
+  EXPECT_EQ(a.lost_after_s, b.lost_after_s);
+  EXPECT_EQ(a.lost_min_failures, b.lost_min_failures);
   EXPECT_EQ(a.temp_solver, b.temp_solver);
   EXPECT_EQ(a.robust_kernel, b.robust_kernel);
   EXPECT_EQ(a.chi2_gate_pose, b.chi2_gate_pose);
@@ -98,6 +100,8 @@ temp_solver: graph
 robust_kernel: cauchy:1.5
 chi2_gate_pose: 0
 chi2_gate_point: 11.345
+lost_after_s: 2.5
+lost_min_failures: 9
 )";
 
 LocalizerParams allOverriddenExpected() {
@@ -117,6 +121,7 @@ LocalizerParams allOverriddenExpected() {
   p.linear_solver = LinearSolverKind::kEigen, p.lm_damping = LmDamping::kIdentity, p.robust_kernel = "cauchy:1.5";
   p.temp_solver = TemporarySolverKind::kGraph;
   p.chi2_gate_pose = 0.0, p.chi2_gate_point = 11.345;
+  p.lost_after_s = 2.5, p.lost_min_failures = 9;
   return p;
 }
 

@@ -46,6 +46,8 @@ void expectSameLocalizer(const LocalizerParams& a, const LocalizerParams& b) {
   EXPECT_EQ(a.robust_kernel, b.robust_kernel);
   EXPECT_EQ(a.chi2_gate_pose, b.chi2_gate_pose);
   EXPECT_EQ(a.chi2_gate_point, b.chi2_gate_point);
+  EXPECT_EQ(a.lost_after_s, b.lost_after_s);
+  EXPECT_EQ(a.lost_min_failures, b.lost_min_failures);
 }
 
 void expectSamePnp(const GatePnpParams& a, const GatePnpParams& b) {
@@ -79,6 +81,10 @@ TEST(RunConfig, BundledDefaultYamlIsExactlyTheDefaults) {
   EXPECT_EQ(loaded->frontend.mapping, defaults.frontend.mapping);
   EXPECT_EQ(loaded->pose_detection_sigma_t, defaults.pose_detection_sigma_t);
   EXPECT_EQ(loaded->pose_detection_sigma_r, defaults.pose_detection_sigma_r);
+  EXPECT_EQ(loaded->relocalization.sigma_t, defaults.relocalization.sigma_t);
+  EXPECT_EQ(loaded->relocalization.sigma_r, defaults.relocalization.sigma_r);
+  EXPECT_EQ(loaded->relocalization.global_after_s, defaults.relocalization.global_after_s);
+  EXPECT_FALSE(loaded->time_offset.has_value());
 }
 
 TEST(RunConfig, EmptyTextAndMissingSectionsKeepTheDefaults) {
@@ -116,7 +122,10 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
       "  mapping_min_sightings: 5\n"
       "  mapping_consistency: 0.375\n"
       "  pose_detection_sigma_t: 0.2\n"
-      "  pose_detection_sigma_r: 0.03\n";
+      "  pose_detection_sigma_r: 0.03\n"
+      "  relocalization_sigma_t: 4.5\n"
+      "  relocalization_sigma_r: 0.25\n"
+      "  relocalization_global_after_s: 7.5\n";
   auto parsed = parseRunConfig(text, kSource);
   ASSERT_TRUE(parsed.ok()) << parsed.status().message();
   EXPECT_EQ(parsed->localizer.mode, LocalizerMode::kSingle);
@@ -138,6 +147,9 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
   EXPECT_EQ(f.association.mapping_min_sightings, 5);
   EXPECT_EQ(f.association.mapping_consistency, 0.375);
   EXPECT_EQ(parsed->pose_detection_sigma_t, 0.2);
+  EXPECT_EQ(parsed->relocalization.sigma_t, 4.5);
+  EXPECT_EQ(parsed->relocalization.sigma_r, 0.25);
+  EXPECT_EQ(parsed->relocalization.global_after_s, 7.5);
   EXPECT_EQ(parsed->pose_detection_sigma_r, 0.03);
   const Matrix6d covariance = parsed->defaultPoseDetectionCovariance();
   EXPECT_DOUBLE_EQ(covariance(0, 0), 0.04);

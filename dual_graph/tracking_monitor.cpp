@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: MIT
+#include "dual_graph/tracking_monitor.h"
+
+#include <cmath>
+
+namespace dualgraph {
+
+const char* trackingStateName(TrackingState state) {
+  switch (state) {
+    case TrackingState::kInitialising: return "initialising";
+    case TrackingState::kTracking: return "tracking";
+    case TrackingState::kLost: return "lost";
+  }
+  return "unknown";
+}
+
+namespace {
+constexpr double kPersistenceSeconds = 0.5;  ///< an unmatched gate seen again within this [s]
+constexpr double kPersistenceMetres = 1.0;   ///< and this far from where it was seen [m]
+}  // namespace
+
+void TrackingMonitor::addUnmatched(double t, const std::vector<Eigen::Vector3d>& p_world) {
+  while (!recent_unmatched_.empty() && recent_unmatched_.front().t < t - kPersistenceSeconds) recent_unmatched_.pop_front();
+  int persistent = 0;
+  for (const Eigen::Vector3d& p : p_world) {
+    for (const Unmatched& earlier : recent_unmatched_) {
+      if (earlier.t < t && (earlier.p_world - p).norm() <= kPersistenceMetres) {
+        ++persistent;
+        break;
+      }
+    }
+  }
+  for (const Eigen::Vector3d& p : p_world) recent_unmatched_.push_back(Unmatched{t, p});
+  addFailures(t, persistent);
+}
+
+void TrackingMonitor::addUpdate(double t, int added, int rejected_observations) {
+  if (added > 0) {
+    if (state_ == TrackingState::kLost) {
+      state_ = TrackingState::kTracking;
+      ++recoveries_;
+    }
+    last_success_t_ = t;
+    failures_ = 0;
+    return;
+  }
+  addFailures(t, rejected_observations);
+}
+
+void TrackingMonitor::locked(double t) {
+  state_ = TrackingState::kTracking;
+  last_success_t_ = t;
+  failures_ = 0;
+}
+
+void TrackingMonitor::addFailures(double t, int count) {
+  if (count <= 0 || state_ != TrackingState::kTracking) return;
+  // Given a frame at the start (no lock, no success yet), the clock starts at the first evidence.
+  if (std::isinf(last_success_t_) && std::isnan(first_evidence_t_)) first_evidence_t_ = t;
+  failures_ += count;
+  const double since = std::isinf(last_success_t_) ? first_evidence_t_ : last_success_t_;
+  if (failures_ >= min_failures_ && t - since >= lost_after_s_) {
+    state_ = TrackingState::kLost;
+    ++losses_;
+  }
+}
+
+}  // namespace dualgraph
