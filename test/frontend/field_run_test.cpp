@@ -5,6 +5,8 @@
 // Without the automatic initialisation the same flight ended 126 % worse than the VIO, with exit 0.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <functional>
 
 #include "frontend/evaluation/run_metrics.h"
@@ -101,6 +103,60 @@ TEST(FieldRun, TheCameraClockOffsetMovesEveryDetectionToTheOdometrysClock) {
     ate[told] = metrics->estimate.ate_m;
   }
   EXPECT_LT(ate[1], 0.8 * ate[0]) << ate[0] << " m not told, " << ate[1] << " m told";
+}
+
+// The VIO jumps 3 m sideways (a VIO reset or a bad feature track): every gate after it lies 3 m from where
+// the estimate expects it. The run must say it is lost, find the frame again and track on.
+TEST(FieldRun, AThreeMetreVioJumpIsDetectedAndRelocalisedWithinTwoSeconds) {
+  for (std::uint64_t seed : {1, 2}) {
+    Sequence sequence = realisticFlight("ratm_ellipse.yaml", seed, 4);
+    std::vector<OdometrySample>& samples = sequence.odometry.samples;
+    const double t_jump = samples.front().t + 0.5 * (samples.back().t - samples.front().t);
+    const Eigen::Isometry3d jump(Eigen::Translation3d(0.0, 3.0, 0.0));
+    for (OdometrySample& sample : samples) {
+      if (sample.t >= t_jump) sample.odom_T_body = jump * sample.odom_T_body;
+    }
+    // The covariances stay as they were: a VIO that jumps does not know it did.
+    auto run = runSequence(sequence, SequenceRunParams{});
+    ASSERT_TRUE(run.ok()) << run.status().message();
+    EXPECT_GE(run->localizer_counters.losses, 1) << seed;
+    EXPECT_GE(run->localizer_counters.relocalizations + run->localizer_counters.recoveries, 1) << seed;
+    // Tracking again within 2 s of the jump, and to the end.
+    double back_at = -1.0;
+    bool was_lost = false;
+    for (const CorrectedPose& pose : run->estimate) {
+      if (pose.t < t_jump) continue;
+      was_lost = was_lost || pose.state == TrackingState::kLost;
+      if (was_lost && pose.state == TrackingState::kTracking) {
+        back_at = pose.t;
+        break;
+      }
+    }
+    ASSERT_GT(back_at, 0.0) << seed << ": never tracking again";
+    EXPECT_LT(back_at - t_jump, 2.0) << seed;
+    EXPECT_EQ(run->estimate.back().state, TrackingState::kTracking) << seed;
+    // And the estimate after the relocalisation is a map pose again: over the flight's last quarter its mean
+    // distance from the truth is what tracking gives on this profile (0.1-0.3 m), not the jump's 3 m.
+    auto metrics = computeRunMetrics(sequence, *run);
+    ASSERT_TRUE(metrics.ok());
+    EXPECT_LT(metrics->lost_share_pct, 20.0) << seed;
+    const StampedPoses truth = stampedPosesFromSamples(sequence.ground_truth->samples);
+    double sum = 0.0;
+    int n = 0;
+    for (const CorrectedPose& pose : run->estimate) {
+      if (pose.t < samples.front().t + 0.75 * (samples.back().t - samples.front().t)) continue;
+      const auto at = std::lower_bound(truth.begin(), truth.end(), pose.t,
+                                       [](const auto& stamped, double t) { return stamped.first < t; });
+      if (at == truth.end()) continue;
+      sum += (pose.world_T_body.translation() - at->second.translation()).norm();
+      ++n;
+    }
+    ASSERT_GT(n, 0);
+    std::printf("seed %d: back %.2f s after the jump, last-quarter mean error %.3f m, ATE %.3f m (VIO %.3f m)\n",
+                static_cast<int>(seed), back_at - t_jump, sum / n, metrics->estimate.ate_m, metrics->vio.ate_m);
+    EXPECT_LT(sum / n, 0.5) << seed;
+    EXPECT_LT(metrics->estimate.ate_m, 0.5 * metrics->vio.ate_m) << seed;
+  }
 }
 
 }  // namespace
