@@ -255,7 +255,8 @@ void Localizer::optimizeAndRecord(KeyframeStats& row, double start_ms) {
   if (!params_.mapping) {
     monitor_.addUpdate(row.t, row.gate_edges_added, row.observations_rejected);
     counters_.losses = monitor_.losses();
-    counters_.recoveries = monitor_.recoveries();
+    counters_.recoveries += monitor_.recoveries() - monitor_recoveries_seen_;
+    monitor_recoveries_seen_ = monitor_.recoveries();
   }
 }
 
@@ -275,6 +276,12 @@ Status Localizer::reportUnmatched(double t, const std::vector<Eigen::Vector3d>& 
 void Localizer::discardHistory(double keyframe_t) {
   const bool searching = monitor_.state() != TrackingState::kTracking;
   history_.discardBefore(searching ? std::min(keyframe_t, history_.newest().t - kSearchHistorySeconds) : keyframe_t);
+}
+
+void Localizer::resumeTracking() {
+  if (monitor_.state() != TrackingState::kLost || history_.empty()) return;
+  monitor_.locked(history_.newest().t);
+  ++counters_.recoveries;
 }
 
 Result<double> Localizer::relocalize(const Eigen::Isometry3d& world_T_odom, double since, double sigma_t,

@@ -69,7 +69,7 @@ struct LocalizerCounters {
   /// (associated in the frame that was given up).
   int observations_without_frame = 0;
   int losses = 0;          ///< tracking turned lost (TrackingMonitor)
-  int recoveries = 0;      ///< lost turned tracking by a gate edge accepted again, without a new frame
+  int recoveries = 0;      ///< lost turned tracking without a new frame: a gate edge accepted again, or resumeTracking
   int relocalizations = 0; ///< `relocalize` calls while lost: a new frame, the main graph started again
   std::string last_error;
 };
@@ -115,6 +115,9 @@ class Localizer {
   Result<double> relocalize(const Eigen::Isometry3d& world_T_odom,
                             double since = std::numeric_limits<double>::infinity(), double sigma_t = 0.0,
                             double sigma_r = 0.0);
+  /// A search found the frame the estimate already uses (a false alarm, or a loss the graph recovered from):
+  /// tracking again without starting over, counted as a recovery. No-op unless lost.
+  void resumeTracking();
   TrackingState trackingState() const { return monitor_.state(); }
 
   /// End of input: uses what is still collected (dual: distils into a keyframe at the newest sample;
@@ -163,6 +166,7 @@ class Localizer {
   std::vector<KeyframeStats> stats_;
   LocalizerCounters counters_;
   TrackingMonitor monitor_;
+  int monitor_recoveries_seen_ = 0;  ///< the monitor's own recoveries already in counters_.recoveries
   std::vector<CorrectedPose> given_up_keyframes_;  ///< keyframes of the main graphs before a `relocalize`
 };
 

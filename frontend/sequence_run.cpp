@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <deque>
 #include <limits>
 #include <optional>
@@ -64,6 +65,11 @@ class FrameSearch {
     }
     const FrameInitialization& found = initializer_->add(instant.t, odom_T_body, solved);
     if (initial_) result.initialization = found;
+    if (found.locked && !initial_ && sameFrame(found, localizer.mapTOdom(), odom_T_body)) {
+      localizer.resumeTracking();  // the estimate was right after all: keep the graph
+      stop();
+      return std::vector<Seen>{};
+    }
     if (found.locked) {
       const Eigen::Isometry3d world_T_odom = found.world_T_odom;
       const double since = seen_.empty() ? std::numeric_limits<double>::infinity() : seen_.front().instant.t;
@@ -94,6 +100,15 @@ class FrameSearch {
   }
 
  private:
+  /// Whether a found frame is the one the Localizer uses: within 3 of its residual RMS (at least 0.5 m) in
+  /// position where the drone is, and 5° in yaw.
+  static bool sameFrame(const FrameInitialization& found, const Eigen::Isometry3d& current,
+                        const Eigen::Isometry3d& odom_T_body) {
+    const Eigen::Matrix3d difference = found.world_T_odom.linear().transpose() * current.linear();
+    const double yaw = std::atan2(difference(1, 0), difference(0, 0));
+    const double apart = ((found.world_T_odom * odom_T_body).translation() - (current * odom_T_body).translation()).norm();
+    return apart <= std::max(0.5, 3.0 * found.residual_rms_m) && std::abs(yaw) <= 5.0 * M_PI / 180.0;
+  }
   void start(const FrameInitializerParams& search, const Eigen::Isometry3d& odom_T_body, double t) {
     initializer_.emplace(search, map_);
     initializer_->setStartOdometry(odom_T_body);
