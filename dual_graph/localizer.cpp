@@ -238,9 +238,14 @@ Status Localizer::closeInterval() {
 
 void Localizer::optimizeAndRecord(KeyframeStats& row, double start_ms) {
   const SolverSummary summary = main_->optimize();
+  const size_t conditioned_before = main_->conditionedKeyframes();
   const Status slid = main_->slideWindow();
   row.optimize_ms = nowMs() - start_ms;
   if (!slid.ok()) counters_.last_error = slid.message();
+  if (main_->conditionedKeyframes() > conditioned_before) {
+    counters_.keyframes_conditioned += static_cast<int>(main_->conditionedKeyframes() - conditioned_before);
+    counters_.last_error = main_->lastFallback();
+  }
   row.keyframe = static_cast<int>(main_->keyframes().size()) - 1;
   row.t = main_->keyframes().back().t;
   row.main_vertices = static_cast<int>(main_->totalVertices());

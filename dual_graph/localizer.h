@@ -71,6 +71,7 @@ struct LocalizerCounters {
   int losses = 0;          ///< tracking turned lost (TrackingMonitor)
   int recoveries = 0;      ///< lost turned tracking without a new frame: a gate edge accepted again, or resumeTracking
   int relocalizations = 0; ///< `relocalize` calls while lost: a new frame, the main graph started again
+  int keyframes_conditioned = 0;  ///< fixed-lag: keyframes whose marginalisation failed, conditioned on instead
   std::string last_error;
 };
 
@@ -132,6 +133,8 @@ class Localizer {
   const std::vector<KeyframeStats>& keyframeStats() const { return stats_; }
   const LocalizerCounters& counters() const { return counters_; }
   const MainGraph& mainGraph() const { return *main_; }
+  /// The current main graph, for fault injection in tests (MainGraph::setMarginalizerForTesting).
+  MainGraph& mainGraphForTesting() { return *main_; }
   const LocalizerParams& params() const { return params_; }
 
  private:

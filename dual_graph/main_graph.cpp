@@ -233,10 +233,16 @@ Status MainGraph::slideWindow() {
   while (keyframes_.size() - first_free_keyframe_ > window) {
     const int id = keyframes_[first_free_keyframe_].vertex_id;
     if (!graph_.vertex(id)->fixed()) {
-      Result<MarginalizationOutcome> outcome = marginalizeVertex(graph_, id);
-      if (!outcome.ok()) {
-        return Status(outcome.status().code(), "main graph: keyframe " + std::to_string(first_free_keyframe_) +
-                                                   " stays in the window: " + outcome.status().message());
+      Result<MarginalizationOutcome> outcome = marginalize_(graph_, id);
+      if (!outcome.ok()) {  // condition on it instead: fixed where it is, the window moves on
+        Keyframe& keyframe = keyframes_[first_free_keyframe_];
+        keyframe.frozen_pose = graph_.vertexAs<VertexSE3>(id)->estimate();
+        DG_RETURN_IF_ERROR(graph_.setFixed(id, true));
+        ++conditioned_keyframes_;
+        last_fallback_ = "main graph: keyframe " + std::to_string(first_free_keyframe_) +
+                         " could not be marginalised (" + outcome.status().message() + "): conditioned on instead";
+        ++first_free_keyframe_;
+        continue;
       }
       folded_edges_ += static_cast<size_t>(outcome->edges_folded - outcome->priors_folded);
       prior_edges_ += (outcome->prior != nullptr ? 1u : 0u);

@@ -2,6 +2,7 @@
 // MainGraph: the long-lived keyframe and gate graph, with χ² gating and the fixed-lag window.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "dual_graph/gate_edge.h"
 #include "dual_graph/gate_map.h"
 #include "dual_graph/localizer_params.h"
+#include "dual_graph/marginal_prior.h"
 
 namespace dualgraph {
 
@@ -57,8 +59,17 @@ class MainGraph {
   SolverSummary optimize();
   /// Fixed-lag mode (`main_window` > 0): marginalises the oldest free keyframes until `main_window` remain
   /// (call after `optimize`, so they leave at an optimised estimate). A keyframe that cannot be
-  /// marginalised stays free and the status says why; the graph stays consistent.
+  /// marginalised (its marginal not positive definite, a non-finite linearisation) is conditioned on
+  /// instead: fixed at its current estimate, its edges kept as they are, so the window of free keyframes
+  /// stays bounded and the graph consistent; counted (conditionedKeyframes) and said in lastFallback().
+  /// Errors only when even that fails.
   Status slideWindow();
+  /// Keyframes conditioned on because their marginalisation failed, and the last such failure's message.
+  size_t conditionedKeyframes() const { return conditioned_keyframes_; }
+  const std::string& lastFallback() const { return last_fallback_; }
+  /// Fault injection for tests: the marginalisation slideWindow uses (marginalizeVertex by default).
+  using Marginalizer = std::function<Result<MarginalizationOutcome>(Graph&, int)>;
+  void setMarginalizerForTesting(Marginalizer marginalizer) { marginalize_ = std::move(marginalizer); }
   /// Edges the main graph stands for: those in the optimisation plus those folded into marginal priors
   /// (the priors themselves not counted). Equals graph().numEdges() in full-batch mode.
   size_t totalEdges() const { return graph_.numEdges() - prior_edges_ + folded_edges_; }
@@ -97,6 +108,9 @@ class MainGraph {
   size_t marginalized_keyframes_ = 0;
   size_t prior_edges_ = 0;           ///< EdgeMarginalPriors in graph_
   size_t folded_edges_ = 0;          ///< original edges folded into priors
+  size_t conditioned_keyframes_ = 0;
+  std::string last_fallback_;
+  Marginalizer marginalize_ = marginalizeVertex;
 };
 
 }  // namespace dualgraph

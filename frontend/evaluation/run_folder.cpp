@@ -246,6 +246,7 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run) {
       .add("losses", m.losses)
       .add("recoveries", m.recoveries)
       .add("relocalizations", m.relocalizations)
+      .add("keyframes_conditioned", run.localizer_counters.keyframes_conditioned)
       .add("wall_s", run.wall_seconds);
   return json;
 }

@@ -104,5 +104,36 @@ TEST(LocalizerWindow, MappingModeKeepsItsFixedFirstKeyframeOutOfTheCount) {
   expectCloseToBatch(params, race, GateMap{}, 0.1);  // measured 35 mm: landmarks start where first seen
 }
 
+// A keyframe whose marginalisation fails (here every third, by fault injection) is conditioned on instead: fixed
+// where it is. The window of free keyframes stays at its size, the failures are counted and said, and the
+// trajectory stays close to full batch.
+TEST(LocalizerWindow, AKeyframeThatCannotBeMarginalisedIsConditionedOnAndTheWindowStaysBounded) {
+  SyntheticRaceOptions options;
+  options.laps = 3;
+  const SyntheticRace race = makeSyntheticRace(options);
+  LocalizerParams params;
+  params.main_window = 6;
+  std::unique_ptr<Localizer> localizer = makeLocalizer(params, race.map);
+  ASSERT_TRUE(localizer);
+  int calls = 0;
+  localizer->mainGraphForTesting().setMarginalizerForTesting([&calls](Graph& graph, int id) -> Result<MarginalizationOutcome> {
+    if (++calls % 3 == 0) return Status(StatusCode::kNotPositiveDefinite, "injected failure");
+    return marginalizeVertex(graph, id);
+  });
+  const RunOutput out = runRace(*localizer, race);
+  const MainGraph& graph = localizer->mainGraph();
+  EXPECT_GT(graph.conditionedKeyframes(), 3u);
+  EXPECT_EQ(localizer->counters().keyframes_conditioned, static_cast<int>(graph.conditionedKeyframes()));
+  EXPECT_NE(graph.lastFallback().find("injected failure"), std::string::npos) << graph.lastFallback();
+  EXPECT_NE(graph.lastFallback().find("conditioned on instead"), std::string::npos) << graph.lastFallback();
+  EXPECT_EQ(freeKeyframes(*localizer), 6);  // bounded, as without failures
+  EXPECT_EQ(graph.marginalizedKeyframes() + graph.conditionedKeyframes() + 6, graph.keyframes().size());
+  // Every update solved the same number of unknowns at most: the conditioned keyframes are fixed.
+  const WindowRun batch = run(LocalizerParams{}, 0, race, race.map);
+  const double batch_rmse = positionRmse(batch.out.corrected, race.world_T_body_truth);
+  const double rmse = positionRmse(out.corrected, race.world_T_body_truth);
+  EXPECT_LT(rmse, 1.5 * batch_rmse + 0.005) << rmse << " vs batch " << batch_rmse;
+}
+
 }  // namespace
 }  // namespace dualgraph
