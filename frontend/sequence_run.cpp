@@ -73,11 +73,11 @@ class FrameSearch {
     if (found.locked) {
       const Eigen::Isometry3d world_T_odom = found.world_T_odom;
       const double since = seen_.empty() ? std::numeric_limits<double>::infinity() : seen_.front().instant.t;
-      // The found frame is held as well as its own inliers say (at least 0.1 m; no worse than the configured
-      // initial prior), the rotation σ in the configured proportion (1 m ↔ 0.2 rad by default).
+      // The found frame's position is held as well as its own inliers say (at least 0.1 m, no worse than the
+      // configured initial prior); its yaw keeps the configured σ (a few nearby gates fix it only to degrees).
       const LocalizerParams& lp = params_.localizer;
       const double sigma_t = std::clamp(found.residual_rms_m, 0.1, std::max(0.1, lp.initial_sigma_t));
-      const double sigma_r = lp.initial_sigma_t > 0.0 ? lp.initial_sigma_r * sigma_t / lp.initial_sigma_t : lp.initial_sigma_r;
+      const double sigma_r = lp.initial_sigma_r;
       Result<double> anchor = localizer.relocalize(world_T_odom, since, sigma_t, sigma_r);
       if (!anchor.ok()) return anchor.status();
       std::vector<Seen> replay;

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "frontend/io/camera_io.h"
+#include "frontend/simulation/race_profiles.h"
 #include "frontend/simulation/race_sequence.h"
 #include "frontend/io/run_config.h"
 #include "frontend/evaluation/run_metrics.h"
@@ -63,6 +64,7 @@ int runAblationCommand(const AblationOptions& o) {
       o.tracks.empty() ? std::vector<std::string>{data + "/tracks/ratm_ellipse.yaml", data + "/tracks/ratm_lemniscate.yaml"}
                        : o.tracks;
   if (o.seeds.empty()) return fail("no seeds");
+  if (o.profiles.empty()) return fail("no profiles");
   auto base = loadRunConfig(o.config.empty() ? data + "/config/default.yaml" : o.config);
   if (!base.ok()) return fail(base.status().message());
   auto camera = loadCameraYaml(data + "/cameras/ratm_piloted.yaml");
@@ -75,43 +77,48 @@ int runAblationCommand(const AblationOptions& o) {
     return fail(staged->unstaged(Status(StatusCode::kIoError, message)).message());
   };
   std::vector<AblationRow> rows;
-  for (const std::string& track_path : tracks) {
-    auto track = loadTrackYaml(track_path);
-    if (!track.ok()) return fail(track.status().message());
-    const std::string track_name = track->name.empty() ? std::filesystem::path(track_path).stem().string() : track->name;
-    for (int seed : o.seeds) {
-      RaceSimParams sim;
-      sim.seed = static_cast<std::uint64_t>(seed);
-      if (o.laps > 0) {
-        sim.override_laps = true;
-        sim.flight.laps = o.laps;
-      }
-      auto race = simulateRace(*track, *camera, sim);
-      if (!race.ok()) return fail(track_path + ": " + race.status().message());
-      const std::string folder = staged->file("sequences/" + track_name + "_seed" + std::to_string(seed));
-      const Status written = writeRaceSequence(folder, *race, *track, sim);  // kept for `dualgraph run`
-      if (!written.ok()) return failStaged(written.message());
-      auto sequence = raceSequence(*race, sim, folder);  // run from memory, not read back
-      if (!sequence.ok()) return failStaged(sequence.status().message());
-      for (const Variant& v : variants()) {
-        SequenceRunParams params = *base;
-        params.localizer.mode = v.mode;
-        if (v.mode == LocalizerMode::kDual) {
-          params.localizer.d_main = v.d_main_or_single;
-          params.localizer.d_temp = v.d_temp;
-        } else {
-          params.localizer.d_single = v.d_main_or_single;
-          params.localizer.single_all_detections = v.single_all_detections;
+  for (const std::string& profile : o.profiles) {
+    for (const std::string& track_path : tracks) {
+      auto track = loadTrackYaml(track_path);
+      if (!track.ok()) return fail(track.status().message());
+      const std::string track_name = track->name.empty() ? std::filesystem::path(track_path).stem().string() : track->name;
+      for (int seed : o.seeds) {
+        RaceSimParams sim;
+        const Status profiled = applySimulationProfile(profile, sim);
+        if (!profiled.ok()) return fail(profiled.message());
+        sim.seed = static_cast<std::uint64_t>(seed);
+        if (o.laps > 0) {
+          sim.override_laps = true;
+          sim.flight.laps = o.laps;
         }
-        auto run = runSequence(*sequence, params);
-        if (!run.ok()) return failStaged(folder + " (" + v.name + "): " + run.status().message());
-        auto metrics = computeRunMetrics(*sequence, *run);
-        if (!metrics.ok()) return failStaged(folder + " (" + v.name + "): " + metrics.status().message());
-        rows.push_back({track_name, seed, v.name, *metrics});
-        if (!o.quiet) {
-          std::cerr << "ablation: " << track_name << " seed " << seed << " " << v.name << ": ATE "
-                    << fixed(metrics->estimate.ate_se3_m, 3) << " m (VIO " << fixed(metrics->vio.ate_se3_m, 3)
-                    << "), P95 " << fixed(metrics->opt_ms_p95, 2) << " ms, " << run->wall_seconds << " s\n";
+        auto race = simulateRace(*track, *camera, sim);
+        if (!race.ok()) return fail(track_path + ": " + race.status().message());
+        const std::string folder =
+            staged->file("sequences/" + profile + "/" + track_name + "_seed" + std::to_string(seed));
+        const Status written = writeRaceSequence(folder, *race, *track, sim);  // kept for `dualgraph run`
+        if (!written.ok()) return failStaged(written.message());
+        auto sequence = raceSequence(*race, sim, folder);  // run from memory, not read back
+        if (!sequence.ok()) return failStaged(sequence.status().message());
+        for (const Variant& v : variants()) {
+          SequenceRunParams params = *base;
+          params.localizer.mode = v.mode;
+          if (v.mode == LocalizerMode::kDual) {
+            params.localizer.d_main = v.d_main_or_single;
+            params.localizer.d_temp = v.d_temp;
+          } else {
+            params.localizer.d_single = v.d_main_or_single;
+            params.localizer.single_all_detections = v.single_all_detections;
+          }
+          auto run = runSequence(*sequence, params);
+          if (!run.ok()) return failStaged(folder + " (" + v.name + "): " + run.status().message());
+          auto metrics = computeRunMetrics(*sequence, *run);
+          if (!metrics.ok()) return failStaged(folder + " (" + v.name + "): " + metrics.status().message());
+          rows.push_back({profile, track_name, seed, v.name, *metrics});
+          if (!o.quiet) {
+            std::cerr << "ablation: " << profile << " " << track_name << " seed " << seed << " " << v.name << ": ATE "
+                      << fixed(metrics->estimate.ate_se3_m, 3) << " m (VIO " << fixed(metrics->vio.ate_se3_m, 3)
+                      << "), P95 " << fixed(metrics->opt_ms_p95, 2) << " ms, " << run->wall_seconds << " s\n";
+          }
         }
       }
     }

@@ -11,14 +11,16 @@ namespace dualgraph::tools {
 struct AblationOptions {
   std::vector<std::string> tracks;  ///< empty: the bundled RATM ellipse and lemniscate
   std::vector<int> seeds{1, 2, 3};
+  /// Simulation profiles (frontend/simulation/race_profiles.h), side by side in Table IV; Tables I–III on the first.
+  std::vector<std::string> profiles{"realistic", "clean", "harsh"};
   std::string out;
   std::string config;  ///< empty: the bundled data/config/default.yaml
   int laps = 0;        ///< 0: the tracks' own (shorter flights for quick checks)
   bool quiet = false;
 };
 
-/// Simulates every track × seed, runs the paper's configurations and writes Tables I–III as
-/// Markdown (tables.md) and CSV (table1.csv, table2.csv, table3.csv, runs.csv) into `out`.
+/// Simulates every profile × track × seed, runs the paper's configurations and writes Tables I–IV as
+/// Markdown (tables.md) and CSV (table1.csv … table4.csv, runs.csv) into `out`.
 int runAblationCommand(const AblationOptions& options);
 
 }  // namespace dualgraph::tools

@@ -13,18 +13,22 @@ namespace dualgraph::tools {
 
 /// The metrics of one (track, seed, configuration) run of the ablation.
 struct AblationRow {
+  std::string profile;  ///< the simulation profile: clean, realistic or harsh
   std::string track;
   int seed = 0;
   std::string variant;  ///< e.g. "Dual 2.0/0.1" (d_main/d_temp [m]) or "Single 0.5" (d_single [m])
   RunMetrics metrics;
 };
 
-/// Writes the paper's tables from the rows (first track and first seed for Tables I and III):
+/// Writes the paper's tables from the rows (Tables I–III on the first profile; the first track and first seed
+/// for Tables I and III):
 ///  - table1.csv / Table I: every configuration with ATE (SE(3)-aligned) [m], nodes, edges, Opt P95 [ms];
 ///  - table2.csv / Table II: per track, VIO and every configuration, ATE translation [m] and rotation
 ///    [deg] as mean ± sample std over the seeds;
 ///  - table3.csv / Table III: correction at gate crossings per lap (mean ± std [m]) of Dual 2.0/0.1;
-///  - runs.csv: every row with every metric; tables.md: the three tables in Markdown.
+///  - table4.csv / Table IV: per track and configuration, every profile side by side: ATE mean ± std [m] and
+///    the mean reduction against the VIO [%];
+///  - runs.csv: every row with every metric; tables.md: the four tables in Markdown.
 Status writeAblationTables(const std::filesystem::path& out, const std::vector<AblationRow>& rows);
 
 }  // namespace dualgraph::tools

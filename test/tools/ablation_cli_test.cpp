@@ -4,6 +4,7 @@
 // node's own detections) fewer edges than the one with every detection, on the same nodes.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -26,7 +27,7 @@ std::string readAll(const std::string& path) {
 TEST(AblationCli, OneLapWritesEveryConfigurationAndBothSingleBaselines) {
   const std::string out = testing::tempDir() + "/ablation_one_lap";
   const testing::CommandRun run = testing::runDualgraph("ablation --tracks " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") +
-                                                        " --seeds 1 --laps 1 --quiet --out " + out);
+                                                        " --seeds 1 --laps 1 --profiles realistic,clean --quiet --out " + out);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const std::vector<std::string> configurations = {"Dual 2.0/0.5", "Dual 2.0/0.1", "Dual 0.5/0.1",
                                                    "Single 2.0",   "Single 0.5",   "Single 0.1",
@@ -36,7 +37,16 @@ TEST(AblationCli, OneLapWritesEveryConfigurationAndBothSingleBaselines) {
     EXPECT_NE(tables.find("| " + c + " | "), std::string::npos) << c << " not in Table I\n" << tables;
     EXPECT_NE(tables.find("| ratm_ellipse | " + c + " | "), std::string::npos) << c << " not in Table II";
   }
-  // runs.csv: track,seed,configuration,ate_m,...,keyframes,nodes,edges,...
+  // Table IV: every configuration on both profiles side by side.
+  EXPECT_NE(tables.find("Tables I–III on the `realistic` profile"), std::string::npos) << tables;
+  EXPECT_NE(tables.find("| track | configuration | realistic | clean |"), std::string::npos) << tables;
+  for (const std::string& c : configurations) {
+    EXPECT_NE(tables.find("| ratm_ellipse | " + c + " | "), std::string::npos) << c << " not in Table IV";
+  }
+  EXPECT_TRUE(std::filesystem::exists(out + "/table4.csv"));
+  EXPECT_TRUE(std::filesystem::is_directory(out + "/sequences/clean/ratm_ellipse_seed1"));
+  EXPECT_TRUE(std::filesystem::is_directory(out + "/sequences/realistic/ratm_ellipse_seed1"));
+  // runs.csv: profile,track,seed,configuration,ate_m,...,keyframes,nodes,edges,... (clean rows last)
   std::ifstream csv(out + "/runs.csv");
   std::string line;
   ASSERT_TRUE(std::getline(csv, line));
@@ -49,6 +59,7 @@ TEST(AblationCli, OneLapWritesEveryConfigurationAndBothSingleBaselines) {
     ADD_FAILURE() << "no column " << name;
     return size_t{0};
   };
+  EXPECT_EQ(header.front(), "profile");
   const size_t configuration = column("configuration"), nodes = column("nodes"), edges = column("edges");
   std::map<std::string, std::pair<int, int>> size;  // configuration → (nodes, edges)
   while (std::getline(csv, line)) {
