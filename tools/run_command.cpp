@@ -125,7 +125,7 @@ int runRunCommand(const RunOptions& o) {
   }
   if (o.quiet) return exit_code;
   std::cout << std::setprecision(4) << "dualgraph run (" << localizerModeName(params->localizer.mode) << "): "
-            << run->estimate.size() << " poses, " << metrics->keyframes << " keyframes, main graph " << metrics->nodes
+            << mapPoses(run->estimate).size() << " map poses, " << metrics->keyframes << " keyframes, main graph " << metrics->nodes
             << " nodes / " << metrics->edges << " edges, optimisation P50 " << metrics->opt_ms_p50 << " ms, P95 "
             << metrics->opt_ms_p95 << " ms; detections used " << metrics->detections_used << " of "
             << metrics->detections;
