@@ -131,4 +131,20 @@ CLI::App* addReportCommand(CLI::App& app, ReportOptions& o) {
   return cmd;
 }
 
+CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
+  CLI::App* cmd = app.add_subcommand(
+      "calibrate", "Estimate the camera-to-VIO clock offset and the camera-mount rotation from a flight's gate corners");
+  cmd->add_option("--sequence", o.sequence, "Sequence folder with corners.csv, camera.yaml, gates.yaml, vio.tum")
+      ->required();
+  cmd->add_option("--config", o.config, "Configuration YAML of the runs (default: the bundled data/config/default.yaml)");
+  cmd->add_option("--out", o.out, "Write the calibrated camera YAML here (time_offset and the corrected body_T_camera)");
+  cmd->add_option("--json", o.json, "Write the report (estimate, 1 sigma, every run) as one JSON object here");
+  cmd->add_option("--max-iterations", o.max_iterations, "Runs at most (each: run, match, solve, update)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--knot-spacing", o.knot_spacing, "Knot spacing of the VIO drift correction [s] (default 4)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--quiet", o.quiet, "No per-run lines and no summary");
+  return cmd;
+}
+
 }  // namespace dualgraph::tools

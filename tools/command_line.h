@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "tools/ablation_command.h"
+#include "tools/calibrate_command.h"
 #include "tools/eval_command.h"
 #include "tools/optimize_command.h"
 #include "tools/report_command.h"
@@ -20,5 +21,6 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& options);
 CLI::App* addRunCommand(CLI::App& app, RunOptions& options);
 CLI::App* addAblationCommand(CLI::App& app, AblationOptions& options);
 CLI::App* addReportCommand(CLI::App& app, ReportOptions& options);
+CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& options);
 
 }  // namespace dualgraph::tools

@@ -22,6 +22,8 @@ int main(int argc, char** argv) {
   CLI::App* ablation = dualgraph::tools::addAblationCommand(app, ablation_options);
   dualgraph::tools::ReportOptions report_options;
   CLI::App* report = dualgraph::tools::addReportCommand(app, report_options);
+  dualgraph::tools::CalibrateOptions calibrate_options;
+  CLI::App* calibrate = dualgraph::tools::addCalibrateCommand(app, calibrate_options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -34,6 +36,7 @@ int main(int argc, char** argv) {
     if (run->parsed()) return dualgraph::tools::runRunCommand(run_options);
     if (ablation->parsed()) return dualgraph::tools::runAblationCommand(ablation_options);
     if (report->parsed()) return dualgraph::tools::runReportCommand(report_options);
+    if (calibrate->parsed()) return dualgraph::tools::runCalibrateCommand(calibrate_options);
   } catch (const std::exception& e) {
     std::cerr << "dualgraph: internal error: " << e.what() << "\n";
     return 1;

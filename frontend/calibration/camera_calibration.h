@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: MIT
+// calibrateCamera: the camera-to-VIO clock offset and the camera-mount rotation estimated from a flight.
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <vector>
+
+#include "core/status.h"
+#include "frontend/calibration/calibration_solver.h"
+#include "frontend/io/run_config.h"
+#include "frontend/io/sequence_folder.h"
+#include "frontend/sequence_run.h"
+
+namespace dualgraph {
+
+/// What calibrateCamera does (frontend/calibration/README.md).
+struct CalibrationParams {
+  int max_iterations = 6;                ///< runs (each: run → match → solve → update), ≥ 1
+  double converged_time_offset = 1e-4;   ///< stop when δ moved less than this [s] ...
+  double converged_rotation_deg = 0.01;  ///< ... and the mount rotation less than this [deg]
+  double knot_spacing = 4.0;             ///< of the VIO's drift correction, VioDriftTrack [s]
+  /// A detection matches a map gate when its corners lie within this RMS distance of the gate's projection [px];
+  /// wide enough for a 2° mount error and tens of ms of clock offset at racing speed on the RATM fisheye.
+  double max_match_rms_px = 30.0;
+  int min_matches = 20;  ///< fewer matched detections is an error
+  CalibrationSolverParams solver;
+};
+
+/// One run of the loop: the camera the run used, and what the solve made of it.
+struct CalibrationIteration {
+  int iteration = 0;              ///< 1-based
+  double time_offset_used = 0.0;  ///< δ the run used [s]
+  double time_offset = 0.0;       ///< δ after the solve [s]
+  /// body_R_camera after the solve = the input camera's · Exp(mount_correction) [rad, body-camera axes]
+  Eigen::Vector3d mount_correction = Eigen::Vector3d::Zero();
+  double time_offset_step = 0.0;   ///< |δ after − δ used| [s]
+  double rotation_step_deg = 0.0;  ///< angle between the mount rotations before and after [deg]
+  double time_offset_sigma = 0.0;  ///< CalibrationSolution's formal 1σ [s]
+  Eigen::Vector3d rotation_sigma = Eigen::Vector3d::Zero();         ///< [rad]
+  double rms_px = 0.0, inlier_rms_px = 0.0, robust_sigma_px = 0.0;  ///< after the solve [px]
+  double rms_before_px = 0.0;  ///< RMS of the matched corners at the run's trajectory, before [px]
+  GateCornerMatchCounts matching;
+  int corners = 0, inlier_corners = 0, solver_iterations = 0;
+  int detections_used_by_run = 0;  ///< GateFrontendCounters::used of the run
+  bool run_initialized = false;    ///< the run found the VIO's frame
+
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+/// The calibrated camera and how it was reached.
+struct CameraCalibration {
+  /// The input camera with body_T_camera's rotation corrected (its translation kept) and time_offset = δ.
+  CameraModel camera;
+  Eigen::Vector3d mount_correction = Eigen::Vector3d::Zero();  ///< of body_R_camera, right, [rad]
+  double time_offset_sigma = 0.0;                              ///< last iteration's formal 1σ [s]
+  Eigen::Vector3d rotation_sigma = Eigen::Vector3d::Zero();    ///< [rad]
+  std::vector<CalibrationIteration> iterations;
+  bool converged = false;  ///< the last step was within the tolerances (else max_iterations ended it)
+
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+/// Called after each iteration with its record and the run it solved from (e.g. to measure the run's ATE).
+using CalibrationObserver = std::function<void(const CalibrationIteration&, const SequenceRunResult&)>;
+
+/// Estimates the camera-to-VIO clock offset δ (CameraModel::time_offset) and the camera-mount rotation
+/// (body_T_camera's rotation; its translation is kept) from a flight's gate corners against the known map:
+/// repeat { runSequence with the current camera (δ as run_params.time_offset) → the VIO's drift correction
+/// from the run's keyframes (VioDriftTrack::knotsFromKeyframes) → matchGateCorners → solveCameraCalibration
+/// (δ, mount rotation and the drift correction together) → the camera updated } until δ moved less than
+/// converged_time_offset and the rotation less than converged_rotation_deg, or max_iterations.
+/// The start: run_params.time_offset when set, else the camera's time_offset.
+/// Errors: kFailedPrecondition naming the folder for a sequence without corner detections or camera, a run
+/// that found no frame, fewer than min_matches matched detections; kInvalidArgument for bad params;
+/// runSequence's and the solver's errors.
+Result<CameraCalibration> calibrateCamera(const Sequence& sequence, const SequenceRunParams& run_params,
+                                          const CalibrationParams& params, const CalibrationObserver& observer = {});
+
+}  // namespace dualgraph
