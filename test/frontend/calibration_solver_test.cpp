@@ -7,6 +7,7 @@
 
 #include <random>
 
+#include "frontend/calibration/calibration_problem.h"
 #include "frontend/calibration/calibration_solver.h"
 #include "frontend/calibration/gate_corner_matching.h"
 #include "frontend/gates/gate_pnp.h"
@@ -157,6 +158,69 @@ TEST(CalibrationSolver, TooFewMatchesAreAPreconditionError) {
   ASSERT_FALSE(solution.ok());
   EXPECT_EQ(solution.status().code(), StatusCode::kFailedPrecondition);
   EXPECT_NE(solution.status().message().find("at least 8"), std::string::npos) << solution.status().message();
+}
+
+TEST(VioDriftTrack, PositionJacobianMatchesCentralDifferences) {
+  const SyntheticFlight flight = syntheticFlight(caltest::trueCamera(), 0.0);
+  DriftKnots knots = flight.knots;
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (size_t k = 0; k < knots.yaw.size(); ++k) {
+    knots.yaw[k] += 0.05 * normal(rng);
+    knots.offset[k] += 0.1 * Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
+  }
+  const VioDriftTrack track(flight.odometry, knots);
+  const double step = 1e-6;
+  for (double tau : {0.0, 0.37, 1.999, 2.0, 5.123, 9.87, flight.odometry.back().t}) {
+    DriftPoseJacobian jacobian;
+    ASSERT_TRUE(track.worldTBody(tau, &jacobian).ok()) << tau;
+    for (int j = 0; j < knots.count(); ++j) {
+      DriftKnots plus = knots, minus = knots;
+      plus.yaw[static_cast<size_t>(j)] += step;
+      minus.yaw[static_cast<size_t>(j)] -= step;
+      const Eigen::Vector3d numeric = (VioDriftTrack(flight.odometry, plus).worldTBody(tau)->translation() -
+                                       VioDriftTrack(flight.odometry, minus).worldTBody(tau)->translation()) /
+                                      (2.0 * step);
+      const Eigen::Vector3d analytic = j < jacobian.d_position_d_yaw.cols()
+                                           ? Eigen::Vector3d(jacobian.d_position_d_yaw.col(j))
+                                           : Eigen::Vector3d::Zero();
+      EXPECT_LT((analytic - numeric).norm(), 1e-6 * (1.0 + numeric.norm()))
+          << "tau " << tau << " knot " << j << ": analytic " << analytic.transpose() << ", numeric "
+          << numeric.transpose();
+    }
+  }
+}
+
+// The normal equations' gradient JᵀWr against central differences of the cost, away from the solution (every
+// unknown perturbed): every analytic column (ω, knots, gates) to 1e-5, δ's own central difference to 2 %.
+TEST(CalibrationProblem, GradientMatchesCentralDifferencesOfTheCost) {
+  const CameraModel truth = caltest::trueCamera();
+  SyntheticFlight flight = syntheticFlight(truth, 0.012);
+  flight.matches.resize(120);
+  const CalibrationSolverParams params;
+  const CalibrationProblem problem(flight.matches, flight.odometry, truth, params);
+  CalibrationState state{0.004, mountedWrong(truth, 0.7).body_T_camera.linear(), flight.knots, {}};
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (size_t k = 0; k < state.knots.yaw.size(); ++k) state.knots.yaw[k] += 0.01 * normal(rng);
+  for (int gate = 0; gate < static_cast<int>(problem.gateIds().size()); ++gate) {
+    state.gates.push_back(
+        Eigen::Vector4d(0.03 * normal(rng), 0.03 * normal(rng), 0.03 * normal(rng), 0.01 * normal(rng)));
+  }
+  const int n = problem.unknowns(state);
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
+  const double scale = 4.0;
+  problem.evaluate(state, scale, &H, &g);
+  for (int column = 0; column < n; ++column) {
+    const double step = column == 0 ? 1e-6 : 1e-7;
+    const Eigen::VectorXd dx = step * Eigen::VectorXd::Unit(n, column);
+    const double numeric = (problem.evaluate(problem.plus(state, dx), scale, nullptr, nullptr) -
+                            problem.evaluate(problem.plus(state, -dx), scale, nullptr, nullptr)) /
+                           (2.0 * step);
+    const double tolerance = column == 0 ? 0.02 * std::abs(numeric) : 1e-5 * (1.0 + std::abs(numeric));
+    EXPECT_NEAR(g[column], numeric, tolerance) << "column " << column << " of " << n;
+  }
 }
 
 TEST(GateCornerMatching, FindsTheGateAndTheCornerOrderWhateverTheDetectorSays) {
