@@ -96,6 +96,12 @@ void bindRun(py::module_& m) {
       .def_readwrite("localizer", &SequenceRunParams::localizer)
       .def_readwrite("pose_detection_sigma_t", &SequenceRunParams::pose_detection_sigma_t)
       .def_readwrite("pose_detection_sigma_r", &SequenceRunParams::pose_detection_sigma_r)
+      .def_property("initialization", [](const SequenceRunParams& p) { return p.auto_initialize ? "auto" : "given"; },
+                    [](SequenceRunParams& p, const std::string& v) {
+                      if (v != "auto" && v != "given") throw py::value_error("initialization: expected auto or given, got " + v);
+                      p.auto_initialize = v == "auto";
+                    },
+                    "'auto': the VIO's frame found from the detections; 'given': localizer.initial_world_T_odom")
       .def_property("trust_ids", [](const SequenceRunParams& p) { return p.frontend.trust_ids; },
                     [](SequenceRunParams& p, bool v) { p.frontend.trust_ids = v; })
       .def_property("adaptive_pixel_sigma", [](const SequenceRunParams& p) { return p.frontend.adaptive_pixel_sigma; },
@@ -115,6 +121,13 @@ void bindRun(py::module_& m) {
   py::class_<SequenceRunResult>(m, "RunResult", "The outputs of run_sequence (as `dualgraph run` writes them).")
       .def_property_readonly("estimate", [](const SequenceRunResult& r) { return stampedPoses(r.estimate); },
                              "(times, world_T_body (n, 7)) at every accepted odometry sample, causal.")
+      .def_property_readonly("states",
+                             [](const SequenceRunResult& r) {
+                               std::vector<std::string> states;
+                               for (const CorrectedPose& pose : r.estimate) states.emplace_back(trackingStateName(pose.state));
+                               return states;
+                             },
+                             "The tracking state at every estimate sample: 'initialising', 'tracking' or 'lost'.")
       .def_property_readonly("keyframes", [](const SequenceRunResult& r) { return stampedPoses(r.keyframes); })
       .def_property_readonly("stats", [](const SequenceRunResult& r) { return PyLocalizer::statsToList(r.stats); })
       .def_property_readonly("localizer_counters", [](const SequenceRunResult& r) { return PyLocalizer::countersToDict(r.localizer_counters); })

@@ -129,6 +129,8 @@ A rejected input raises (InvalidArgumentError, ...) with the library's message; 
            },
            "t"_a, "gate_id"_a, "p_body"_a, "covariance"_a)
       .def("finish", &PyLocalizer::finish, "End of input: distils what is collected and optimises once more.")
+      .def_property_readonly("tracking_state", [](const PyLocalizer& l) { return trackingStateName(l.get().trackingState()); },
+                             "'initialising', 'tracking' or 'lost' (dual_graph/tracking_monitor.h).")
       .def_property_readonly("map_T_odom", [](const PyLocalizer& l) { return poseArray(l.get().mapTOdom()); })
       .def_property_readonly("map_T_odom_matrix", [](const PyLocalizer& l) { return poseMatrix(l.get().mapTOdom()); })
       .def("keyframes", &PyLocalizer::keyframes, "(times (n,), world_T_body (n, 7)) of the keyframes' current estimates.")

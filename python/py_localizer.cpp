@@ -81,6 +81,11 @@ py::dict PyLocalizer::countersToDict(const LocalizerCounters& c) {
   out["observations_failed"] = c.observations_failed;
   out["observations_never_processed"] = c.observations_never_processed;
   out["observations_between_nodes"] = c.observations_between_nodes;
+  out["observations_without_frame"] = c.observations_without_frame;
+  out["losses"] = c.losses;
+  out["recoveries"] = c.recoveries;
+  out["relocalizations"] = c.relocalizations;
+  out["keyframes_conditioned"] = c.keyframes_conditioned;
   out["last_error"] = c.last_error;
   return out;
 }

@@ -102,6 +102,20 @@ class SameAsTheCli(unittest.TestCase):
         self.assertEqual([(r["main_vertices"], r["main_edges"]) for r in result.stats],
                          [(int(n), int(e)) for _, n, e in stats_rows[1:]])
 
+    def test_tracking_states_and_the_initialization(self):
+        self.assertEqual(self.config.initialization, "given")
+        self.assertEqual(set(dualgraph.run_sequence(self.sequence, self.config).states), {"tracking"})
+        config = dualgraph.load_run_config(CONFIG)
+        self.assertEqual(config.initialization, "auto")
+        result = dualgraph.run_sequence(self.sequence, config)
+        states = result.states
+        self.assertEqual(len(states), len(result.estimate[0]))
+        self.assertEqual(states[0], "initialising")  # the frame is found from the first detections
+        self.assertEqual(states[-1], "tracking")
+        self.assertEqual(result.localizer_counters["losses"], 0)
+        with self.assertRaises(ValueError):
+            config.initialization = "guess"
+
     def test_localizer_driven_from_python_equals_dualgraph_run(self):
         times, poses, localizer = localize_in_python(self.sequence, self.config)
         self.assertSameTrajectory(times, poses, self.cli_times, self.cli_poses)
