@@ -2,11 +2,14 @@
 # SPDX-License-Identifier: MIT
 # The field table of README.md and bench/README.md: whole races (the tracks' 12 laps) simulated on the
 # realistic and harsh profiles, seeds 1-3 of each bundled track, run with the default configuration.
-# Usage: bench/field_table.sh [BUILD_DIR] [OUT_DIR]   (prints a Markdown table; keeps the runs in OUT_DIR)
+# Usage: bench/field_table.sh [BUILD_DIR] [OUT_DIR] [calibrated]   (prints a Markdown table; keeps the runs)
+# With `calibrated`, each flight's camera is first calibrated on the flight itself (`dualgraph calibrate`: clock
+# offset and mount rotation, offline, as a team would after a first flight) and the run uses that camera.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
 out="${2:-$(mktemp -d)}"
+mode="${3:-}"
 dualgraph="$build/bin/dualgraph"
 echo "| profile | track | seed | ATE [m] | VIO [m] | reduction | frame found | lost share | losses / relocalisations | final state | exit |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|"
@@ -16,8 +19,14 @@ for profile in realistic harsh; do
       dir="$out/$profile-$track-$seed"
       "$dualgraph" simulate --track "$here/data/tracks/$track.yaml" --profile "$profile" --seed "$seed" \
         --out "$dir/sequence" >/dev/null
+      sequence="$dir/sequence"
+      if [ "$mode" = calibrated ]; then
+        "$dualgraph" calibrate --sequence "$sequence" --out "$dir/camera.yaml" --quiet
+        rm -rf "$dir/calibrated" && cp -r "$sequence" "$dir/calibrated" && cp "$dir/camera.yaml" "$dir/calibrated/camera.yaml"
+        sequence="$dir/calibrated"
+      fi
       code=0
-      "$dualgraph" run --sequence "$dir/sequence" --out "$dir/run" --quiet 2>"$dir/stderr.txt" || code=$?
+      "$dualgraph" run --sequence "$sequence" --out "$dir/run" --quiet 2>"$dir/stderr.txt" || code=$?
       python3 - "$dir/run/metrics.json" "$profile" "$track" "$seed" "$code" <<'PY'
 import json, sys
 m = json.load(open(sys.argv[1]))
