@@ -32,7 +32,7 @@ peak_mib() { awk -F': ' '/Maximum resident set size/ {printf "%.1f", $2 / 1024}'
 wall() { awk -F': ' '/Elapsed \(wall clock\)/ {print $2}' "$1"; }
 
 echo "long mission: $LAPS laps of ratm_ellipse, seed $SEED, into $OUT ($(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?'))"
-/usr/bin/time -v "$BIN" simulate --track "$ROOT/data/tracks/ratm_ellipse.yaml" --seed "$SEED" --laps "$LAPS" \
+/usr/bin/time -v "$BIN" simulate --profile clean --track "$ROOT/data/tracks/ratm_ellipse.yaml" --seed "$SEED" --laps "$LAPS" \
   --no-plot --out "$OUT/sequence" >"$OUT/simulate.out" 2>"$OUT/simulate.time" ||
   { cat "$OUT/simulate.time" >&2; exit 1; }
 echo "simulate: wall $(wall "$OUT/simulate.time"), peak RSS $(peak_mib "$OUT/simulate.time") MiB"

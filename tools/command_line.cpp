@@ -76,10 +76,10 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
   cmd->add_option("--map-sigma", p.map_position_sigma, "Perturb the written map's gate centres [m]");
   cmd->add_option("--map-yaw-sigma", p.map_yaw_sigma, "Perturb the written map's gate yaw [rad]");
   cmd->add_option("--profile", o.profile,
-                  "Error profile: clean (sensor models only), realistic or harsh (a real flight's errors; "
-                  "frontend/simulation/README.md lists each value); flags given explicitly win")
+                  "Error profile: realistic (the default) or harsh, a real flight's errors, or clean (sensor models "
+                  "only); frontend/simulation/README.md lists each value; flags given explicitly win")
       ->check(CLI::IsMember(simulationProfileNames()))
-      ->default_val("clean");
+      ->default_val("realistic");
   cmd->add_option("--vio-frame-yaw", p.field.vio_frame_yaw, "VIO in its own frame: yaw drawn in [-v, v] [rad]");
   cmd->add_option("--vio-frame-offset", p.field.vio_frame_offset, "VIO in its own frame: offset up to this [m]");
   cmd->add_option("--camera-time-offset", p.field.camera_time_offset, "Detections stamped this late [s]");

@@ -68,7 +68,8 @@ class SameAsTheCli(unittest.TestCase):
         cls.tmp = tempfile.mkdtemp(prefix="dualgraph_python_")
         cls.sequence_dir = os.path.join(cls.tmp, "sequence")
         cls.run_dir = os.path.join(cls.tmp, "run")
-        run_cli("simulate", "--track", TRACK, "--seed", "1", "--laps", "1", "--no-plot", "--out", cls.sequence_dir)
+        run_cli("simulate", "--profile", "clean", "--track", TRACK, "--seed", "1", "--laps", "1", "--no-plot",
+                "--out", cls.sequence_dir)
         # The Localizer driven from Python starts from localizer.initial_world_T_odom as it is: so does the CLI
         # here (`initialization: given`; the automatic initialisation is the run path's, not the Localizer's).
         config_path = os.path.join(cls.tmp, "given.yaml")

@@ -59,7 +59,7 @@ std::string folderWithBlocker(const std::string& name, const std::string& blocke
 const std::string& validSequence() {  // one simulated lap, made once per test process
   static const std::string dir = [] {
     const std::string out = tempDir() + "/lap";
-    const CommandRun run = runDualgraph("simulate --track " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") +
+    const CommandRun run = runDualgraph("simulate --profile clean --track " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") +
                                         " --seed 2 --laps 1 --no-plot --out " + out);
     EXPECT_EQ(run.exit_code, 0) << run.err;
     return out;
@@ -99,12 +99,12 @@ TEST(BadInputCli, SimulateWithABadTrackOrCameraCreatesNothing) {
                                       "gates:\n  - {id: 1, position: [4, 1, 1], yaw: 0}\n"
                                       "  - {id: 1, position: [-4, 1, 1], yaw: 3.14}\n");
   const std::string out = tempDir() + "/simulate_bad_track";
-  EXPECT_TRUE(failsWithOneLine(runDualgraph("simulate --track " + track + " --seed 1 --out " + out), track + ":3:"));
+  EXPECT_TRUE(failsWithOneLine(runDualgraph("simulate --profile clean --track " + track + " --seed 1 --out " + out), track + ":3:"));
   EXPECT_FALSE(fs::exists(out));
 
   const std::string camera = writeFile(
       "zero_fx.yaml", "model: radtan\nwidth: 640\nheight: 480\nfx: 0\nfy: 300\ncx: 320\ncy: 240\ndistortion: [0, 0, 0, 0]\n");
-  EXPECT_TRUE(failsWithOneLine(runDualgraph("simulate --track " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") +
+  EXPECT_TRUE(failsWithOneLine(runDualgraph("simulate --profile clean --track " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") +
                                             " --camera " + camera + " --seed 1 --out " + out),
                                camera + ":4:"));
   EXPECT_FALSE(fs::exists(out));
@@ -113,7 +113,7 @@ TEST(BadInputCli, SimulateWithABadTrackOrCameraCreatesNothing) {
 TEST(BadInputCli, SimulateWritesNoPartOfTheSequenceWhenOneFileCannotBeWritten) {
   // vio.tum and gt.tum would be written before corners.csv: none of them may appear.
   const std::string out = folderWithBlocker("simulate_blocked", "corners.csv");
-  EXPECT_TRUE(failsWithOneLine(runDualgraph("simulate --track " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") +
+  EXPECT_TRUE(failsWithOneLine(runDualgraph("simulate --profile clean --track " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") +
                                             " --seed 1 --laps 1 --out " + out),
                                out + "/corners.csv"));
   EXPECT_EQ(contents(out), (std::vector<std::string>{"corners.csv", "corners.csv/keep"}));

@@ -80,7 +80,7 @@ TEST(CalibrateCli, SequencesWithoutUsableCornersExitOneNamingWhatIsMissing) {
   fs::remove(no_camera + "/camera.yaml");
   expectOneLineFailure(runDualgraph("calibrate --sequence " + no_camera), "camera.yaml");
 
-  const std::string poses = simulate("poses", "--seed 1 --laps 1 --detections poses");
+  const std::string poses = simulate("poses", "--profile clean --seed 1 --laps 1 --detections poses");
   expectOneLineFailure(runDualgraph("calibrate --sequence " + poses), "corner detections");
 
   const std::string empty = copyOfLateFlight("no_corners");

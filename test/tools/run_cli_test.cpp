@@ -33,7 +33,7 @@ constexpr const char* kStatsHeader =
 const std::string& sequenceDir() {
   static const std::string dir = [] {
     const std::string out = tempDir() + "/ellipse_lap";
-    const CommandRun run = runDualgraph("simulate --track " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") +
+    const CommandRun run = runDualgraph("simulate --profile clean --track " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") +
                                         " --seed 1 --laps 1 --no-plot --out " + out);
     EXPECT_EQ(run.exit_code, 0) << run.err;
     return out;

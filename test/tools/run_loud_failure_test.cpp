@@ -28,7 +28,7 @@ using testing::tempDir;
 const std::string& lapDir() {
   static const std::string dir = [] {
     const std::string out = tempDir() + "/loud_lap";
-    const CommandRun run = runDualgraph("simulate --track " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") +
+    const CommandRun run = runDualgraph("simulate --profile clean --track " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") +
                                         " --seed 2 --laps 1 --no-plot --out " + out);
     EXPECT_EQ(run.exit_code, 0) << run.err;
     return out;

@@ -41,7 +41,7 @@ TEST(RunProgress, ALineOnATerminalForRunsLongerThanASecondAndNoneOtherwise) {
   TerminalRun tty;
   for (const int laps : {12, 36}) {
     sequence = dir + "/sequence" + std::to_string(laps);
-    const CommandRun simulated = runDualgraph("simulate --track " + std::string(DUALGRAPH_TEST_SOURCE_DIR) +
+    const CommandRun simulated = runDualgraph("simulate --profile clean --track " + std::string(DUALGRAPH_TEST_SOURCE_DIR) +
                                               "/data/tracks/ratm_ellipse.yaml --seed 1 --laps " + std::to_string(laps) +
                                               " --no-plot --out " + sequence);
     ASSERT_EQ(simulated.exit_code, 0) << simulated.err;

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "frontend/io/camera_io.h"
@@ -25,7 +27,7 @@ std::string track(const std::string& name) { return testing::sourcePath("data/tr
 
 TEST(SimulateCli, BundledEllipseWritesAReadableSequence) {
   const std::string out = tempDir() + "/ellipse_seed1";
-  const testing::CommandRun run = runDualgraph("simulate --track " + track("ratm_ellipse.yaml") + " --seed 1 --laps 2 --out " + out);
+  const testing::CommandRun run = runDualgraph("simulate --profile clean --track " + track("ratm_ellipse.yaml") + " --seed 1 --laps 2 --out " + out);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("unaligned position RMSE"), std::string::npos) << run.out;
   for (const char* file : {"gt.tum", "vio.tum", "corners.csv", "gates.yaml", "camera.yaml", "sequence.yaml", "xy.png"}) {
@@ -45,6 +47,28 @@ TEST(SimulateCli, BundledEllipseWritesAReadableSequence) {
   ASSERT_TRUE(map.ok()) << map.status().message();
   EXPECT_EQ(map->gates.size(), 4u);
   EXPECT_TRUE(loadCameraYaml(out + "/camera.yaml").ok());
+}
+
+// The default profile is a real flight's (realistic): sequence.yaml records its field errors; `--profile clean`
+// and an explicit flag over a profile are what they say.
+TEST(SimulateCli, TheDefaultProfileIsRealisticAndAFlagWinsOverIt) {
+  const std::string common = "simulate --track " + track("ratm_ellipse.yaml") + " --laps 1 --no-plot --out " + tempDir();
+  ASSERT_EQ(runDualgraph(common + "/default_profile").exit_code, 0);
+  ASSERT_EQ(runDualgraph(common + "/clean_profile --profile clean").exit_code, 0);
+  ASSERT_EQ(runDualgraph(common + "/flag_wins --camera-time-offset 0.03").exit_code, 0);
+  std::ifstream realistic(tempDir() + "/default_profile/sequence.yaml"), clean(tempDir() + "/clean_profile/sequence.yaml"),
+      flagged(tempDir() + "/flag_wins/sequence.yaml");
+  std::stringstream r, c, f;
+  r << realistic.rdbuf();
+  c << clean.rdbuf();
+  f << flagged.rdbuf();
+  auto offset = [](const std::string& yaml) {
+    const size_t at = yaml.find("camera_time_offset: ");
+    return at == std::string::npos ? -1.0 : std::stod(yaml.substr(at + 20));
+  };
+  EXPECT_DOUBLE_EQ(offset(r.str()), 0.015) << r.str();
+  EXPECT_DOUBLE_EQ(offset(c.str()), 0.0) << c.str();
+  EXPECT_DOUBLE_EQ(offset(f.str()), 0.03) << f.str();
 }
 
 TEST(SimulateCli, SameSeedSameBytesOtherSeedOtherBytes) {
@@ -92,7 +116,7 @@ TEST(SimulateCli, BadTracksExitOneNamingFileLineAndField) {
   for (const BadTrack& c : cases) {
     const std::string path = writeFile(std::string(c.name) + ".yaml", c.yaml);
     const std::string out = tempDir() + "/out_" + c.name;
-    const testing::CommandRun run = runDualgraph("simulate --track " + path + " --out " + out);
+    const testing::CommandRun run = runDualgraph("simulate --profile clean --track " + path + " --out " + out);
     EXPECT_EQ(run.exit_code, 1) << c.name << ": " << run.err;
     EXPECT_NE(run.err.find(path), std::string::npos) << c.name << ": " << run.err;
     EXPECT_NE(run.err.find(c.fragment), std::string::npos) << c.name << ": " << run.err;
@@ -102,21 +126,21 @@ TEST(SimulateCli, BadTracksExitOneNamingFileLineAndField) {
 }
 
 TEST(SimulateCli, UsageErrorsExitTwo) {
-  EXPECT_EQ(runDualgraph("simulate --out " + tempDir() + "/x").exit_code, 2);  // no --track
-  EXPECT_EQ(runDualgraph("simulate --track " + track("ratm_ellipse.yaml") + " --out " + tempDir() +
+  EXPECT_EQ(runDualgraph("simulate --profile clean --out " + tempDir() + "/x").exit_code, 2);  // no --track
+  EXPECT_EQ(runDualgraph("simulate --profile clean --track " + track("ratm_ellipse.yaml") + " --out " + tempDir() +
                          "/x --detections edges").exit_code, 2);
-  EXPECT_EQ(runDualgraph("simulate --track " + track("ratm_ellipse.yaml") + " --out " + tempDir() + "/x --laps 0").exit_code, 2);
+  EXPECT_EQ(runDualgraph("simulate --profile clean --track " + track("ratm_ellipse.yaml") + " --out " + tempDir() + "/x --laps 0").exit_code, 2);
 }
 
 TEST(SimulateCli, InvalidSimulatorParameterExitsOne) {
-  const testing::CommandRun run = runDualgraph("simulate --track " + track("ratm_ellipse.yaml") + " --out " + tempDir() +
+  const testing::CommandRun run = runDualgraph("simulate --profile clean --track " + track("ratm_ellipse.yaml") + " --out " + tempDir() +
                                                "/p --miss-probability 1.5");
   EXPECT_EQ(run.exit_code, 1) << run.err;
   EXPECT_NE(run.err.find("miss_probability"), std::string::npos) << run.err;
 }
 
 TEST(SimulateCli, MissingCameraFileExitsOne) {
-  const testing::CommandRun run = runDualgraph("simulate --track " + track("ratm_ellipse.yaml") + " --out " + tempDir() +
+  const testing::CommandRun run = runDualgraph("simulate --profile clean --track " + track("ratm_ellipse.yaml") + " --out " + tempDir() +
                                                "/q --camera /nonexistent/camera.yaml");
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_NE(run.err.find("/nonexistent/camera.yaml"), std::string::npos) << run.err;
