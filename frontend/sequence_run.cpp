@@ -33,6 +33,7 @@ class FrameSearch {
     }
     start(search, first_odom_T_body, -1.0);
     initial_ = true;
+    initial_started_ = true;
   }
   void startRelocalization(double t, const Eigen::Isometry3d& world_T_body, const Eigen::Isometry3d& odom_T_body) {
     FrameInitializerParams search = params_.initialization;
@@ -92,9 +93,11 @@ class FrameSearch {
     }
     return std::vector<Seen>{};
   }
-  /// The first search's answer when it never locked and saw nothing it could use.
+  /// The first search's answer when it never locked and saw nothing it could use (or no detection at all).
   void explainNothingPlaced(SequenceRunResult& result, size_t skipped) const {
-    if (!result.initialization || result.initialization->locked || placed_ > 0) return;
+    if (!initial_started_) return;
+    if (!result.initialization) result.initialization = FrameInitialization{};
+    if (result.initialization->locked || placed_ > 0) return;
     result.initialization->why_not = "none of the detections could be used: " + std::to_string(skipped) +
                                      " outside the odometry's time span, the others refused by PnP";
   }
@@ -120,6 +123,7 @@ class FrameSearch {
   std::optional<FrameInitializer> initializer_;
   std::deque<Seen> seen_;
   bool initial_ = false;
+  bool initial_started_ = false;  ///< the run looks for the frame (auto_initialize): it reports how that went
   double started_t_ = -1.0;  ///< a relocalisation search's start [s]; −1: global already
   size_t placed_ = 0;
 };

@@ -85,6 +85,19 @@ TEST(FieldRun, AFrameThatCannotBeFoundUsesNoDetectionAndSaysWhy) {
   EXPECT_EQ(run->localizer_counters.observations_accepted, 0);
 }
 
+TEST(FieldRun, AFlightWithoutDetectionsStaysInitialisingAndSaysSo) {
+  Sequence sequence = realisticFlight("ratm_ellipse.yaml", 1, 1);
+  sequence.corners.clear();
+  auto run = runSequence(sequence, SequenceRunParams{});
+  ASSERT_TRUE(run.ok()) << run.status().message();
+  ASSERT_TRUE(run->initialization.has_value());
+  EXPECT_FALSE(run->initialization->locked);
+  EXPECT_NE(run->initialization->why_not.find("none of the detections could be used"), std::string::npos)
+      << run->initialization->why_not;
+  for (const CorrectedPose& pose : run->estimate) ASSERT_EQ(pose.state, TrackingState::kInitialising);
+  EXPECT_TRUE(run->keyframes.empty());
+}
+
 TEST(FieldRun, TheCameraClockOffsetMovesEveryDetectionToTheOdometrysClock) {
   // 30 ms late stamps and nothing else wrong with the camera: told the offset, the run places each detection
   // where the drone was; not told, it places them 30 ms late (0.3-0.6 m at racing speed).
