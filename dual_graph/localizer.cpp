@@ -260,8 +260,7 @@ void Localizer::optimizeAndRecord(KeyframeStats& row, double start_ms) {
   if (!params_.mapping) {
     monitor_.addUpdate(row.t, row.gate_edges_added, row.observations_rejected);
     counters_.losses = monitor_.losses();
-    counters_.recoveries += monitor_.recoveries() - monitor_recoveries_seen_;
-    monitor_recoveries_seen_ = monitor_.recoveries();
+    counters_.recoveries = monitor_.recoveries();
   }
 }
 
@@ -284,17 +283,16 @@ void Localizer::discardHistory(double keyframe_t) {
 }
 
 void Localizer::resumeTracking() {
-  if (monitor_.state() != TrackingState::kLost || history_.empty()) return;
-  monitor_.locked(history_.newest().t);
-  ++counters_.recoveries;
+  if (history_.empty()) return;
+  monitor_.resume(history_.newest().t);
+  counters_.recoveries = monitor_.recoveries();
 }
 
 Result<double> Localizer::relocalize(const Eigen::Isometry3d& world_T_odom, double since, double sigma_t,
                                      double sigma_r) {
   if (history_.empty()) return Status(StatusCode::kFailedPrecondition, "relocalize: no odometry yet");
   DG_RETURN_IF_ERROR(checkRigidTransform(world_T_odom, "relocalize: world_T_odom"));
-  const std::vector<CorrectedPose> so_far = keyframeTrajectory();
-  given_up_keyframes_ = so_far;
+  given_up_keyframes_ = keyframeTrajectory();
   const int dropped = static_cast<int>(pending_.size() + temporary_.numObservations()) + single_observations_;
   counters_.observations_without_frame += dropped;
   pending_.clear();

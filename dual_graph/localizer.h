@@ -169,7 +169,6 @@ class Localizer {
   std::vector<KeyframeStats> stats_;
   LocalizerCounters counters_;
   TrackingMonitor monitor_;
-  int monitor_recoveries_seen_ = 0;  ///< the monitor's own recoveries already in counters_.recoveries
   std::vector<CorrectedPose> given_up_keyframes_;  ///< keyframes of the main graphs before a `relocalize`
 };
 

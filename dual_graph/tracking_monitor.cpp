@@ -53,6 +53,12 @@ void TrackingMonitor::locked(double t) {
   failures_ = 0;
 }
 
+void TrackingMonitor::resume(double t) {
+  if (state_ != TrackingState::kLost) return;
+  locked(t);
+  ++recoveries_;
+}
+
 void TrackingMonitor::addFailures(double t, int count) {
   if (count <= 0 || state_ != TrackingState::kTracking) return;
   // Given a frame at the start (no lock, no success yet), the clock starts at the first evidence.

@@ -43,12 +43,13 @@ class TrackingMonitor {
   void addUpdate(double t, int added, int rejected_observations);
   /// The frame was found (or given) at t: tracking from now, evidence cleared.
   void locked(double t);
+  /// Lost, but a search found the frame in use at t: tracking again, counted as a recovery. No-op unless lost.
+  void resume(double t);
   /// Times tracking turned lost, and lost turned tracking by a success (without a new frame).
   int losses() const { return losses_; }
   int recoveries() const { return recoveries_; }
-  /// Failures since the last success [count], and that success's time [s] (−∞ before any).
+  /// Failures since the last success (or the lock) [count].
   int failuresSinceSuccess() const { return failures_; }
-  double lastSuccessTime() const { return last_success_t_; }
 
  private:
   void addFailures(double t, int count);

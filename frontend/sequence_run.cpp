@@ -259,8 +259,7 @@ Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRu
 
 Result<SequenceRunResult> runSequenceWith(Localizer& localizer, GateFrontend& frontend, const Sequence& sequence,
                                           const RunProgress& progress) {
-  const double time_offset = sequence.camera ? sequence.camera->time_offset : 0.0;
-  return runLoop(localizer, frontend, sequence, progress, time_offset, nullptr);
+  return runLoop(localizer, frontend, sequence, progress, detectionTimeOffset(sequence, SequenceRunParams{}), nullptr);
 }
 
 }  // namespace dualgraph

@@ -27,6 +27,14 @@ Status requireFile(const fs::path& path) {
   return Status(StatusCode::kNotFound, path.string() + ": not found");
 }
 
+// A YAML (or JSON) file whose top level is a mapping; kNotFound when it is missing.
+Result<YAML::Node> loadMappingFile(const fs::path& path) {
+  DG_RETURN_IF_ERROR(requireFile(path));
+  auto text = yf::readText(path.string());
+  if (!text.ok()) return text.status();
+  return yf::loadMapping(*text, path.string());
+}
+
 Result<StampedPoses> readPoses(const fs::path& path) {
   DG_RETURN_IF_ERROR(requireFile(path));
   auto log = readTumOdometry(path.string());
@@ -45,11 +53,8 @@ Status readNumberOrNull(const std::string& source, const std::string& field, con
 
 // run.yaml (written by `dualgraph run`): sequence, mode, d_main, d_temp, d_single. Other keys are ignored.
 Status readRunYaml(const fs::path& path, RunReport& run) {
-  DG_RETURN_IF_ERROR(requireFile(path));
   const std::string source = path.string();
-  auto text = yf::readText(source);
-  if (!text.ok()) return text.status();
-  auto root = yf::loadMapping(*text, source);
+  auto root = loadMappingFile(path);
   if (!root.ok()) return root.status();
   try {
     const YAML::Node sequence = (*root)["sequence"];
@@ -125,11 +130,8 @@ Status readGateCorrections(const std::string& source, const YAML::Node& list, Ru
 // metrics.json: every number (null: NaN) in file order; `gate_corrections` per lap; quoted strings
 // and other nested values are skipped, so keys added later do not break old reports.
 Status readMetrics(const fs::path& path, RunReport& run) {
-  DG_RETURN_IF_ERROR(requireFile(path));
   const std::string source = path.string();
-  auto text = yf::readText(source);
-  if (!text.ok()) return text.status();
-  auto root = yf::loadMapping(*text, source);
+  auto root = loadMappingFile(path);
   if (!root.ok()) return root.status();
   try {
     for (const auto& entry : *root) {

@@ -10,6 +10,7 @@
 
 #include "dual_graph/localizer_params.h"
 #include "frontend/io/localizer_params_yaml.h"
+#include "test/frontend/localizer_params_fixtures.h"
 #include "test/testing/shared_data.h"
 #include "types/se3_math.h"
 
@@ -25,46 +26,6 @@ const std::vector<std::string> kFieldNames = {
     "fix_map_gates", "initial_world_T_odom", "initial_sigma_t", "initial_sigma_r", "main_max_iterations",
     "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "temp_relative_decrease_stop", "temp_model_decrease_stop", "linear_solver", "lm_damping", "temp_solver", "robust_kernel", "chi2_gate_pose",
     "chi2_gate_point", "lost_after_s", "lost_min_failures"};
-
-/// Field by field; the transform to `pose_tolerance` (max abs difference of the 4x4 matrices).
-void expectSameParams(const LocalizerParams& a, const LocalizerParams& b, double pose_tolerance = 0.0) {
-  EXPECT_EQ(a.mode, b.mode);
-  EXPECT_EQ(a.landmark, b.landmark);
-  EXPECT_EQ(a.mapping, b.mapping);
-  EXPECT_EQ(a.d_main, b.d_main);
-  EXPECT_EQ(a.theta_main, b.theta_main);
-  EXPECT_EQ(a.d_temp, b.d_temp);
-  EXPECT_EQ(a.theta_temp, b.theta_temp);
-  EXPECT_EQ(a.d_single, b.d_single);
-  EXPECT_EQ(a.theta_single, b.theta_single);
-  EXPECT_EQ(a.single_all_detections, b.single_all_detections);
-  EXPECT_EQ(a.use_input_covariance, b.use_input_covariance);
-  EXPECT_EQ(a.odom_sigma_t, b.odom_sigma_t);
-  EXPECT_EQ(a.odom_sigma_r, b.odom_sigma_r);
-  EXPECT_EQ(a.odom_min_distance, b.odom_min_distance);
-  EXPECT_EQ(a.map_sigma_t, b.map_sigma_t);
-  EXPECT_EQ(a.map_sigma_r, b.map_sigma_r);
-  EXPECT_EQ(a.fix_map_gates, b.fix_map_gates);
-  EXPECT_LE((a.initial_world_T_odom.matrix() - b.initial_world_T_odom.matrix()).cwiseAbs().maxCoeff(), pose_tolerance)
-      << a.initial_world_T_odom.matrix() << "\nvs\n" << b.initial_world_T_odom.matrix();
-  EXPECT_EQ(a.initial_sigma_t, b.initial_sigma_t);
-  EXPECT_EQ(a.initial_sigma_r, b.initial_sigma_r);
-  EXPECT_EQ(a.main_max_iterations, b.main_max_iterations);
-  EXPECT_EQ(a.main_time_budget_ms, b.main_time_budget_ms);
-  EXPECT_EQ(a.main_relative_decrease_stop, b.main_relative_decrease_stop);
-  EXPECT_EQ(a.main_window, b.main_window);
-  EXPECT_EQ(a.temp_max_iterations, b.temp_max_iterations);
-  EXPECT_EQ(a.temp_relative_decrease_stop, b.temp_relative_decrease_stop);
-  EXPECT_EQ(a.temp_model_decrease_stop, b.temp_model_decrease_stop);
-  EXPECT_EQ(a.linear_solver, b.linear_solver);
-  EXPECT_EQ(a.lm_damping, b.lm_damping);
-  EXPECT_EQ(a.lost_after_s, b.lost_after_s);
-  EXPECT_EQ(a.lost_min_failures, b.lost_min_failures);
-  EXPECT_EQ(a.temp_solver, b.temp_solver);
-  EXPECT_EQ(a.robust_kernel, b.robust_kernel);
-  EXPECT_EQ(a.chi2_gate_pose, b.chi2_gate_pose);
-  EXPECT_EQ(a.chi2_gate_point, b.chi2_gate_point);
-}
 
 /// Every field different from its default.
 const char* const kAllOverridden = R"(mode: single
@@ -143,7 +104,7 @@ TEST(LocalizerParamsYaml, DefaultConfigFileEqualsDefaultParams) {
   contents << file.rdbuf();
   const auto loaded = parseLocalizerParams(contents.str(), "default.yaml", {"frontend"});
   ASSERT_TRUE(loaded.ok()) << loaded.status().toString();
-  expectSameParams(*loaded, LocalizerParams{});
+  expectSameLocalizerParams(*loaded, LocalizerParams{});
 }
 
 TEST(LocalizerParamsYaml, DefaultConfigFileSpellsOutEveryField) {
@@ -158,7 +119,7 @@ TEST(LocalizerParamsYaml, DefaultConfigFileSpellsOutEveryField) {
 TEST(LocalizerParamsYaml, EveryOverriddenFieldIsReadBack) {
   const auto parsed = parseLocalizerParams(kAllOverridden, kSource);
   ASSERT_TRUE(parsed.ok()) << parsed.status().toString();
-  expectSameParams(*parsed, allOverriddenExpected(), 1e-15);
+  expectSameLocalizerParams(*parsed, allOverriddenExpected(), 1e-15);
 }
 
 TEST(LocalizerParamsYaml, FieldsNestedUnderLocalizerKeyAreRead) {
@@ -167,14 +128,14 @@ TEST(LocalizerParamsYaml, FieldsNestedUnderLocalizerKeyAreRead) {
   for (std::string line; std::getline(lines, line);) nested += "  " + line + "\n";
   const auto parsed = parseLocalizerParams(nested, kSource);
   ASSERT_TRUE(parsed.ok()) << parsed.status().toString();
-  expectSameParams(*parsed, allOverriddenExpected(), 1e-15);
+  expectSameLocalizerParams(*parsed, allOverriddenExpected(), 1e-15);
 }
 
 TEST(LocalizerParamsYaml, EmptyOrCommentOnlyTextGivesDefaults) {
   for (const char* text : {"", "\n", "# nothing here\n", "---\n", "localizer:\n"}) {
     const auto parsed = parseLocalizerParams(text, kSource);
     ASSERT_TRUE(parsed.ok()) << "'" << text << "': " << parsed.status().toString();
-    expectSameParams(*parsed, LocalizerParams{});
+    expectSameLocalizerParams(*parsed, LocalizerParams{});
   }
 }
 
@@ -184,7 +145,7 @@ TEST(LocalizerParamsYaml, MissingKeysKeepTheirDefaults) {
   LocalizerParams expected;
   expected.d_temp = 0.3;
   expected.initial_world_T_odom.translation() = Eigen::Vector3d(4, 5, 6);
-  expectSameParams(*parsed, expected);
+  expectSameLocalizerParams(*parsed, expected);
 }
 
 TEST(LocalizerParamsYaml, IntegersAreDecimalEvenWithALeadingZero) {

@@ -7,48 +7,13 @@
 
 #include "frontend/io/run_config.h"
 #include "frontend/sequence_run.h"
+#include "test/frontend/localizer_params_fixtures.h"
 #include "test/testing/shared_data.h"
 
 namespace dualgraph {
 namespace {
 
 constexpr const char* kSource = "run.yaml";
-
-void expectSameLocalizer(const LocalizerParams& a, const LocalizerParams& b) {
-  EXPECT_EQ(a.mode, b.mode);
-  EXPECT_EQ(a.landmark, b.landmark);
-  EXPECT_EQ(a.mapping, b.mapping);
-  EXPECT_EQ(a.d_main, b.d_main);
-  EXPECT_EQ(a.theta_main, b.theta_main);
-  EXPECT_EQ(a.d_temp, b.d_temp);
-  EXPECT_EQ(a.theta_temp, b.theta_temp);
-  EXPECT_EQ(a.d_single, b.d_single);
-  EXPECT_EQ(a.theta_single, b.theta_single);
-  EXPECT_EQ(a.single_all_detections, b.single_all_detections);
-  EXPECT_EQ(a.use_input_covariance, b.use_input_covariance);
-  EXPECT_EQ(a.odom_sigma_t, b.odom_sigma_t);
-  EXPECT_EQ(a.odom_sigma_r, b.odom_sigma_r);
-  EXPECT_EQ(a.odom_min_distance, b.odom_min_distance);
-  EXPECT_EQ(a.map_sigma_t, b.map_sigma_t);
-  EXPECT_EQ(a.map_sigma_r, b.map_sigma_r);
-  EXPECT_EQ(a.fix_map_gates, b.fix_map_gates);
-  EXPECT_TRUE(a.initial_world_T_odom.matrix() == b.initial_world_T_odom.matrix());
-  EXPECT_EQ(a.initial_sigma_t, b.initial_sigma_t);
-  EXPECT_EQ(a.initial_sigma_r, b.initial_sigma_r);
-  EXPECT_EQ(a.main_max_iterations, b.main_max_iterations);
-  EXPECT_EQ(a.main_time_budget_ms, b.main_time_budget_ms);
-  EXPECT_EQ(a.main_relative_decrease_stop, b.main_relative_decrease_stop);
-  EXPECT_EQ(a.temp_max_iterations, b.temp_max_iterations);
-  EXPECT_EQ(a.temp_relative_decrease_stop, b.temp_relative_decrease_stop);
-  EXPECT_EQ(a.temp_model_decrease_stop, b.temp_model_decrease_stop);
-  EXPECT_EQ(a.linear_solver, b.linear_solver);
-  EXPECT_EQ(a.lm_damping, b.lm_damping);
-  EXPECT_EQ(a.robust_kernel, b.robust_kernel);
-  EXPECT_EQ(a.chi2_gate_pose, b.chi2_gate_pose);
-  EXPECT_EQ(a.chi2_gate_point, b.chi2_gate_point);
-  EXPECT_EQ(a.lost_after_s, b.lost_after_s);
-  EXPECT_EQ(a.lost_min_failures, b.lost_min_failures);
-}
 
 void expectSamePnp(const GatePnpParams& a, const GatePnpParams& b) {
   EXPECT_EQ(a.gate_size, b.gate_size);
@@ -74,7 +39,7 @@ TEST(RunConfig, BundledDefaultYamlIsExactlyTheDefaults) {
   auto loaded = loadRunConfig(testing::sourcePath("data/config/default.yaml"));
   ASSERT_TRUE(loaded.ok()) << loaded.status().message();
   const SequenceRunParams defaults;
-  expectSameLocalizer(loaded->localizer, LocalizerParams{});
+  expectSameLocalizerParams(loaded->localizer, LocalizerParams{});
   expectSamePnp(loaded->frontend.pnp, GatePnpParams{});
   expectSameAssociation(loaded->frontend.association, AssociationParams{});
   EXPECT_EQ(loaded->frontend.trust_ids, defaults.frontend.trust_ids);
@@ -97,7 +62,7 @@ TEST(RunConfig, EmptyTextAndMissingSectionsKeepTheDefaults) {
   EXPECT_EQ(only_localizer->localizer.d_main, 1.5);
   EXPECT_FALSE(only_localizer->frontend.trust_ids);
   auto only_frontend = parseRunConfig("frontend:\n  trust_ids: true\n", kSource);
-  expectSameLocalizer(only_frontend->localizer, LocalizerParams{});
+  expectSameLocalizerParams(only_frontend->localizer, LocalizerParams{});
   EXPECT_TRUE(only_frontend->frontend.trust_ids);
 }
 
