@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 
 namespace dualgraph {
 
@@ -15,11 +16,23 @@ using GateCornerPixels = Eigen::Matrix<double, 2, 4>;
 /// as they appear in the image (DESIGN.md §6): top-left, top-right, bottom-right, bottom-left — a
 /// clockwise cycle with v pointing down. `gate_id` is the map id, or -1 when unknown (the association
 /// decides). `line` is the 1-based line of the file it came from, for later messages.
+/// A gate partly out of the image is a partial detection: the corners the detector did not see hold NaN
+/// (both coordinates; written `nan` in the CSV), the others keep their positions in the order above.
 struct CornerDetection {
   double t = 0.0;
   int gate_id = -1;
   std::array<Eigen::Vector2d, 4> corners;
   int line = 0;
+
+  /// Whether corner c (0 … 3, the order above) was detected.
+  bool visible(int c) const { return std::isfinite(corners[static_cast<size_t>(c)].x()); }
+  /// How many of the four corners were detected (4: a whole gate).
+  int visibleCount() const {
+    int count = 0;
+    for (int c = 0; c < 4; ++c) count += visible(c) ? 1 : 0;
+    return count;
+  }
+  bool complete() const { return visibleCount() == 4; }
 };
 
 }  // namespace dualgraph
