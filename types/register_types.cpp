@@ -4,6 +4,7 @@
 #include "types/edge_point_xyz_prior.h"
 #include "types/edge_se2.h"
 #include "types/edge_se3.h"
+#include "types/edge_se3_corner_projection.h"
 #include "types/edge_se3_point_xyz.h"
 #include "types/edge_se3_prior.h"
 #include "types/parameter_se3_offset.h"
@@ -21,6 +22,7 @@ Status registerBuiltinTypes(TypeRegistry& registry) {
   DG_RETURN_IF_ERROR(registry.registerVertex<VertexPointXYZ>(VertexPointXYZ::kTag));
   DG_RETURN_IF_ERROR(registry.registerEdge<EdgeSE3PointXYZ>(EdgeSE3PointXYZ::kTag));
   DG_RETURN_IF_ERROR(registry.registerEdge<EdgePointXYZPrior>(EdgePointXYZPrior::kTag));
+  DG_RETURN_IF_ERROR(registry.registerEdge<EdgeSE3CornerProjection>(EdgeSE3CornerProjection::kTag));
   DG_RETURN_IF_ERROR(registry.registerVertex<VertexSE2>(VertexSE2::kTag));
   DG_RETURN_IF_ERROR(registry.registerEdge<EdgeSE2>(EdgeSE2::kTag));
   return Status();

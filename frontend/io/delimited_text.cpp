@@ -134,6 +134,18 @@ Status RowReader::readDouble(size_t index, const std::string& name, double& out)
   return Status();
 }
 
+Status RowReader::readOptionalDouble(size_t index, const std::string& name, double& out, bool& missing) const {
+  if (index >= line_.fields.size()) return readDouble(index, name, out);  // the too-short line's error
+  const std::string_view text = line_.fields[index];
+  missing = text.empty() || (text.size() == 3 && (text[0] == 'n' || text[0] == 'N') && (text[1] == 'a' || text[1] == 'A') &&
+                             (text[2] == 'n' || text[2] == 'N'));
+  if (missing) {
+    out = std::numeric_limits<double>::quiet_NaN();
+    return Status();
+  }
+  return readDouble(index, name, out);
+}
+
 Status RowReader::readInt64(size_t index, const std::string& name, std::int64_t& out) const {
   std::string_view text;
   DG_RETURN_IF_ERROR(field(index, name, text));

@@ -51,6 +51,8 @@ class RowReader {
   Status expectFieldCount(std::initializer_list<size_t> allowed) const;
   /// A finite double (a leading '+' is accepted, hexadecimal is not).
   Status readDouble(size_t index, const std::string& name, double& out) const;
+  /// readDouble, except that an empty field or `nan` (any case) is a missing value: `missing` true, `out` NaN.
+  Status readOptionalDouble(size_t index, const std::string& name, double& out, bool& missing) const;
   /// A base-10 integer in range.
   Status readInt(size_t index, const std::string& name, int& out) const;
   Status readInt64(size_t index, const std::string& name, std::int64_t& out) const;

@@ -57,6 +57,27 @@ Status readStampAndGate(const RowReader& row, double previous_t, bool first, dou
   return Status();
 }
 
+/// The four corners of a row; a corner not seen has both coordinates missing, and at least two are seen.
+Status readCorners(const RowReader& row, CornerDetection& detection) {
+  int seen = 0;
+  for (size_t c = 0; c < 4; ++c) {
+    bool missing[2] = {false, false};
+    for (size_t k = 0; k < 2; ++k) {
+      DG_RETURN_IF_ERROR(row.readOptionalDouble(2 + 2 * c + k, cornerNames()[2 + 2 * c + k], detection.corners[c][k],
+                                                 missing[k]));
+    }
+    if (missing[0] != missing[1]) {
+      return row.fieldError(cornerNames()[2 + 2 * c + (missing[0] ? 0 : 1)],
+                            "missing while the corner's other coordinate is given (a corner not seen has both nan)");
+    }
+    seen += missing[0] ? 0 : 1;
+  }
+  if (seen < 2) {
+    return row.fieldError("u_tl", std::to_string(seen) + " corner(s) seen; a detection needs at least 2 (nan marks a corner not seen)");
+  }
+  return Status();
+}
+
 Status noDataRows(const std::string& path, size_t lines) {
   return Status(StatusCode::kParseError,
                 path + ": no data rows (" + std::to_string(lines) + " non-blank line(s), all comments or header)");
@@ -83,11 +104,7 @@ Result<std::vector<CornerDetection>> readCornerDetections(const std::string& pat
     detection.line = line.number;
     DG_RETURN_IF_ERROR(readStampAndGate(row, detections.empty() ? 0.0 : detections.back().t, detections.empty(),
                                         detection.t, detection.gate_id));
-    for (size_t c = 0; c < 4; ++c) {
-      for (size_t k = 0; k < 2; ++k) {
-        DG_RETURN_IF_ERROR(row.readDouble(2 + 2 * c + k, cornerNames()[2 + 2 * c + k], detection.corners[c][k]));
-      }
-    }
+    DG_RETURN_IF_ERROR(readCorners(row, detection));
     detections.push_back(detection);
   }
   if (detections.empty()) return noDataRows(path, lines->size());
@@ -138,9 +155,13 @@ Status writeCornerDetections(const std::string& path, const std::vector<CornerDe
   for (size_t i = 0; i < detections.size(); ++i) {
     const CornerDetection& d = detections[i];
     bool finite = std::isfinite(d.t);
-    for (const Eigen::Vector2d& corner : d.corners) finite = finite && corner.allFinite();
+    for (int c = 0; c < 4; ++c) {  // a corner not seen is NaN in both coordinates, anything else finite
+      const Eigen::Vector2d& corner = d.corners[static_cast<size_t>(c)];
+      finite = finite && (corner.allFinite() || (std::isnan(corner.x()) && std::isnan(corner.y())));
+    }
     const std::string what = path + ": detection " + std::to_string(i);
     if (!finite) return Status(StatusCode::kInvalidArgument, what + ": not finite");
+    if (d.visibleCount() < 2) return Status(StatusCode::kInvalidArgument, what + ": fewer than 2 corners seen");
     if (d.gate_id < -1) return Status(StatusCode::kInvalidArgument, what + ": gate_id below -1");
     if (i > 0 && d.t < detections[i - 1].t) return Status(StatusCode::kInvalidArgument, what + ": time stamp decreases");
   }
@@ -149,7 +170,14 @@ Status writeCornerDetections(const std::string& path, const std::vector<CornerDe
     out << joined(cornerNames(), cornerNames().size()) << '\n';
     for (const CornerDetection& d : detections) {
       out << d.t << ',' << d.gate_id;
-      for (const Eigen::Vector2d& corner : d.corners) out << ',' << corner.x() << ',' << corner.y();
+      for (int c = 0; c < 4; ++c) {
+        const Eigen::Vector2d& corner = d.corners[static_cast<size_t>(c)];
+        if (d.visible(c)) {
+          out << ',' << corner.x() << ',' << corner.y();
+        } else {
+          out << ",nan,nan";
+        }
+      }
       out << '\n';
     }
     return Status();

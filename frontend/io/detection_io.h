@@ -16,7 +16,8 @@ namespace dualgraph {
 /// Corner detections CSV: `t,gate_id,u_tl,v_tl,u_tr,v_tr,u_br,v_br,u_bl,v_bl`. A header line is
 /// optional (a first non-comment line whose first field is `t`); when present it must be exactly
 /// these names. Time stamps non-decreasing (one image may hold several gates); gate_id ≥ -1;
-/// pixel coordinates finite. `#` comments and blank lines skipped; errors name file, line and field.
+/// pixel coordinates finite, except for a corner the detector did not see (a gate partly out of the image):
+/// both its coordinates `nan` (or empty), NaN in memory; at least 2 corners seen. `#` comments and blank lines skipped; errors name file, line and field.
 Result<std::vector<CornerDetection>> readCornerDetections(const std::string& path);
 
 /// Pose detections CSV: `t,gate_id,x,y,z,qx,qy,qz,qw` — body_T_gate (translation [m] of the gate
@@ -32,8 +33,8 @@ Result<std::vector<GateObservation>> readPoseDetections(const std::string& path,
                                                         std::vector<int>* lines = nullptr);
 
 /// Writes corner detections in the CSV form readCornerDetections reads (with the header line,
-/// 17 significant digits). Atomic (temporary file + rename). kInvalidArgument naming the detection
-/// for a non-finite value, gate_id < -1 or a decreasing time stamp; kIoError on write failure.
+/// 17 significant digits; `nan,nan` for a corner not seen). Atomic (temporary file + rename). kInvalidArgument
+/// naming the detection for a non-finite value (other than a corner NaN in both coordinates), fewer than 2 corners, gate_id < -1 or a decreasing time stamp; kIoError on write failure.
 Status writeCornerDetections(const std::string& path, const std::vector<CornerDetection>& detections);
 /// Writes kPose observations as the pose detections CSV with all 21 covariance columns and the header.
 /// Atomic. kInvalidArgument naming the observation for a kPosition one, non-finite values, a non-rigid

@@ -5,6 +5,7 @@
 // Adding a type = one EdgeTraits specialisation + one entry in EdgeTypes.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -15,6 +16,7 @@
 #include "types/edge_point_xyz_prior.h"
 #include "types/edge_se2.h"
 #include "types/edge_se3.h"
+#include "types/edge_se3_corner_projection.h"
 #include "types/edge_se3_point_xyz.h"
 #include "types/edge_se3_prior.h"
 #include "types/parameter_se3_offset.h"
@@ -100,6 +102,26 @@ struct EdgeTraits<EdgeSE3PointXYZ> {
 };
 
 template <>
+struct EdgeTraits<EdgeSE3CornerProjection> {
+  static constexpr const char* kName = "EdgeSE3CornerProjection";
+  static void build(EdgeCase<EdgeSE3CornerProjection>& c, Rng& rng, Regime regime, double noise) {
+    const auto& world_T_body = c.addVertex<VertexSE3>(testing::randomPose(rng, regime)).estimate();
+    const Eigen::Isometry3d body_T_camera = testing::randomPose(rng, regime);
+    // A point 1–5 m in front of the camera, on an object pose drawn in the regime.
+    const Eigen::Vector3d p_camera(testing::gaussian(rng), testing::gaussian(rng), 3.0 + 2.0 * std::tanh(testing::gaussian(rng)));
+    const Eigen::Vector3d p_object = testing::randomPoint(rng, Regime::kRandom);
+    Eigen::Isometry3d world_T_object = testing::randomPose(rng, regime);
+    world_T_object.translation() += world_T_body * body_T_camera * p_camera - world_T_object * p_object;
+    c.template addVertex<VertexSE3>(world_T_object);
+    (void)c.parameters.add(std::make_unique<ParameterSE3Offset>(kOffsetId, body_T_camera));
+    c.edge->setCamera(kOffsetId, body_T_camera);
+    c.edge->setPoint(p_object);
+    c.edge->setMeasurement(p_camera.head<2>() / p_camera.z() + noise * noisePoint(rng, 0.1).head<2>());
+    c.edge->setInformation(testing::randomInformation<2>(rng));
+  }
+};
+
+template <>
 struct EdgeTraits<EdgePointXYZPrior> {
   static constexpr const char* kName = "EdgePointXYZPrior";
   static void build(EdgeCase<EdgePointXYZPrior>& c, Rng& rng, Regime regime, double noise) {
@@ -146,7 +168,8 @@ struct EdgeNames {
   static std::string GetName(int) { return EdgeTraits<E>::kName; }
 };
 
-using AllEdgeTypes = ::testing::Types<EdgeSE3, EdgeSE3Prior, EdgeSE3PointXYZ, EdgePointXYZPrior, EdgeSE2>;
+using AllEdgeTypes =
+    ::testing::Types<EdgeSE3, EdgeSE3Prior, EdgeSE3PointXYZ, EdgeSE3CornerProjection, EdgePointXYZPrior, EdgeSE2>;
 TYPED_TEST_SUITE(EdgeTypes, AllEdgeTypes, EdgeNames);
 
 TYPED_TEST(EdgeTypes, AnalyticJacobianMatchesNumericAtRandomStates) {

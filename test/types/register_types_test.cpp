@@ -14,8 +14,8 @@ namespace dualgraph {
 namespace {
 
 const std::vector<std::string> kVertexTags = {"VERTEX_SE2", "VERTEX_SE3:QUAT", "VERTEX_TRACKXYZ"};
-const std::vector<std::string> kEdgeTags = {"EDGE_POINTXYZ_PRIOR", "EDGE_SE2", "EDGE_SE3:QUAT", "EDGE_SE3_PRIOR",
-                                            "EDGE_SE3_TRACKXYZ"};
+const std::vector<std::string> kEdgeTags = {"EDGE_POINTXYZ_PRIOR", "EDGE_SE2", "EDGE_SE3:QUAT",
+                                            "EDGE_SE3_CORNER_PROJECTION", "EDGE_SE3_PRIOR", "EDGE_SE3_TRACKXYZ"};
 const std::vector<std::string> kParameterTags = {"PARAMS_SE3OFFSET"};
 
 TEST(RegisterBuiltinTypes, RegistersEveryG2oTag) {
