@@ -15,6 +15,10 @@ Result<GateEdgeMeasurement> attachObservationToNode(const GateObservation& obser
   GateEdgeMeasurement measurement;
   measurement.gate_id = observation.gate_id;
   measurement.model = model;
+  if (observation.kind == ObservationKind::kCorners) {
+    return Status(StatusCode::kInvalidArgument,
+                  what + ": corner rays are not one gate edge (the temporary graph adds one edge per corner)");
+  }
   if (model == LandmarkModel::kPose) {
     if (observation.kind != ObservationKind::kPose) {
       return Status(StatusCode::kInvalidArgument,

@@ -110,7 +110,12 @@ Status Localizer::checkObservation(const GateObservation& observation) const {
   if (!params_.mapping && !map_.contains(observation.gate_id)) {
     return Status(StatusCode::kNotFound, what + ": gate " + std::to_string(observation.gate_id) + " is not in the map");
   }
-  if (params_.landmark == LandmarkModel::kPose && observation.kind != ObservationKind::kPose) {
+  if (observation.kind == ObservationKind::kCorners &&
+      (params_.mode != LocalizerMode::kDual || params_.landmark != LandmarkModel::kPose)) {
+    return Status(StatusCode::kInvalidArgument,
+                  what + ": corner rays (a partial gate) are used by the dual graph with landmark: pose only");
+  }
+  if (params_.landmark == LandmarkModel::kPose && observation.kind == ObservationKind::kPosition) {
     return Status(StatusCode::kInvalidArgument, what + ": position-only observations need landmark: point");
   }
   if (observation.t < last_observation_t_) {
@@ -229,6 +234,8 @@ Status Localizer::closeInterval() {
   row.gate_edges_rejected = outcome.rejected;
   row.observations_rejected = outcome.rejected_observations;
   row.gates_skipped = distilled.skipped_gates + outcome.failed;
+  counters_.partial_used += distilled.partial_used;
+  counters_.partial_unanchored += distilled.partial_unanchored;
   if (!distilled.skip_reason.empty()) counters_.last_error = distilled.skip_reason;
   if (!outcome.message.empty()) counters_.last_error = outcome.message;
   optimizeAndRecord(row, start);

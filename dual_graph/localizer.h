@@ -72,6 +72,8 @@ struct LocalizerCounters {
   int recoveries = 0;      ///< lost turned tracking without a new frame: a gate edge accepted again, or resumeTracking
   int relocalizations = 0; ///< `relocalize` calls while lost: a new frame, the main graph started again
   int keyframes_conditioned = 0;  ///< fixed-lag: keyframes whose marginalisation failed, conditioned on instead
+  int partial_used = 0;        ///< partial gates (corner rays) that became corner edges in a temporary graph
+  int partial_unanchored = 0;  ///< partial gates left out: no pose observation of their gate in the interval
   std::string last_error;
 };
 

@@ -31,6 +31,18 @@ GateObservation GateObservation::position(double t, int gate_id, const Eigen::Ve
   return observation;
 }
 
+GateObservation GateObservation::corners(double t, int gate_id, const GateCornerRays& rays,
+                                         const Eigen::Isometry3d& predicted_body_T_gate) {
+  GateObservation observation;
+  observation.t = t;
+  observation.gate_id = gate_id;
+  observation.kind = ObservationKind::kCorners;
+  observation.corner_rays = rays;
+  observation.body_T_gate = predicted_body_T_gate;
+  observation.p_body = predicted_body_T_gate.translation();
+  return observation;
+}
+
 Eigen::Matrix3d GateObservation::centreCovarianceInBody() const {
   if (kind == ObservationKind::kPosition) return position_covariance;
   // body_T_gate · exp([ρ; θ]) moves the centre by R_body_gate · ρ to first order.
@@ -56,6 +68,19 @@ Status validateGateObservation(const GateObservation& observation) {
   if (observation.kind == ObservationKind::kPose) {
     DG_RETURN_IF_ERROR(checkRigidTransform(observation.body_T_gate, where + "body_T_gate"));
     return checkCovariance(observation.pose_covariance, where + "pose_covariance");
+  }
+  if (observation.kind == ObservationKind::kCorners) {
+    const GateCornerRays& rays = observation.corner_rays;
+    if (rays.count < 2 || rays.count > 4) {
+      return Status(StatusCode::kInvalidArgument, where + "corner_rays.count " + std::to_string(rays.count) + " is not 2 ... 4");
+    }
+    if (!rays.p_gate.leftCols(rays.count).allFinite() || !rays.normalized.leftCols(rays.count).allFinite()) {
+      return Status(StatusCode::kInvalidArgument, where + "corner_rays has a non-finite corner or ray");
+    }
+    if (!(rays.sigma.allFinite() && rays.sigma.minCoeff() > 0.0)) {
+      return Status(StatusCode::kInvalidArgument, where + "corner_rays.sigma must be finite and > 0");
+    }
+    return checkRigidTransform(rays.body_T_camera, where + "corner_rays.body_T_camera");
   }
   if (!observation.p_body.allFinite()) return Status(StatusCode::kInvalidArgument, where + "p_body has a non-finite entry");
   return checkCovariance(observation.position_covariance, where + "position_covariance");

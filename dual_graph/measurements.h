@@ -27,12 +27,30 @@ struct OdometrySample {
 enum class ObservationKind {
   kPose,      ///< `body_T_gate` with a 6×6 covariance
   kPosition,  ///< the gate centre `p_body` with a 3×3 covariance
+  kCorners,   ///< a gate partly out of the image: rays to the corners seen (`corner_rays`)
+};
+
+/// A partial gate (2–3 corners in the image; 4 allowed) as the rays the camera saw: for corner k < count, its
+/// position `p_gate` in the gate's own frame [m] (the map gate's, after association) and the undistorted
+/// normalised image coordinates (x/z, y/z, camera frame z forward) it was seen at, each coordinate with σ
+/// `sigma` (the pixel σ over fx and fy). The temporary graph turns each corner into an EdgeSE3CornerProjection.
+struct GateCornerRays {
+  int count = 0;                                                      ///< 2 … 4 (the first `count` columns)
+  Eigen::Matrix<double, 3, 4> p_gate = Eigen::Matrix<double, 3, 4>::Zero();
+  Eigen::Matrix<double, 2, 4> normalized = Eigen::Matrix<double, 2, 4>::Zero();
+  Eigen::Vector2d sigma = Eigen::Vector2d::Constant(1e-3);          ///< > 0
+  Eigen::Isometry3d body_T_camera = Eigen::Isometry3d::Identity();    ///< the camera on the body
+
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
 /// One gate observation at time `t` [s] of the gate `gate_id` (≥ 0; association happens before).
 /// kPose: `body_T_gate` maps points from the gate frame to the body frame; `pose_covariance` is metric
 /// [t; θ] (m², rad²), a right perturbation in the gate frame (body_T_gate_true = body_T_gate · exp(ε)).
 /// kPosition: `p_body` is the gate centre in body axes [m], `position_covariance` in m², body axes.
+/// kCorners: `corner_rays` are the measurement; `body_T_gate` / `p_body` hold the pose the frontend predicted
+/// when it associated them (not a measurement: used for statistics only). Used by the dual graph with
+/// landmark pose only.
 struct GateObservation {
   double t = 0.0;
   int gate_id = -1;
@@ -41,13 +59,17 @@ struct GateObservation {
   Matrix6d pose_covariance = Matrix6d::Identity();
   Eigen::Vector3d p_body = Eigen::Vector3d::Zero();
   Eigen::Matrix3d position_covariance = Eigen::Matrix3d::Identity();
+  GateCornerRays corner_rays;
 
   static GateObservation pose(double t, int gate_id, const Eigen::Isometry3d& body_T_gate,
                               const Matrix6d& covariance);
   static GateObservation position(double t, int gate_id, const Eigen::Vector3d& p_body,
                                   const Eigen::Matrix3d& covariance);
-  /// The gate centre in body axes whatever the kind (a pose's translation).
-  Eigen::Vector3d centreInBody() const { return kind == ObservationKind::kPose ? Eigen::Vector3d(body_T_gate.translation()) : p_body; }
+  /// kCorners at `predicted_body_T_gate` (see above).
+  static GateObservation corners(double t, int gate_id, const GateCornerRays& rays,
+                                 const Eigen::Isometry3d& predicted_body_T_gate);
+  /// The gate centre in body axes whatever the kind (a pose's translation; kCorners: the prediction).
+  Eigen::Vector3d centreInBody() const { return kind == ObservationKind::kPosition ? p_body : Eigen::Vector3d(body_T_gate.translation()); }
   /// Its covariance (the translation block of a pose covariance, rotated into body axes).
   Eigen::Matrix3d centreCovarianceInBody() const;
 
@@ -57,7 +79,8 @@ struct GateObservation {
 /// kInvalidArgument naming the field when `t` or the pose is not finite, the rotation is not
 /// orthonormal (|RᵀR − I| > 1e-6 or det ≤ 0), or the covariance is not finite, symmetric and positive definite.
 Status validateOdometrySample(const OdometrySample& sample);
-/// The same checks for an observation, plus gate_id ≥ 0.
+/// The same checks for an observation, plus gate_id ≥ 0; kCorners: count 2 … 4, finite corners and rays,
+/// σ > 0, a rigid body_T_camera.
 Status validateGateObservation(const GateObservation& observation);
 
 }  // namespace dualgraph

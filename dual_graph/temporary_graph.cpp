@@ -29,34 +29,89 @@ TemporaryGraph::TemporaryGraph(const LocalizerParams& params, std::shared_ptr<co
 void TemporaryGraph::clear() {
   nodes_.clear();
   observations_.clear();
+  corners_.clear();
+}
+
+Result<TemporaryGraph::Attachment> TemporaryGraph::attach(double t, const Eigen::Isometry3d& odom_T_body,
+                                                          const OdometryHistory& history) const {
+  if (!nodes_.empty() && t < nodes_.back().t) {
+    return Status(StatusCode::kFailedPrecondition, "temporary graph: observation older than its newest node");
+  }
+  Attachment attachment;
+  attachment.new_node = nodes_.empty();
+  if (!attachment.new_node) {
+    const Eigen::Isometry3d increment = nodes_.back().odom_T_body.inverse() * odom_T_body;
+    attachment.new_node = translationOf(increment) >= params_.d_temp || rotationAngleOf(increment) >= params_.theta_temp;
+  }
+  if (attachment.new_node) return attachment;  // at the node itself: no motion to compensate
+  const Node& node = nodes_.back();
+  attachment.node_T_body = node.odom_T_body.inverse() * odom_T_body;
+  attachment.compensated = t > node.t;
+  if (attachment.compensated) {
+    Result<Matrix6d> covariance = history.relativeCovariance(node.t, t, noiseModelOf(params_));
+    if (!covariance.ok()) return covariance.status();
+    attachment.compensation = *covariance;
+  }
+  return attachment;
+}
+
+void TemporaryGraph::recordNode(const Attachment& attachment, double t, const Eigen::Isometry3d& odom_T_body,
+                                const OdometryHistory& history) {
+  if (!attachment.new_node) return;
+  if (!nodes_.empty()) nodes_.back().information_to_next = odometryInformation(nodes_.back().t, t, history);
+  nodes_.push_back(Node{t, odom_T_body, Matrix6d(Matrix6d::Zero())});
+}
+
+Result<TemporaryGraph::NodeCorners> TemporaryGraph::cornersAtNode(const GateObservation& observation,
+                                                                  const Attachment& attachment) const {
+  if (params_.landmark != LandmarkModel::kPose) {
+    return Status(StatusCode::kInvalidArgument, "observation of gate " + std::to_string(observation.gate_id) +
+                                                    ": corner rays need landmark: pose");
+  }
+  NodeCorners corners;
+  corners.gate_id = observation.gate_id;
+  corners.rays = observation.corner_rays;
+  const Eigen::Isometry3d& body_T_camera = observation.corner_rays.body_T_camera;
+  corners.rays.body_T_camera = attachment.node_T_body * body_T_camera;
+  const Eigen::Matrix3d camera_R_body = body_T_camera.linear().transpose();
+  for (int k = 0; k < corners.rays.count; ++k) {
+    Eigen::Matrix2d covariance = corners.rays.sigma.cwiseAbs2().asDiagonal();
+    if (attachment.compensated) {
+      // The node → body increment's uncertainty (right perturbation ε of node_T_body) moves the corner in the
+      // body frame by −ε_t + [p_body]× ε_θ; p_body from the pose the frontend predicted.
+      const Eigen::Vector3d p_body = observation.body_T_gate * Eigen::Vector3d(corners.rays.p_gate.col(k));
+      const Eigen::Vector3d p = body_T_camera.inverse() * p_body;
+      if (p.z() > 1e-6) {
+        Eigen::Matrix<double, 2, 3> d_pi;
+        d_pi << 1.0 / p.z(), 0.0, -p.x() / (p.z() * p.z()), 0.0, 1.0 / p.z(), -p.y() / (p.z() * p.z());
+        Eigen::Matrix<double, 3, 6> d_body;
+        d_body << -Eigen::Matrix3d::Identity(), skew(p_body);
+        const Eigen::Matrix<double, 2, 6> jacobian = d_pi * camera_R_body * d_body;
+        covariance += jacobian * attachment.compensation * jacobian.transpose();
+      }
+    }
+    corners.information[static_cast<size_t>(k)] = covariance.inverse();
+  }
+  return corners;
 }
 
 Status TemporaryGraph::addObservation(const GateObservation& observation, const Eigen::Isometry3d& odom_T_body,
                                       const OdometryHistory& history) {
-  if (!nodes_.empty() && observation.t < nodes_.back().t) {
-    return Status(StatusCode::kFailedPrecondition, "temporary graph: observation older than its newest node");
+  Result<Attachment> attachment = attach(observation.t, odom_T_body, history);
+  if (!attachment.ok()) return attachment.status();
+  if (observation.kind == ObservationKind::kCorners) {
+    Result<NodeCorners> corners = cornersAtNode(observation, *attachment);
+    if (!corners.ok()) return corners.status();
+    recordNode(*attachment, observation.t, odom_T_body, history);
+    corners->node = nodes_.size() - 1;
+    corners_.push_back(*corners);
+    return Status();
   }
-  bool new_node = nodes_.empty();
-  if (!new_node) {
-    const Eigen::Isometry3d increment = nodes_.back().odom_T_body.inverse() * odom_T_body;
-    new_node = translationOf(increment) >= params_.d_temp || rotationAngleOf(increment) >= params_.theta_temp;
-  }
-  const Node& node = new_node ? Node{observation.t, odom_T_body, Matrix6d(Matrix6d::Zero())} : nodes_.back();
-  const Eigen::Isometry3d node_T_body = node.odom_T_body.inverse() * odom_T_body;
-  Matrix6d compensation_covariance = Matrix6d::Zero();
-  const bool compensated = observation.t > node.t;
-  if (compensated) {
-    Result<Matrix6d> covariance = history.relativeCovariance(node.t, observation.t, noiseModelOf(params_));
-    if (!covariance.ok()) return covariance.status();
-    compensation_covariance = *covariance;
-  }
-  Result<GateEdgeMeasurement> measurement = attachObservationToNode(
-      observation, node_T_body, compensated ? &compensation_covariance : nullptr, params_.landmark);
+  Result<GateEdgeMeasurement> measurement =
+      attachObservationToNode(observation, attachment->node_T_body,
+                              attachment->compensated ? &attachment->compensation : nullptr, params_.landmark);
   if (!measurement.ok()) return measurement.status();
-  if (new_node) {
-    if (!nodes_.empty()) nodes_.back().information_to_next = odometryInformation(nodes_.back().t, observation.t, history);
-    nodes_.push_back(Node{observation.t, odom_T_body, Matrix6d(Matrix6d::Zero())});
-  }
+  recordNode(*attachment, observation.t, odom_T_body, history);
   observations_.push_back(NodeObservation{nodes_.size() - 1, *measurement});
   return Status();
 }
@@ -82,7 +137,20 @@ TemporaryGraph::VertexIds TemporaryGraph::assignVertexIds(double t_keyframe) con
     }
     ids.entry.push_back(static_cast<int>(entry));
     ++ids.gate_observations[entry];
-    last_node[entry] = observation.node;
+    last_node[entry] = std::max(last_node[entry], observation.node);
+  }
+  // Partial gates join the entry of a gate with a pose observation; the others stay out (unanchored).
+  ids.corner_entry.reserve(corners_.size());
+  for (const NodeCorners& corners : corners_) {
+    const auto found = std::find(ids.gates.begin(), ids.gates.end(), corners.gate_id);
+    if (found == ids.gates.end()) {
+      ids.corner_entry.push_back(-1);
+      continue;
+    }
+    const size_t entry = static_cast<size_t>(found - ids.gates.begin());
+    ids.corner_entry.push_back(static_cast<int>(entry));
+    ++ids.gate_observations[entry];
+    last_node[entry] = std::max(last_node[entry], corners.node);
   }
   // The gates each node is the last to observe, in increasing gate id: entries by (last node, gate id).
   std::vector<int> closing(ids.gates.size());
@@ -151,6 +219,22 @@ Status TemporaryGraph::buildProblem(double t_keyframe, const Eigen::Isometry3d& 
     }
     DG_RETURN_IF_ERROR(problem_.addGateEdge(node_vertex[observation.node], gate_vertex, observation.measurement, kernel_));
   }
+  // Partial gates: one corner edge per corner seen, to the gate their pose observations anchor.
+  for (size_t k = 0; k < corners_.size(); ++k) {
+    const int entry = ids.corner_entry[k];
+    if (entry < 0) {
+      ++result.partial_unanchored;
+      continue;
+    }
+    const NodeCorners& corners = corners_[k];
+    for (int c = 0; c < corners.rays.count; ++c) {
+      DG_RETURN_IF_ERROR(problem_.addCornerEdge(node_vertex[corners.node], ids.gate_vertex[static_cast<size_t>(entry)],
+                                                corners.rays.body_T_camera, corners.rays.p_gate.col(c),
+                                                corners.rays.normalized.col(c), corners.information[static_cast<size_t>(c)],
+                                                kernel_));
+    }
+    ++result.partial_used;
+  }
   result.nodes = static_cast<int>(problem_.vertices().size() - ids.gates.size());
   result.edges = static_cast<int>(problem_.edges().size());
   return Status();
@@ -218,6 +302,11 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
                                           const OdometryHistory& history) {
   DistillationResult result;
   if (nodes_.empty()) return result;
+  if (observations_.empty()) {  // partial gates alone: nothing anchors them
+    result.partial_unanchored = static_cast<int>(corners_.size());
+    clear();
+    return result;
+  }
   const double start_ms = nowMs();
   const VertexIds ids = assignVertexIds(t_keyframe);
   const std::vector<int>& gate_ids = ids.gates;

@@ -2,6 +2,7 @@
 // TemporaryGraph: one keyframe interval's detections, distilled into one edge per gate.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,6 +19,10 @@ namespace dualgraph {
 struct DistillationResult {
   GateEdgeMeasurements gates;  ///< one per gate seen in the interval, relative to the new keyframe
   int skipped_gates = 0;       ///< gates whose marginal covariance was not usable (not positive definite, …)
+  int partial_used = 0;        ///< partial gates (corner rays) whose corners became edges
+  /// Partial gates left out: their gate had no pose observation in the interval to anchor it (a few corners
+  /// alone leave the gate's pose unobservable).
+  int partial_unanchored = 0;
   std::string skip_reason;     ///< why the first one was skipped
   int nodes = 0;               ///< pose nodes of the temporary graph, the fixed keyframe included
   int edges = 0;
@@ -33,7 +38,9 @@ struct DistillationResult {
 /// turns each gate L into one edge K → L with measurement K⁻¹·L and information Σ_L⁻¹, Σ_L the
 /// marginal covariance of L (its own tangent space, which is exactly the tangent of that edge's error;
 /// for a point the world-axes covariance is rotated into K's axes). A detection at the keyframe instant
-/// attaches to K itself. The graph is optimised by `BlockLmSolver` (6×6 blocks, the default) or the generic
+/// attaches to K itself. A partial gate (kCorners) adds one EdgeSE3CornerProjection per corner seen, from its
+/// node to the gate, when the gate also has a pose observation in the interval (else it is counted unanchored).
+/// The graph is optimised by `BlockLmSolver` (6×6 blocks, the default) or the generic
 /// Optimizer (`temp_solver: graph` or `linear_solver: cholmod`); both give the same edges to round-off.
 class TemporaryGraph {
  public:
@@ -50,7 +57,7 @@ class TemporaryGraph {
                             const OdometryHistory& history);
 
   bool empty() const { return nodes_.empty(); }
-  size_t numObservations() const { return observations_.size(); }
+  size_t numObservations() const { return observations_.size() + corners_.size(); }
   void clear();
 
  private:
@@ -69,6 +76,30 @@ class TemporaryGraph {
     GateEdgeMeasurement measurement;
     EIGEN_MAKE_ALIGNED_OPERATOR_NEW
   };
+  /// A partial gate re-expressed at its node: per corner, the camera on the node, the corner in the gate frame,
+  /// its ray and the ray's information (pixel noise plus the motion compensation's uncertainty).
+  struct NodeCorners {
+    size_t node = 0;
+    int gate_id = -1;
+    GateCornerRays rays;  ///< body_T_camera replaced by node_T_camera
+    std::array<Eigen::Matrix2d, 4> information;
+    EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+  };
+  /// The node an observation at (t, odom_T_body) attaches to: the newest, or a new one when the VIO moved
+  /// d_temp/theta_temp since (`new_node`). Fills node_T_body and the compensation covariance (null: none).
+  struct Attachment {
+    bool new_node = false;
+    Eigen::Isometry3d node_T_body = Eigen::Isometry3d::Identity();
+    bool compensated = false;
+    Matrix6d compensation = Matrix6d::Zero();
+    EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+  };
+  Result<Attachment> attach(double t, const Eigen::Isometry3d& odom_T_body, const OdometryHistory& history) const;
+  /// Records the new node of `attachment` (after the observation was found usable).
+  void recordNode(const Attachment& attachment, double t, const Eigen::Isometry3d& odom_T_body,
+                  const OdometryHistory& history);
+  /// The corner rays of `observation` at the node of `attachment`.
+  Result<NodeCorners> cornersAtNode(const GateObservation& observation, const Attachment& attachment) const;
   /// Vertex ids, chosen so that increasing id (the linear system's order) is a good elimination order.
   struct VertexIds {
     std::vector<int> node;               ///< per node: its vertex, or `keyframe` for a node at the keyframe instant
@@ -76,6 +107,7 @@ class TemporaryGraph {
     std::vector<int> gate_vertex;        ///< per entry of `gates`: its vertex
     std::vector<int> gate_observations;  ///< per entry of `gates`: its number of observations
     std::vector<int> entry;              ///< per observation: its gate's entry in `gates`
+    std::vector<int> corner_entry;       ///< per partial gate: its gate's entry, or −1 when unanchored
     int keyframe = 0;                    ///< the fixed keyframe, after every free vertex
   };
   /// Nodes in time order, each gate right after the last node that observes it (so at most the gates
@@ -100,6 +132,7 @@ class TemporaryGraph {
   std::shared_ptr<const RobustKernel> kernel_;
   std::vector<Node, Eigen::aligned_allocator<Node>> nodes_;
   std::vector<NodeObservation, Eigen::aligned_allocator<NodeObservation>> observations_;
+  std::vector<NodeCorners, Eigen::aligned_allocator<NodeCorners>> corners_;
   TemporaryPool problem_;  ///< the vertices and edges of the graph being distilled, reused between keyframes
   BlockLmSolver solver_;    ///< work buffers of the block solver, reused between keyframes
 };

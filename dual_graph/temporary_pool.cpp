@@ -8,7 +8,7 @@
 namespace dualgraph {
 
 void TemporaryPool::clear() {
-  poses_used_ = points_used_ = pose_edges_used_ = point_edges_used_ = 0;
+  poses_used_ = points_used_ = pose_edges_used_ = point_edges_used_ = corner_edges_used_ = 0;
   vertices_.clear();
   edges_.clear();
 }
@@ -98,6 +98,23 @@ Status TemporaryPool::addGateEdge(int node, int gate, const GateEdgeMeasurement&
   return Status();
 }
 
+Status TemporaryPool::addCornerEdge(int node, int gate, const Eigen::Isometry3d& node_T_camera,
+                                    const Eigen::Vector3d& p_gate, const Eigen::Vector2d& normalized,
+                                    const Eigen::Matrix2d& information,
+                                    const std::shared_ptr<const RobustKernel>& kernel) {
+  if (node == gate) return Status(StatusCode::kInvalidArgument, "temporary problem: edge from a vertex to itself");
+  EdgeSE3CornerProjection* edge = next(corner_edges_, corner_edges_used_);
+  DG_RETURN_IF_ERROR(connect(*edge, 0, vertexAt(node), node));
+  DG_RETURN_IF_ERROR(connect(*edge, 1, vertexAt(gate), gate));
+  edge->setCamera(0, node_T_camera);
+  edge->setPoint(p_gate);
+  edge->setMeasurement(normalized);
+  edge->setInformation(information);
+  setKernel(*edge, kernel);
+  edges_.push_back(edge);
+  return Status();
+}
+
 Eigen::Isometry3d gatePoseOf(const VertexBase* vertex) {
   Eigen::Isometry3d odom_T_gate = Eigen::Isometry3d::Identity();
   if (const auto* pose = dynamic_cast<const VertexSE3*>(vertex)) return pose->estimate();
@@ -128,6 +145,16 @@ Status TemporaryPool::copyTo(Graph& graph, const std::shared_ptr<const RobustKer
     EdgeBase* copy = nullptr;
     if (const auto* pose_edge = dynamic_cast<const EdgeSE3*>(edge)) {
       Result<EdgeSE3*> added = addRelativePoseEdge(graph, from, to, pose_edge->measurement(), pose_edge->information());
+      if (!added.ok()) return added.status();
+      copy = *added;
+    } else if (const auto* corner_edge = dynamic_cast<const EdgeSE3CornerProjection*>(edge)) {
+      auto corner = std::make_unique<EdgeSE3CornerProjection>();
+      corner->setCamera(corner_edge->parameterId(), corner_edge->camera());
+      corner->setPoint(corner_edge->point());
+      corner->setMeasurement(corner_edge->measurement());
+      corner->setInformation(corner_edge->information());
+      for (size_t slot = 0; slot < 2; ++slot) DG_RETURN_IF_ERROR(corner->setVertex(slot, graph.vertex(slot == 0 ? from : to)));
+      Result<EdgeBase*> added = graph.addEdge(std::move(corner));
       if (!added.ok()) return added.status();
       copy = *added;
     } else {

@@ -9,6 +9,7 @@
 #include "core/graph.h"
 #include "dual_graph/gate_edge.h"
 #include "types/edge_se3.h"
+#include "types/edge_se3_corner_projection.h"
 #include "types/edge_se3_point_xyz.h"
 #include "types/vertex_point_xyz.h"
 #include "types/vertex_se3.h"
@@ -23,8 +24,8 @@ Eigen::Isometry3d gatePoseOf(const VertexBase* vertex);
 /// marks every object unused and the `add*` calls hand them out again, so a distillation builds its graph
 /// without allocating once the largest interval has been seen (a `Graph` allocates every vertex, edge and
 /// map node). Vertices are VertexSE3 (poses in the odometry frame, `odom_T_body`; gates `odom_T_gate`) or
-/// VertexPointXYZ (gate centres `p_odom`, m); edges EdgeSE3 (information in g2o units) or EdgeSE3PointXYZ
-/// (m⁻²), as the dual graph's factories build them (dual_graph/edge_factories.h). Vertex ids must be
+/// VertexPointXYZ (gate centres `p_odom`, m); edges EdgeSE3 (information in g2o units), EdgeSE3PointXYZ
+/// (m⁻²) or EdgeSE3CornerProjection (a partial gate's corner), as the dual graph's factories build them (dual_graph/edge_factories.h). Vertex ids must be
 /// 0 … numVertices()−1, each added once (TemporaryGraph assigns them so). `copyTo` builds the same graph as a
 /// `Graph` for the generic Optimizer (`temp_solver: graph`, the oracle).
 class TemporaryPool {
@@ -41,6 +42,12 @@ class TemporaryPool {
   /// Adds the edge node → gate of `measurement` (as addGateEdge in gate_edge.h), with `kernel` (may be null).
   Status addGateEdge(int node, int gate, const GateEdgeMeasurement& measurement,
                      const std::shared_ptr<const RobustKernel>& kernel);
+
+  /// Adds the EdgeSE3CornerProjection node → gate (both VertexSE3): the camera at `node_T_camera` sees the gate's
+  /// corner `p_gate` at normalised image coordinates `normalized`, information in their units⁻².
+  Status addCornerEdge(int node, int gate, const Eigen::Isometry3d& node_T_camera, const Eigen::Vector3d& p_gate,
+                       const Eigen::Vector2d& normalized, const Eigen::Matrix2d& information,
+                       const std::shared_ptr<const RobustKernel>& kernel);
 
   /// Per id, the vertex (null for an id not added yet).
   const std::vector<VertexBase*>& vertices() const { return vertices_; }
@@ -70,7 +77,8 @@ class TemporaryPool {
   std::vector<std::unique_ptr<VertexPointXYZ>> points_;
   std::vector<std::unique_ptr<EdgeSE3>> pose_edges_;
   std::vector<std::unique_ptr<EdgeSE3PointXYZ>> point_edges_;
-  size_t poses_used_ = 0, points_used_ = 0, pose_edges_used_ = 0, point_edges_used_ = 0;
+  std::vector<std::unique_ptr<EdgeSE3CornerProjection>> corner_edges_;
+  size_t poses_used_ = 0, points_used_ = 0, pose_edges_used_ = 0, point_edges_used_ = 0, corner_edges_used_ = 0;
   std::vector<VertexBase*> vertices_;
   std::vector<EdgeBase*> edges_;
 };

@@ -239,6 +239,10 @@ Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRu
   if (!known_map.ok()) return Status(known_map.status().code(), sequence.dir + ": " + known_map.status().message());
   GateFrontendParams frontend_params = params.frontend;
   frontend_params.mapping = params.localizer.mapping;
+  // Corner rays are used by the dual graph's temporary graph with SE(3) gates only; elsewhere they are counted.
+  if (params.localizer.mode != LocalizerMode::kDual || params.localizer.landmark != LandmarkModel::kPose) {
+    frontend_params.partial_gates = false;
+  }
   auto frontend = GateFrontend::create(frontend_params, sequence.map, sequence.camera);
   if (!frontend.ok()) return frontend.status();
   LocalizerParams localizer_params = params.localizer;

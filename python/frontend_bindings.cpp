@@ -26,6 +26,8 @@ py::dict frontendCounters(const GateFrontendCounters& c) {
   out["pnp_rejected"] = c.pnp_rejected;
   out["not_associated"] = c.not_associated;
   out["mapping_pending"] = c.mapping_pending;
+  out["partial"] = c.partial;
+  out["partial_skipped"] = c.partial_skipped;
   return out;
 }
 
@@ -105,7 +107,9 @@ void bindRun(py::module_& m) {
       .def_property("trust_ids", [](const SequenceRunParams& p) { return p.frontend.trust_ids; },
                     [](SequenceRunParams& p, bool v) { p.frontend.trust_ids = v; })
       .def_property("adaptive_pixel_sigma", [](const SequenceRunParams& p) { return p.frontend.adaptive_pixel_sigma; },
-                    [](SequenceRunParams& p, bool v) { p.frontend.adaptive_pixel_sigma = v; });
+                    [](SequenceRunParams& p, bool v) { p.frontend.adaptive_pixel_sigma = v; })
+      .def_property("partial_gates", [](const SequenceRunParams& p) { return p.frontend.partial_gates; },
+                    [](SequenceRunParams& p, bool v) { p.frontend.partial_gates = v; });
   m.def("load_run_config", [](const std::string& path) { return unwrap(loadRunConfig(path)); }, "path"_a);
 
   m.def("load_sequence",

@@ -86,6 +86,8 @@ py::dict PyLocalizer::countersToDict(const LocalizerCounters& c) {
   out["recoveries"] = c.recoveries;
   out["relocalizations"] = c.relocalizations;
   out["keyframes_conditioned"] = c.keyframes_conditioned;
+  out["partial_used"] = c.partial_used;
+  out["partial_unanchored"] = c.partial_unanchored;
   out["last_error"] = c.last_error;
   return out;
 }

@@ -44,6 +44,10 @@ std::vector<GateCornerMatch> matchGateCorners(const std::vector<CornerDetection>
   std::vector<GateCornerMatch> matches;
   for (const CornerDetection& detection : detections) {
     ++count.detections;
+    if (!detection.complete()) {
+      ++count.partial;
+      continue;
+    }
     auto world_T_body = track.worldTBody(detection.t - time_offset);
     if (!world_T_body.ok()) {
       ++count.outside_odometry;

@@ -27,6 +27,7 @@ struct GateCornerMatch {
 /// What matchGateCorners did with the detections (each counted once).
 struct GateCornerMatchCounts {
   int detections = 0;
+  int partial = 0;           ///< fewer than four corners seen (calibration uses whole gates only)
   int outside_odometry = 0;  ///< t − time_offset outside the odometry's span
   int no_gate_in_view = 0;   ///< no map gate has all four corners in front of the camera
   int too_far = 0;           ///< the nearest projected gate is farther than max_rms_px

@@ -234,6 +234,10 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run) {
       .add("pnp_rejected", run.frontend_counters.pnp_rejected)
       .add("not_associated", run.frontend_counters.not_associated)
       .add("reversed", run.frontend_counters.reversed)
+      .add("partial_detections", run.frontend_counters.partial)
+      .add("partial_skipped", run.frontend_counters.partial_skipped)
+      .add("partial_used", run.localizer_counters.partial_used)
+      .add("partial_unanchored", run.localizer_counters.partial_unanchored)
       .add("edges_rejected_chi2", [&] {
         long total = 0;
         for (const KeyframeStats& row : run.stats) total += row.gate_edges_rejected;

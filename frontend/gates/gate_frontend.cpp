@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "frontend/gates/partial_gate.h"
 #include "types/se3_math.h"
 
 namespace dualgraph {
@@ -67,8 +68,18 @@ Result<std::vector<GateObservation>> GateFrontend::processCorners(const std::vec
                                                                   const Eigen::Isometry3d& world_T_body) {
   if (!camera_) return Status(StatusCode::kFailedPrecondition, "gate frontend: corner detections need a camera");
   std::vector<GateObservation> solved;
+  std::vector<CornerDetection> partials;
   for (const CornerDetection& detection : image) {
     ++counters_.detections;
+    if (!detection.complete()) {
+      ++counters_.partial;
+      if (params_.partial_gates && !params_.mapping) {
+        partials.push_back(detection);
+      } else {
+        ++counters_.partial_skipped;
+      }
+      continue;
+    }
     const GatePnpParams pnp = pnpParams();
     counters_.pixel_sigma = pnp.pixel_sigma;
     GateCornerPixels pixels;
@@ -87,7 +98,31 @@ Result<std::vector<GateObservation>> GateFrontend::processCorners(const std::vec
     }
     solved.push_back(solution.observation(detection.t, detection.gate_id));
   }
-  return associate(std::move(solved), world_T_body);
+  Result<std::vector<GateObservation>> observations = associate(std::move(solved), world_T_body);
+  if (!observations.ok() || partials.empty()) return observations;
+  DG_RETURN_IF_ERROR(matchPartials(partials, world_T_body, *observations));
+  return observations;
+}
+
+Status GateFrontend::matchPartials(const std::vector<CornerDetection>& partials, const Eigen::Isometry3d& world_T_body,
+                                   std::vector<GateObservation>& observations) {
+  PartialGateParams params;
+  params.gate_size = gate_size_;
+  params.pixel_sigma = pnpParams().pixel_sigma;
+  params.max_distance = params_.association.max_distance;
+  for (const CornerDetection& detection : partials) {
+    std::optional<int> only_gate;
+    if (params_.trust_ids && detection.gate_id >= 0 && map_.contains(detection.gate_id)) only_gate = detection.gate_id;
+    Result<std::optional<PartialGateMatch>> match = matchPartialGate(detection, *camera_, map_, world_T_body, params, only_gate);
+    if (!match.ok() || !match->has_value()) {  // an undistortion failure is a detection that matched nothing
+      ++counters_.not_associated;
+      continue;
+    }
+    const PartialGateMatch& found = **match;
+    observations.push_back(GateObservation::corners(detection.t, found.gate_id, found.rays, found.predicted_body_T_gate));
+    ++counters_.used;
+  }
+  return Status();
 }
 
 Result<std::vector<GateObservation>> GateFrontend::solveCorners(const std::vector<CornerDetection>& image) const {
@@ -95,6 +130,7 @@ Result<std::vector<GateObservation>> GateFrontend::solveCorners(const std::vecto
   const GatePnpParams pnp = pnpParams();
   std::vector<GateObservation> solved;
   for (const CornerDetection& detection : image) {
+    if (!detection.complete()) continue;
     GateCornerPixels pixels;
     for (int i = 0; i < 4; ++i) pixels.col(i) = detection.corners[static_cast<size_t>(i)];
     const GatePnpSolution solution = solveGatePnp(pixels, *camera_, GateSide::kFront, pnp);

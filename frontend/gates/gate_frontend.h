@@ -27,6 +27,10 @@ struct GateFrontendParams {
   /// prior) and both the PnP covariance and the reprojection gate follow it, the gate staying
   /// `pnp.max_reprojection_rms / pnp.pixel_sigma` σ wide; false: `pnp` as configured.
   bool adaptive_pixel_sigma = true;
+  /// true: a detection with 2–3 corners seen (a gate partly out of the image) is matched to a map gate by
+  /// projection (partial_gate.h, within the association distance) and handed over as corner rays, which the
+  /// dual graph's temporary graph turns into corner edges; false (or mapping): counted in partial_skipped.
+  bool partial_gates = true;
 };
 
 /// Where the detections went, by reason (every detection lands in exactly one counter).
@@ -37,6 +41,8 @@ struct GateFrontendCounters {
   int pnp_rejected = 0;         ///< PnP refused the corners (see pnp_rejected_by_reason)
   int not_associated = 0;       ///< no map gate within the distance/orientation gates, or taken by another
   int mapping_pending = 0;      ///< mapping mode: sightings of not yet confirmed gates
+  int partial_skipped = 0;      ///< partial detections not used (partial_gates false, or mapping mode)
+  int partial = 0;              ///< of the detections: partial ones (2–3 corners), wherever they went
   int pnp_rejected_by_reason[8] = {0, 0, 0, 0, 0, 0, 0, 0};  ///< indexed by GatePnpRejection
   double pixel_sigma = 0.0;     ///< the corner noise σ PnP used last [px] (estimated when adaptive)
 };
@@ -53,12 +59,14 @@ class GateFrontend {
   /// an empty map outside mapping mode, or an invalid camera.
   static Result<GateFrontend> create(const GateFrontendParams& params, const Track& map,
                                      std::optional<CameraModel> camera);
-  /// Corner detections of one image (all at the same t) → observations with map ids, in input order
-  /// of the accepted ones. kFailedPrecondition without a camera; other errors are counted, not returned.
+  /// Corner detections of one image (all at the same t) → observations with map ids: the whole gates
+  /// (pose observations) in input order of the accepted ones, then the partial ones (kCorners, when
+  /// `partial_gates`). kFailedPrecondition without a camera; other errors are counted, not returned.
   Result<std::vector<GateObservation>> processCorners(const std::vector<CornerDetection>& image,
                                                       const Eigen::Isometry3d& world_T_body);
   /// The PnP step alone (no association, nothing counted): the corner detections of one image as pose
-  /// observations keeping the detector's gate ids (for FrameInitializer). kFailedPrecondition without a camera.
+  /// observations keeping the detector's gate ids (for FrameInitializer); partial detections are left out
+  /// (PnP needs four corners). kFailedPrecondition without a camera.
   Result<std::vector<GateObservation>> solveCorners(const std::vector<CornerDetection>& image) const;
   /// Pose detections of one instant → observations with map ids (association as above).
   Result<std::vector<GateObservation>> processPoses(const std::vector<GateObservation>& detections,
@@ -81,6 +89,9 @@ class GateFrontend {
   GatePnpParams pnpParams() const;
   Result<std::vector<GateObservation>> associate(std::vector<GateObservation> detections,
                                                  const Eigen::Isometry3d& world_T_body);
+  /// Partial detections matched by projection into corner-ray observations (appended to `observations`).
+  Status matchPartials(const std::vector<CornerDetection>& partials, const Eigen::Isometry3d& world_T_body,
+                       std::vector<GateObservation>& observations);
 
   GateFrontendParams params_;
   GateMap map_;

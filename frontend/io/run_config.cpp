@@ -58,6 +58,7 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
     if (key == "trust_ids") status = readBool(source, field, value, params.frontend.trust_ids);
     else if (key == "pixel_sigma") status = readPositive(source, field, value, pnp.pixel_sigma);
     else if (key == "adaptive_pixel_sigma") status = readBool(source, field, value, params.frontend.adaptive_pixel_sigma);
+    else if (key == "partial_gates") status = readBool(source, field, value, params.frontend.partial_gates);
     else if (key == "max_reprojection_rms") status = readPositive(source, field, value, pnp.max_reprojection_rms);
     else if (key == "min_range") status = readNumber(source, field, value, pnp.min_range);
     else if (key == "max_range") status = readPositive(source, field, value, pnp.max_range);

@@ -50,6 +50,7 @@ struct SequenceRunParams {
 ///       ...                          #   min_range, max_range [m], min_corner_angle_deg,
 ///                                    #   max_condition_number, max_refinement_iterations
 ///       adaptive_pixel_sigma: true   # GateFrontendParams: σ estimated from the PnP residuals
+///       partial_gates: true          # GateFrontendParams: 2–3 corners seen → corner rays (dual, landmark pose)
 ///       max_association_distance: 2.0  # AssociationParams::max_distance [m]; likewise max_normal_angle
 ///                                      #   [rad], allow_reversed, mapping_min_sightings, mapping_consistency [m]
 ///       pose_detection_sigma_t: 0.1  # SequenceRunParams [m], [rad] (_r)

@@ -43,6 +43,7 @@ TEST(RunConfig, BundledDefaultYamlIsExactlyTheDefaults) {
   expectSamePnp(loaded->frontend.pnp, GatePnpParams{});
   expectSameAssociation(loaded->frontend.association, AssociationParams{});
   EXPECT_EQ(loaded->frontend.trust_ids, defaults.frontend.trust_ids);
+  EXPECT_EQ(loaded->frontend.partial_gates, defaults.frontend.partial_gates);
   EXPECT_EQ(loaded->frontend.mapping, defaults.frontend.mapping);
   EXPECT_EQ(loaded->pose_detection_sigma_t, defaults.pose_detection_sigma_t);
   EXPECT_EQ(loaded->pose_detection_sigma_r, defaults.pose_detection_sigma_r);
