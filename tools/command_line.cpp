@@ -68,6 +68,14 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
   cmd->add_option("--scale-error-sigma", p.vio.scale_error_sigma, "VIO scale error sigma");
   cmd->add_option("--pixel-sigma", p.detection.pixel_sigma, "Corner noise [px]");
   cmd->add_option("--max-range", p.detection.max_range, "Detection range limit [m]");
+  cmd->add_option("--blur", p.detection.blur_px_per_rad_s, "Corner noise growing with the angular rate [px per rad/s]");
+  cmd->add_option("--partial-gates", o.partial_gates,
+                  "on: gates partly out of the image are reported with their visible corners (the others nan); off: "
+                  "not detected (default: the profile's)")
+      ->check(CLI::IsMember({"on", "off"}));
+  cmd->add_option("--min-visible-corners", p.detection.min_visible_corners, "Fewest corners of a partial detection (2-4)");
+  cmd->add_option("--lap-speed-variation", p.flight.lap_speed_variation, "Each lap's speed scaled by 1 +- up to this");
+  cmd->add_option("--lap-line-variation", p.flight.lap_line_variation, "Each lap's line displaced by up to this [m]");
   cmd->add_option("--miss-probability", p.detection.miss_probability, "Per visible gate and image");
   cmd->add_option("--displaced-corner-probability", p.detection.displaced_corner_probability, "Outlier rate");
   cmd->add_option("--wrong-id-probability", p.detection.wrong_id_probability, "Outlier rate");

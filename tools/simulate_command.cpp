@@ -50,6 +50,10 @@ Status applyProfileUnderFlags(const std::string& profile, RaceSimParams& p) {
     if (flag != clean_value) out = flag;
   };
   keep(flags.detection.pixel_sigma, clean.detection.pixel_sigma, p.detection.pixel_sigma);
+  keep(flags.detection.blur_px_per_rad_s, clean.detection.blur_px_per_rad_s, p.detection.blur_px_per_rad_s);
+  keep(flags.detection.min_visible_corners, clean.detection.min_visible_corners, p.detection.min_visible_corners);
+  keep(flags.flight.lap_speed_variation, clean.flight.lap_speed_variation, p.flight.lap_speed_variation);
+  keep(flags.flight.lap_line_variation, clean.flight.lap_line_variation, p.flight.lap_line_variation);
   keep(flags.detection.max_range, clean.detection.max_range, p.detection.max_range);
   keep(flags.detection.miss_probability, clean.detection.miss_probability, p.detection.miss_probability);
   keep(flags.detection.displaced_corner_probability, clean.detection.displaced_corner_probability,
@@ -81,6 +85,7 @@ int runSimulateCommand(SimulateOptions o) {
   RaceSimParams& p = o.params;
   const Status profiled = applyProfileUnderFlags(o.profile, p);
   if (!profiled.ok()) return fail(profiled.message());
+  if (!o.partial_gates.empty()) p.detection.partial_gates = o.partial_gates == "on";
   p.output = o.detections == "poses" ? RaceSimParams::DetectionOutput::kPoses : RaceSimParams::DetectionOutput::kCorners;
   if (o.laps > 0) {
     p.override_laps = true;
@@ -110,8 +115,13 @@ int runSimulateCommand(SimulateOptions o) {
             << "  VIO: " << race->vio.samples.size() << " samples, unaligned position RMSE " << vioRmse(*race) << " m\n"
             << "  detector: " << s.images << " images, " << s.visible << " gate views, " << race->detections.size()
             << " detections (" << s.missed << " missed, " << s.displaced_corner << " displaced corner, " << s.wrong_id
-            << " wrong id, " << s.false_gates << " false gates)";
-  if (p.output == RaceSimParams::DetectionOutput::kPoses) std::cout << ", PnP rejected " << race->pnp_rejected;
+            << " wrong id, " << s.false_gates << " false gates";
+  if (p.detection.partial_gates) std::cout << ", " << s.partial << " partial";
+  std::cout << "), corner noise " << s.mean_pixel_sigma << " px on average, up to " << s.max_pixel_sigma << " px";
+  if (p.output == RaceSimParams::DetectionOutput::kPoses) {
+    std::cout << ", PnP rejected " << race->pnp_rejected;
+    if (race->pnp_partial_skipped > 0) std::cout << " (" << race->pnp_partial_skipped << " partial skipped)";
+  }
   std::cout << "\n  wrote " << o.out << "\n";
   return 0;
 }

@@ -20,6 +20,7 @@ struct SimulateOptions {
   int laps = 0;        ///< 0: the track's
   double speed = 0.0;  ///< 0: the track's
   bool no_plot = false;
+  std::string partial_gates;  ///< "on" | "off" | empty: the profile's
   std::string profile = "realistic";  ///< simulationProfileNames(); a flag given explicitly wins over the profile
   RaceSimParams params;
 };

@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <string>
 
 #include "frontend/gates/gate_pnp.h"
+#include "types/se3_math.h"
 
 namespace dualgraph {
 namespace {
@@ -50,6 +52,10 @@ Status validateDetectionSimParams(const DetectionSimParams& p) {
   if (!(std::isfinite(p.camera_rate) && p.camera_rate > 0.0)) return paramError("camera_rate", "must be > 0");
   if (p.keep_every < 1) return paramError("keep_every", "must be >= 1");
   if (!(std::isfinite(p.pixel_sigma) && p.pixel_sigma >= 0.0)) return paramError("pixel_sigma", "must be >= 0");
+  if (!(std::isfinite(p.blur_px_per_rad_s) && p.blur_px_per_rad_s >= 0.0)) {
+    return paramError("blur_px_per_rad_s", "must be >= 0");
+  }
+  if (p.min_visible_corners < 2 || p.min_visible_corners > 4) return paramError("min_visible_corners", "must be in [2, 4]");
   if (!(std::isfinite(p.min_range) && p.min_range >= 0.0)) return paramError("min_range", "must be >= 0");
   if (!(std::isfinite(p.max_range) && p.max_range > p.min_range)) return paramError("max_range", "must exceed min_range");
   if (!(p.max_view_angle_deg > 0.0 && p.max_view_angle_deg <= 90.0)) {
@@ -64,6 +70,15 @@ Status validateDetectionSimParams(const DetectionSimParams& p) {
   if (!isProbability(p.wrong_id_probability)) return paramError("wrong_id_probability", "must be in [0, 1]");
   if (!isProbability(p.false_gate_probability)) return paramError("false_gate_probability", "must be in [0, 1]");
   return Status::okStatus();
+}
+
+double bodyAngularRate(const Flight& flight, double t) {
+  constexpr double kHalfInterval = 1e-3;  // [s]
+  const double before = std::clamp(t - kHalfInterval, 0.0, flight.duration());
+  const double after = std::clamp(t + kHalfInterval, 0.0, flight.duration());
+  if (!(after > before)) return 0.0;
+  const Eigen::Matrix3d turn = flight.at(before).world_T_body.linear().transpose() * flight.at(after).world_T_body.linear();
+  return so3Log(turn).norm() / (after - before);
 }
 
 std::array<int, 4> imageCornerOrder(const Pixels& pixels) {
@@ -91,11 +106,19 @@ Result<std::vector<SimulatedDetection>> simulateDetections(const Flight& flight,
   std::vector<SimulatedDetection> detections;
   const double cos_max_view = std::cos(params.max_view_angle_deg * M_PI / 180.0);
 
+  int gate_detections = 0;
+  double sigma_sum = 0.0;
+  constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
   for (long image = 0;; image += params.keep_every) {
     const double t = static_cast<double>(image) / params.camera_rate;
     if (t > flight.duration()) break;
     ++counts.images;
     const FlightState state = flight.at(t);
+    double sigma = params.pixel_sigma;  // exactly pixel_sigma without blur
+    if (params.blur_px_per_rad_s > 0.0) {
+      const double blur = params.blur_px_per_rad_s * bodyAngularRate(flight, t);
+      sigma = std::sqrt(sigma * sigma + blur * blur);
+    }
     const Eigen::Isometry3d world_T_camera = state.world_T_body * camera.body_T_camera;
     const Eigen::Isometry3d camera_T_world = world_T_camera.inverse();
     for (size_t g = 0; g < track.gates.size(); ++g) {
@@ -108,16 +131,23 @@ Result<std::vector<SimulatedDetection>> simulateDetections(const Flight& flight,
       if (std::abs(line_of_sight.dot(normal_axis)) < cos_max_view * range) continue;
       const Eigen::Matrix<double, 3, 4> corners = gateCornersInGateFrame(gate.size, GateSide::kFront);
       Pixels pixels;
-      bool visible = true;
-      for (int i = 0; i < 4 && visible; ++i) {
+      std::array<bool, 4> inside{};
+      bool in_front = true;
+      int inside_count = 0;
+      for (int i = 0; i < 4; ++i) {
         const Projection projection = camera.project(camera_T_world * (world_T_gate * Eigen::Vector3d(corners.col(i))));
         const Eigen::Vector2d& px = projection.pixel;
-        visible = projection.valid() && px.x() >= params.edge_margin - 0.5 && px.y() >= params.edge_margin - 0.5 &&
-                  px.x() < camera.width - 0.5 - params.edge_margin && px.y() < camera.height - 0.5 - params.edge_margin;
+        in_front = in_front && projection.in_front;
+        inside[static_cast<size_t>(i)] = projection.valid() && px.x() >= params.edge_margin - 0.5 &&
+                                         px.y() >= params.edge_margin - 0.5 &&
+                                         px.x() < camera.width - 0.5 - params.edge_margin &&
+                                         px.y() < camera.height - 0.5 - params.edge_margin;
+        inside_count += inside[static_cast<size_t>(i)] ? 1 : 0;
         pixels.col(i) = px;
       }
-      if (!visible) continue;
-      ++counts.visible;
+      const bool whole = inside_count == 4;
+      if (!whole && !(params.partial_gates && in_front && inside_count >= params.min_visible_corners)) continue;
+      ++(whole ? counts.visible : counts.partial_views);
       if (uniform(rng) < params.miss_probability) {
         ++counts.missed;
         continue;
@@ -126,19 +156,26 @@ Result<std::vector<SimulatedDetection>> simulateDetections(const Flight& flight,
       detection.true_gate_id = gate.id;
       detection.body_T_gate = state.world_T_body.inverse() * world_T_gate;
       detection.seen_from_front = line_of_sight.dot(normal_axis) > 0.0;
-      detection.true_pixels = reorder(pixels, imageCornerOrder(pixels));
+      const std::array<int, 4> order = imageCornerOrder(pixels);
+      detection.true_pixels = reorder(pixels, order);
+      detection.pixel_sigma = sigma;
+      std::array<int, 4> seen{};  // the visible corners, in the written order
+      int seen_count = 0;
+      for (int i = 0; i < 4; ++i) {
+        if (inside[static_cast<size_t>(order[static_cast<size_t>(i)])]) seen[static_cast<size_t>(seen_count++)] = i;
+      }
       Pixels noisy = detection.true_pixels;
       for (int i = 0; i < 4; ++i) {
         // One draw per statement: the order in which a constructor's arguments are evaluated is
         // unspecified (gcc drew v first, clang u first), and a seed must give the same files whatever
-        // the compiler. v first keeps the sequences gcc produced.
+        // the compiler. v first keeps the sequences gcc produced. Drawn for hidden corners too (unused).
         const double v_noise = normal(rng);
         const double u_noise = normal(rng);
-        noisy.col(i) += params.pixel_sigma * Eigen::Vector2d(u_noise, v_noise);
+        noisy.col(i) += sigma * Eigen::Vector2d(u_noise, v_noise);
       }
       int written_id = gate.id;
       if (uniform(rng) < params.displaced_corner_probability) {
-        const int corner = static_cast<int>(uniform(rng) * 4.0) % 4;
+        const int corner = seen[static_cast<size_t>(static_cast<int>(uniform(rng) * seen_count) % seen_count)];
         const double direction = 2.0 * M_PI * uniform(rng);
         noisy.col(corner) += params.displaced_corner_pixels * Eigen::Vector2d(std::cos(direction), std::sin(direction));
         detection.kind = SimulatedDetectionKind::kDisplacedCorner;
@@ -152,6 +189,17 @@ Result<std::vector<SimulatedDetection>> simulateDetections(const Flight& flight,
       detection.corners.t = t;
       detection.corners.gate_id = params.unknown_ids ? -1 : written_id;
       for (int i = 0; i < 4; ++i) detection.corners.corners[static_cast<size_t>(i)] = noisy.col(i);
+      if (!whole) {
+        for (int i = 0; i < 4; ++i) {
+          if (!inside[static_cast<size_t>(order[static_cast<size_t>(i)])]) {
+            detection.corners.corners[static_cast<size_t>(i)] = Eigen::Vector2d(kNan, kNan);
+          }
+        }
+        ++counts.partial;
+      }
+      ++gate_detections;
+      sigma_sum += sigma;
+      counts.max_pixel_sigma = std::max(counts.max_pixel_sigma, sigma);
       detections.push_back(detection);
     }
     if (uniform(rng) < params.false_gate_probability) {
@@ -167,6 +215,7 @@ Result<std::vector<SimulatedDetection>> simulateDetections(const Flight& flight,
       detections.push_back(detection);
     }
   }
+  if (gate_detections > 0) counts.mean_pixel_sigma = sigma_sum / gate_detections;
   if (stats != nullptr) *stats = counts;
   return detections;
 }

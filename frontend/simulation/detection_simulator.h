@@ -19,6 +19,9 @@ struct DetectionSimParams {
   double camera_rate = 120.0;          ///< [Hz], > 0
   int keep_every = 4;                  ///< ≥ 1
   double pixel_sigma = 1.0;            ///< Gaussian noise per corner coordinate [px], ≥ 0
+  /// Motion blur [px per rad/s], ≥ 0: at each processed image the corner noise σ becomes
+  /// √(pixel_sigma² + (blur_px_per_rad_s · |ω|)²), ω the body's true angular rate then (bodyAngularRate).
+  double blur_px_per_rad_s = 0.0;
   double min_range = 0.5;              ///< camera → gate centre [m]
   double max_range = 15.0;             ///< [m]
   double max_view_angle_deg = 75.0;    ///< angle between the line of sight and the gate normal (either side) [deg]
@@ -29,6 +32,11 @@ struct DetectionSimParams {
   double wrong_id_probability = 0.01;          ///< the id of another gate (needs ≥ 2 gates)
   double false_gate_probability = 0.01;        ///< per processed image: a gate-like quadrilateral where there is none
   bool unknown_ids = false;            ///< write gate_id −1 everywhere (the association decides)
+  /// Gates partly out of the image: a gate whose four corners are all in front of the camera but of which only
+  /// k ≥ min_visible_corners (and < 4) project inside the image (edge_margin included) is reported as a partial
+  /// detection, the other corners NaN (CornerDetection::visible); false: such a gate is not detected.
+  bool partial_gates = false;
+  int min_visible_corners = 2;         ///< 2 … 4: the fewest corners a partial detection has
 };
 
 /// kInvalidArgument naming the field for a parameter out of range (probabilities in [0, 1], …).
@@ -44,20 +52,30 @@ struct SimulatedDetection {
   int true_gate_id = -1;                    ///< −1 for a false gate
   Eigen::Isometry3d body_T_gate = Eigen::Isometry3d::Identity();  ///< true pose of the gate (identity for a false gate)
   bool seen_from_front = true;              ///< camera on the −x side of the gate frame
-  Eigen::Matrix<double, 2, 4> true_pixels = Eigen::Matrix<double, 2, 4>::Zero();  ///< noise-free, same order
+  /// Noise-free projections, same order; all four, also those of corners a partial detection does not hold.
+  Eigen::Matrix<double, 2, 4> true_pixels = Eigen::Matrix<double, 2, 4>::Zero();
+  double pixel_sigma = 0.0;                 ///< the corner noise σ applied (blur included; 0 for a false gate) [px]
 
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
-/// Counts of what the detector did over a flight.
+/// Counts of what the detector did over a flight. Gate detections reported = visible + partial_views − missed.
 struct DetectionSimStats {
   int images = 0;            ///< processed images
-  int visible = 0;           ///< gate views passing range, angle and image checks
-  int missed = 0;
-  int displaced_corner = 0;
+  int visible = 0;           ///< whole gate views: range, angle and all four corners in the image
+  int partial_views = 0;     ///< partial gate views (partial_gates): range, angle, 2 or 3 corners in the image
+  int missed = 0;            ///< views not detected (whole and partial ones alike)
+  int partial = 0;           ///< partial detections reported (partial_views less their misses)
+  int displaced_corner = 0;  ///< (whole and partial detections; the displaced corner is a visible one)
   int wrong_id = 0;
   int false_gates = 0;
+  double mean_pixel_sigma = 0.0;  ///< effective corner noise σ (blur included) over the gate detections reported [px]
+  double max_pixel_sigma = 0.0;   ///< its largest value [px] (0 without gate detections)
 };
+
+/// |ω|, the body's true angular rate at t [rad/s]: ‖log(R(t − 1 ms)ᵀ R(t + 1 ms))‖ / 2 ms from the flight's
+/// attitude (the interval clamped to the flight).
+double bodyAngularRate(const Flight& flight, double t);
 
 /// Orders four pixels as DESIGN.md §6 writes them: the two upper ones (smaller v) left to right, then
 /// the two lower ones right to left. `order[i]` is the input column that goes to position i.
@@ -65,7 +83,10 @@ std::array<int, 4> imageCornerOrder(const Eigen::Matrix<double, 2, 4>& pixels);
 
 /// The gate detections of a flight: at every processed image, every gate whose four inner corners
 /// project into the image (CameraModel::project, the flight's true world_T_body) within the range and
-/// view-angle limits, in time order, gates in track order, false gates last. Deterministic for a seed.
+/// view-angle limits (with partial_gates also those with at least min_visible_corners in it), in time order,
+/// gates in track order, false gates last. The corners are in the order imageCornerOrder gives the four true
+/// projections (inside the image or not). Deterministic for a seed; with blur 0 and partial_gates false the
+/// random draws are those of the detector without either.
 Result<std::vector<SimulatedDetection>> simulateDetections(const Flight& flight, const Track& track,
                                                            const CameraModel& camera,
                                                            const DetectionSimParams& params, std::uint64_t seed,

@@ -37,8 +37,13 @@ Status applySimulationProfile(const std::string& name, RaceSimParams& params) {
   FieldErrorParams field;
   VioDriftParams vio;
   double map_position_sigma = 0.0, map_yaw_sigma = 0.0;
+  double lap_speed_variation = 0.0, lap_line_variation = 0.0;
   if (realistic || harsh) {
     detection.pixel_sigma = harsh ? 4.0 : 3.0;
+    detection.blur_px_per_rad_s = harsh ? 1.0 : 0.5;
+    detection.partial_gates = true;  // real detectors report the visible corners of a gate cut by the image border
+    lap_speed_variation = harsh ? 0.10 : 0.05;
+    lap_line_variation = harsh ? 0.5 : 0.3;
     detection.displaced_corner_probability = harsh ? 0.05 : 0.03;
     detection.miss_probability = harsh ? 0.3 : 0.2;
     if (harsh) detection.keep_every = 8;  // 120 Hz camera, 15 Hz detector
@@ -55,6 +60,8 @@ Status applySimulationProfile(const std::string& name, RaceSimParams& params) {
   params.vio = vio;
   params.map_position_sigma = map_position_sigma;
   params.map_yaw_sigma = map_yaw_sigma;
+  params.flight.lap_speed_variation = lap_speed_variation;
+  params.flight.lap_line_variation = lap_line_variation;
   return Status();
 }
 

@@ -14,11 +14,13 @@ namespace dualgraph {
 const std::vector<std::string>& simulationProfileNames();
 
 /// Sets every parameter a profile fixes (the table in frontend/simulation/README.md) in `params`, leaving the
-/// seed, laps, speed, rates and output alone. clean: the sensor models' defaults (1 px corners, VIO in the map's
-/// frame, exact calibration and clock); realistic: 3 px corners with 3 % displaced ones, 20 % misses, 1.5°
-/// camera-mount error, 15 ms camera clock offset, 5 cm / 1.5° map error, twice the VIO drift, the VIO in its
-/// own frame (any yaw, up to 10 m away); harsh: 4 px, 5 % displaced, 30 % misses at 15 Hz, 2°, 15 ms,
-/// 5 cm / 1.5°, three times the drift, own frame. kInvalidArgument naming the known profiles otherwise.
+/// seed, laps, speed, rates, output and the other flight parameters alone (the whole detector is reset). clean:
+/// the sensor models' defaults (1 px corners, whole gates only, VIO in the map's frame, exact calibration and
+/// clock, every lap alike); realistic: 3 px corners plus 0.5 px per rad/s of blur, gates cut by the image border
+/// reported with their 2-3 visible corners (partial_gates), 3 % displaced ones, 20 % misses, 1.5° camera-mount error, 15 ms camera clock offset, 5 cm / 1.5° map error, twice
+/// the VIO drift, the VIO in its own frame (any yaw, up to 10 m away), laps varying by ±5 % in speed and 0.3 m in
+/// line; harsh: 4 px + 1 px per rad/s, partial gates, 5 % displaced, 30 % misses at 15 Hz, 2°, 15 ms, 5 cm / 1.5°, three times
+/// the drift, own frame, ±10 % and 0.5 m. kInvalidArgument naming the known profiles otherwise.
 Status applySimulationProfile(const std::string& name, RaceSimParams& params);
 
 }  // namespace dualgraph

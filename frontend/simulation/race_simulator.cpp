@@ -92,6 +92,7 @@ Result<SimulatedRace> simulateRace(const Track& track, const CameraModel& camera
   FlightParams flight_params = params.flight;
   if (!params.override_laps) flight_params.laps = track.laps;
   if (!params.override_speed) flight_params.max_speed = track.speed;
+  flight_params.variation_seed = streamSeed(params.seed, 6);  // drawn from only with lap variation
   auto flight = Flight::plan(track.path, flight_params);
   if (!flight.ok()) return flight.status();
 
@@ -128,6 +129,10 @@ Result<SimulatedRace> simulateRace(const Track& track, const CameraModel& camera
     GatePnpParams pnp;
     pnp.pixel_sigma = std::max(params.detection.pixel_sigma, 1e-3);
     for (const SimulatedDetection& d : race.detections) {
+      if (!d.corners.complete()) {  // a partial detection: PnP here takes the four corners
+        ++race.pnp_partial_skipped;
+        continue;
+      }
       GateCornerPixels pixels;
       for (int i = 0; i < 4; ++i) pixels.col(i) = d.corners.corners[static_cast<size_t>(i)];
       const bool truth_known = d.kind != SimulatedDetectionKind::kFalseGate;

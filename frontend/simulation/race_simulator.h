@@ -31,11 +31,12 @@ struct FieldErrorParams {
 };
 
 /// Everything a simulated race depends on besides the track and the camera. The seed decides every
-/// random draw (VIO drift, detections, map perturbation, each from its own derived stream), so the
-/// same parameters give byte-identical sequences.
+/// random draw (VIO drift, detections, map perturbation, VIO frame, camera mount, lap variation, each from its
+/// own derived stream), so the same parameters give byte-identical sequences.
 struct RaceSimParams {
   std::uint64_t seed = 1;
-  FlightParams flight;         ///< laps and max_speed are taken from the track unless overridden
+  FlightParams flight;         ///< laps and max_speed are taken from the track unless overridden; variation_seed
+                               ///< is always derived from `seed` (stream 6)
   bool override_laps = false;
   bool override_speed = false;
   VioDriftParams vio;
@@ -61,6 +62,7 @@ struct SimulatedRace {
   DetectionSimStats detection_stats;
   std::vector<GateObservation> pose_detections;  ///< kPoses output: one per accepted PnP solution
   int pnp_rejected = 0;                          ///< kPoses output: detections PnP refused
+  int pnp_partial_skipped = 0;                   ///< kPoses output: partial detections, not given to PnP (not in pnp_rejected)
   Track map;                                     ///< the written gates.yaml (perturbed when asked), no path
   CameraModel camera;                            ///< the written camera.yaml (with the mount error when asked)
   Eigen::Isometry3d world_T_odom = Eigen::Isometry3d::Identity();  ///< the VIO frame's truth (field errors)

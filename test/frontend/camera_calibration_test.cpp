@@ -29,7 +29,9 @@ TEST(CameraCalibration, RecoversTheClockOffsetAndTheMountOnShortRealisticFlights
         << 1e3 * last.time_offset_sigma << " ms";
     EXPECT_LT(caltest::mountErrorDeg(calibration->camera, truth), 0.3) << "seed " << c.seed;
     EXPECT_TRUE(calibration->converged) << "seed " << c.seed;
-    EXPECT_GT(last.matching.matched, 0.8 * last.matching.detections) << "seed " << c.seed;
+    // Of the whole gates: partial detections (the realistic profile has them) are counted and left out.
+    EXPECT_GT(last.matching.partial, 0) << "seed " << c.seed;
+    EXPECT_GT(last.matching.matched, 0.8 * (last.matching.detections - last.matching.partial)) << "seed " << c.seed;
     // The translation of the mount is kept as written.
     EXPECT_EQ(calibration->camera.body_T_camera.translation(), sequence.camera->body_T_camera.translation());
   }

@@ -50,6 +50,14 @@ inline Flight ratmFlight(const std::string& name, int laps = 0) {
   return flight.ok() ? *flight : Flight();
 }
 
+/// A closed 7-waypoint course with height changes and unequal spacing (a kWaypoints path).
+inline TrackPath waypointCoursePath() {
+  TrackPath path;
+  path.type = TrackPath::Type::kWaypoints;
+  path.waypoints = {{0, 0, 1}, {8, 1, 1.5}, {12, 6, 2}, {7, 11, 1.2}, {0, 9, 1}, {-5, 6, 2.5}, {-4, 1, 1.5}};
+  return path;
+}
+
 /// True poses of a flight sampled at `rate` [Hz] from t = 0 (the input simulateVio takes).
 struct SampledTruth {
   std::vector<double> t;

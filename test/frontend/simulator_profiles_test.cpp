@@ -26,6 +26,10 @@ TEST(SimulationProfiles, RealisticSwitchesOnEveryFieldErrorWithinItsStatedRange)
   const CameraModel camera = simtest::ratmCamera();
   const RaceSimParams params = twoLaps("realistic");
   EXPECT_EQ(params.detection.pixel_sigma, 3.0);
+  EXPECT_EQ(params.detection.blur_px_per_rad_s, 0.5);
+  EXPECT_TRUE(params.detection.partial_gates);
+  EXPECT_EQ(params.flight.lap_speed_variation, 0.05);
+  EXPECT_EQ(params.flight.lap_line_variation, 0.3);
   auto race = simulateRace(track, camera, params);
   ASSERT_TRUE(race.ok()) << race.status().toString();
   // The VIO frame: a yaw within ±π and an offset within 10 m, horizontal; the VIO's poses carry it.
@@ -63,6 +67,8 @@ TEST(SimulationProfiles, CleanKeepsTheRaceAsTheDefaultsMakeIt) {
   ASSERT_EQ(plain->detections.size(), clean->detections.size());
   EXPECT_EQ(plain->detections.back().corners.t, clean->detections.back().corners.t);
   EXPECT_TRUE(clean->camera.body_T_camera.matrix() == camera.body_T_camera.matrix());
+  EXPECT_EQ(clean->detection_stats.partial_views, 0);
+  EXPECT_EQ(clean->flight.duration(), plain->flight.duration());
 }
 
 TEST(SimulationProfiles, HarshIsHarsherAndUnknownNamesAreRefused) {
@@ -72,6 +78,10 @@ TEST(SimulationProfiles, HarshIsHarsherAndUnknownNamesAreRefused) {
   EXPECT_GT(harsh.vio.yaw_rate_bias, realistic.vio.yaw_rate_bias);
   EXPECT_GT(harsh.field.camera_mount_error_deg, realistic.field.camera_mount_error_deg);
   EXPECT_GT(harsh.detection.keep_every, realistic.detection.keep_every);
+  EXPECT_GT(harsh.detection.blur_px_per_rad_s, realistic.detection.blur_px_per_rad_s);
+  EXPECT_GT(harsh.flight.lap_speed_variation, realistic.flight.lap_speed_variation);
+  EXPECT_GT(harsh.flight.lap_line_variation, realistic.flight.lap_line_variation);
+  EXPECT_TRUE(harsh.detection.partial_gates);
   RaceSimParams params;
   const Status unknown = applySimulationProfile("rainy", params);
   EXPECT_EQ(unknown.code(), StatusCode::kInvalidArgument);

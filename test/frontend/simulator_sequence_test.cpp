@@ -182,7 +182,9 @@ TEST(SimulatedSequence, InMemorySequenceEqualsTheFolderReadBack) {
     ASSERT_EQ(a.t, b.t);
     expectSamePose(b.odom_T_body, a.odom_T_body, "vio " + std::to_string(k));
     ASSERT_EQ(a.relative_covariance.has_value(), b.relative_covariance.has_value()) << k;
-    if (a.relative_covariance) EXPECT_LT((*a.relative_covariance - *b.relative_covariance).cwiseAbs().maxCoeff(), 1e-12) << k;
+    if (a.relative_covariance) {
+      EXPECT_LT((*a.relative_covariance - *b.relative_covariance).cwiseAbs().maxCoeff(), 1e-12) << k;
+    }
   }
   EXPECT_EQ(made->covariance_clamped, read->covariance_clamped);
   ASSERT_TRUE(made->has_corners && read->has_corners);
