@@ -82,8 +82,20 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
     const Status first = main_->addFirstKeyframe(sample.t, sample.odom_T_body);
     if (!first.ok()) counters_.last_error = first.message();
   }
-  // Observations this sample now covers, in time order (attached before a keyframe at this instant).
-  while (!pending_.empty() && pending_.front().t <= sample.t) {
+  // Observations this sample now covers, in time order (attached before a keyframe at this instant), but none
+  // after a keyframe that waits for late detections.
+  processPending(keyframe_due_ ? std::min(*keyframe_due_, sample.t) : sample.t);
+  if (params_.mode == LocalizerMode::kDual && !keyframe_due_ && main_->keyframes().back().t < sample.t &&
+      exceeds(main_->keyframes().back().odom_T_body.inverse() * sample.odom_T_body, params_.d_main,
+              params_.theta_main)) {
+    keyframe_due_ = sample.t;
+  }
+  if (keyframe_due_ && sample.t >= *keyframe_due_ + params_.detection_latency) closeDueKeyframe();
+  return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body, monitor_.state()};
+}
+
+void Localizer::processPending(double until) {
+  while (!pending_.empty() && pending_.front().t <= until) {
     const Status used = processObservation(pending_.front());
     if (!used.ok()) {
       ++counters_.observations_failed;
@@ -91,13 +103,14 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
     }
     pending_.pop_front();
   }
-  if (params_.mode == LocalizerMode::kDual && main_->keyframes().back().t < sample.t &&
-      exceeds(main_->keyframes().back().odom_T_body.inverse() * sample.odom_T_body, params_.d_main,
-              params_.theta_main)) {
-    const Status closed = closeInterval();
-    if (!closed.ok()) counters_.last_error = closed.message();
-  }
-  return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body, monitor_.state()};
+}
+
+void Localizer::closeDueKeyframe() {
+  const OdometrySample keyframe = history_.sampleAtOrBefore(*keyframe_due_);
+  keyframe_due_.reset();
+  const Status closed = closeInterval(keyframe);
+  if (!closed.ok()) counters_.last_error = closed.message();
+  processPending(history_.newest().t);  // what waited behind the keyframe
 }
 
 Status Localizer::checkObservation(const GateObservation& observation) const {
@@ -144,7 +157,7 @@ Status Localizer::addObservation(const GateObservation& observation) {
   }
   ++counters_.observations_accepted;
   last_observation_t_ = observation.t;
-  if (observation.t > history_.newest().t) {
+  if (observation.t > history_.newest().t || (keyframe_due_ && observation.t > *keyframe_due_)) {
     pending_.push_back(observation);
     return Status();
   }
@@ -213,8 +226,7 @@ Status Localizer::closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body
   return Status();
 }
 
-Status Localizer::closeInterval() {
-  const OdometrySample& newest = history_.newest();
+Status Localizer::closeInterval(const OdometrySample& newest) {
   KeyframeStats row;
   if (main_->keyframes().back().t < newest.t) {
     Result<Matrix6d> covariance =
@@ -303,6 +315,7 @@ Result<double> Localizer::relocalize(const Eigen::Isometry3d& world_T_odom, doub
   const int dropped = static_cast<int>(pending_.size() + temporary_.numObservations()) + single_observations_;
   counters_.observations_without_frame += dropped;
   pending_.clear();
+  keyframe_due_.reset();
   temporary_.clear();
   single_edges_.clear();
   single_observations_ = 0;
@@ -323,12 +336,13 @@ Result<double> Localizer::relocalize(const Eigen::Isometry3d& world_T_odom, doub
 }
 
 Status Localizer::finish() {
+  if (keyframe_due_) closeDueKeyframe();  // and the observations behind it
   counters_.observations_never_processed += static_cast<int>(pending_.size());
   pending_.clear();
   if (history_.empty()) return Status(StatusCode::kFailedPrecondition, "finish: no odometry was given");
   if (monitor_.state() == TrackingState::kInitialising) return Status();  // no graph to finish
   if (params_.mode == LocalizerMode::kSingle) return closeSingleNode(history_.newest().t, history_.newest().odom_T_body, true);
-  return closeInterval();
+  return closeInterval(history_.newest());
 }
 
 Eigen::Isometry3d Localizer::mapTOdom() const {

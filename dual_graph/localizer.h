@@ -5,6 +5,7 @@
 #include <deque>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -148,7 +149,12 @@ class Localizer {
   Status processObservation(const GateObservation& observation);
   Status processSingleObservation(const GateObservation& observation, const Eigen::Isometry3d& odom_T_body);
   /// Dual mode: keyframe at the newest sample (unless it is one already), distillation, optimisation.
-  Status closeInterval();
+  /// Closes the open interval with a keyframe at `keyframe` (a sample of the history).
+  Status closeInterval(const OdometrySample& keyframe);
+  /// Hands the pending observations up to `until` [s] to the graphs.
+  void processPending(double until);
+  /// Closes the interval of the keyframe that waited detection_latency, then processes what waited behind it.
+  void closeDueKeyframe();
   /// Single mode: commits the newest node's edges, adds a node at (t, odom_T_body) unless final, optimises.
   Status closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body, bool final_row);
   /// Optimises (and slides the window), fills `row` and appends it; `start_ms` is when the update began.
@@ -165,6 +171,8 @@ class Localizer {
   TemporaryGraph temporary_;
   OdometryHistory history_;
   std::deque<GateObservation, Eigen::aligned_allocator<GateObservation>> pending_;
+  /// A keyframe decided at this time [s] that waits until odometry reaches it + detection_latency.
+  std::optional<double> keyframe_due_;
   GateEdgeMeasurements single_edges_;  ///< single mode: edges of the newest node, committed at the next
   int single_observations_ = 0;
   double last_observation_t_ = -std::numeric_limits<double>::infinity();

@@ -117,6 +117,7 @@ Status validateOptimisation(const LocalizerParams& params) {
   DG_RETURN_IF_ERROR(requireNonNegativeFinite("chi2_gate_pose", params.chi2_gate_pose));
   DG_RETURN_IF_ERROR(requireNonNegativeFinite("chi2_gate_point", params.chi2_gate_point));
   DG_RETURN_IF_ERROR(requirePositiveFinite("lost_after_s", params.lost_after_s));
+  DG_RETURN_IF_ERROR(requireNonNegativeFinite("detection_latency", params.detection_latency));
   return requireAtLeastOne("lost_min_failures", params.lost_min_failures);
 }
 

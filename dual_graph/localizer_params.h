@@ -133,6 +133,11 @@ struct LocalizerParams {
   // least lost_min_failures detections failed (matched no map gate, or stood in edges the χ² gate rejected).
   double lost_after_s = 1.0;   ///< [s]
   int lost_min_failures = 5;   ///< [count]
+
+  /// Dual mode: how late a detection may reach the Localizer after its image [s] (a detector's latency). A
+  /// keyframe decided at t waits until odometry reaches t + detection_latency before its interval is closed,
+  /// so detections up to that late still enter their interval; the correction lags by as much. 0: at once.
+  double detection_latency = 0.0;
 };
 
 /// OK when every field is in its domain (positive spacings and σ where required, finite numbers, a rigid

@@ -170,17 +170,19 @@ Status handInstant(const DetectionInstant& instant, const Eigen::Isometry3d& odo
   return searchWith(instant, odom_T_body, frontend, localizer, *search, result);
 }
 
-/// Hands every instant up to `until` [s] on, the pose of an instant interpolated between `before` and `after`
-/// (instants older than `before` cannot be placed: counted as rejected).
-Status handDetectionsUpTo(double until, const OdometrySample& before, const OdometrySample& after, DetectionFeed& feed,
+/// Hands every instant up to `until` [s] on, the pose of an instant interpolated between the two samples of
+/// `recent` (accepted odometry, oldest first) around it; instants older than recent's oldest cannot be placed
+/// (counted as rejected).
+Status handDetectionsUpTo(double until, const std::deque<OdometrySample>& recent, DetectionFeed& feed,
                           GateFrontend& frontend, Localizer& localizer, FrameSearch* search, SequenceRunResult& result) {
   while (!feed.done() && feed.nextTime() <= until) {
-    if (feed.nextTime() < before.t) {
+    Result<Eigen::Isometry3d> odom_T_body = odometryPoseAt(recent, feed.nextTime());
+    if (!odom_T_body.ok()) {
       result.observations_rejected += static_cast<int>(feed.skipInstant());
       continue;
     }
     const DetectionInstant instant = feed.next();
-    DG_RETURN_IF_ERROR(handInstant(instant, interpolateOdometry(before, after, instant.t), frontend, localizer, search, result));
+    DG_RETURN_IF_ERROR(handInstant(instant, *odom_T_body, frontend, localizer, search, result));
   }
   return Status();
 }
@@ -196,23 +198,34 @@ Result<SequenceRunResult> runLoop(Localizer& localizer, GateFrontend& frontend, 
   while (!feed.done() && feed.nextTime() < samples.front().t) {
     result.detections_before_odometry += static_cast<int>(feed.skipInstant());
   }
-  std::optional<OdometrySample> newest;  // the newest sample the Localizer accepted
+  // Detections reach the Localizer detection_latency after their image (as onboard): an instant at t is handed
+  // over once the odometry has reached t + latency, at its pose among the recent samples.
+  const double latency = localizer.params().detection_latency;
+  std::deque<OdometrySample> recent;  // the accepted samples of the last latency + 1 s
   for (size_t k = 0; k < samples.size(); ++k) {
     const OdometrySample& sample = samples[k];
-    // The detections this sample covers go first: if it closes a keyframe interval, they are in it.
-    if (newest && localizer.checkOdometry(sample).ok()) {
-      DG_RETURN_IF_ERROR(handDetectionsUpTo(sample.t, *newest, sample, feed, frontend, localizer, search, result));
+    // The detections that arrived by this sample go first: if it closes a keyframe interval, they are in it.
+    const bool first = recent.empty();
+    if (!first && localizer.checkOdometry(sample).ok()) {
+      recent.push_back(sample);
+      DG_RETURN_IF_ERROR(handDetectionsUpTo(sample.t - latency, recent, feed, frontend, localizer, search, result));
+      recent.pop_back();
     }
     Result<CorrectedPose> corrected = localizer.addOdometry(sample);
     if (corrected.ok()) {
-      if (!newest) {  // the first accepted sample: the detections at its own instant (earlier ones cannot be placed)
-        DG_RETURN_IF_ERROR(handDetectionsUpTo(sample.t, sample, sample, feed, frontend, localizer, search, result));
+      recent.push_back(sample);
+      while (recent.front().t < sample.t - latency - 1.0) recent.pop_front();
+      if (first) {  // the first accepted sample: the detections at its own instant (earlier ones cannot be placed)
+        DG_RETURN_IF_ERROR(handDetectionsUpTo(sample.t - latency, recent, feed, frontend, localizer, search, result));
         corrected->state = localizer.trackingState();
       }
       result.estimate.push_back(*corrected);
-      newest = sample;
     }
     if (progress) progress(k + 1, samples.size());
+  }
+  // What was still on its way when the odometry ended (taken within its span).
+  if (!recent.empty()) {
+    DG_RETURN_IF_ERROR(handDetectionsUpTo(recent.back().t, recent, feed, frontend, localizer, search, result));
   }
   result.detections_after_odometry = static_cast<int>(feed.remaining());
   if (search) search->explainNothingPlaced(result, result.detections_before_odometry + result.detections_after_odometry);

@@ -40,12 +40,14 @@ struct SequenceRunResult {
 using RunProgress = std::function<void(size_t done, size_t total)>;
 
 /// Runs the frontend and the Localizer over a sequence in time order, as onboard. For each odometry
-/// sample the Localizer would accept, the detections up to its time stamp come first, grouped by instant:
-/// each instant goes through the GateFrontend at its corrected pose map_T_odom · odom_T_body(t) (odometry
-/// interpolated between the newest accepted sample and this one, `interpolateOdometry`) and its
-/// observations go to the Localizer, which holds them until the sample arrives; then the sample itself.
-/// So a sample that closes a keyframe interval finds that interval's detections collected (none is
-/// refused as too late). `finish` at the end. Errors only for invalid parameters or a sequence without
+/// sample the Localizer would accept, the detections that have arrived by its time stamp come first (those
+/// stamped up to it less LocalizerParams::detection_latency: a detector's output reaches the Localizer that
+/// late), grouped by instant: each instant goes through the GateFrontend at its corrected pose
+/// map_T_odom · odom_T_body(t) (odometry interpolated between the accepted samples around t,
+/// `odometryPoseAt`) and its observations go to the Localizer, which holds them until the sample arrives; then
+/// the sample itself. So a sample that closes a keyframe interval finds that interval's detections collected
+/// (none is refused as too late: with a latency, the keyframe waits as long). The instants still on their
+/// way when the odometry ends are handed over before `finish`. `finish` at the end. Errors only for invalid parameters or a sequence without
 /// odometry; bad samples and detections are counted. With `params.auto_initialize` (outside mapping mode) the
 /// Localizer starts initialising: each instant goes to a FrameInitializer instead (PnP alone) until it locks,
 /// then the Localizer is given the frame (`relocalize`) and tracks; when it never locks the run uses no

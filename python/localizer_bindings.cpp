@@ -61,6 +61,7 @@ void bindParams(py::module_& m) {
   DG_FIELD(temp_relative_decrease_stop);
   DG_FIELD(temp_model_decrease_stop);
   DG_FIELD(robust_kernel); DG_FIELD(chi2_gate_pose); DG_FIELD(chi2_gate_point);
+  DG_FIELD(lost_after_s); DG_FIELD(lost_min_failures); DG_FIELD(detection_latency);
 #undef DG_FIELD
 
   m.def("load_localizer_params", [](const std::string& path) { return unwrap(loadLocalizerParams(path)); }, "path"_a,

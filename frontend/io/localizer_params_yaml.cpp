@@ -63,6 +63,7 @@ constexpr FieldSlot<double> kNumberFields[] = {
     {"temp_model_decrease_stop", &LocalizerParams::temp_model_decrease_stop},
     {"chi2_gate_pose", &LocalizerParams::chi2_gate_pose}, {"chi2_gate_point", &LocalizerParams::chi2_gate_point},
     {"lost_after_s", &LocalizerParams::lost_after_s},
+    {"detection_latency", &LocalizerParams::detection_latency},
 };
 constexpr FieldSlot<int> kIntegerFields[] = {
     {"main_max_iterations", &LocalizerParams::main_max_iterations},

@@ -25,7 +25,7 @@ const std::vector<std::string> kFieldNames = {
     "single_all_detections", "use_input_covariance", "odom_sigma_t", "odom_sigma_r", "odom_min_distance", "map_sigma_t", "map_sigma_r",
     "fix_map_gates", "initial_world_T_odom", "initial_sigma_t", "initial_sigma_r", "main_max_iterations",
     "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "temp_relative_decrease_stop", "temp_model_decrease_stop", "linear_solver", "lm_damping", "temp_solver", "robust_kernel", "chi2_gate_pose",
-    "chi2_gate_point", "lost_after_s", "lost_min_failures"};
+    "chi2_gate_point", "lost_after_s", "lost_min_failures", "detection_latency"};
 
 /// Every field different from its default.
 const char* const kAllOverridden = R"(mode: single
@@ -63,6 +63,7 @@ chi2_gate_pose: 0
 chi2_gate_point: 11.345
 lost_after_s: 2.5
 lost_min_failures: 9
+detection_latency: 0.04
 )";
 
 LocalizerParams allOverriddenExpected() {
@@ -83,6 +84,7 @@ LocalizerParams allOverriddenExpected() {
   p.temp_solver = TemporarySolverKind::kGraph;
   p.chi2_gate_pose = 0.0, p.chi2_gate_point = 11.345;
   p.lost_after_s = 2.5, p.lost_min_failures = 9;
+  p.detection_latency = 0.04;
   return p;
 }
 
