@@ -77,8 +77,9 @@ Status validateGateObservation(const GateObservation& observation) {
     if (!rays.p_gate.leftCols(rays.count).allFinite() || !rays.normalized.leftCols(rays.count).allFinite()) {
       return Status(StatusCode::kInvalidArgument, where + "corner_rays has a non-finite corner or ray");
     }
-    if (!(rays.sigma.allFinite() && rays.sigma.minCoeff() > 0.0)) {
-      return Status(StatusCode::kInvalidArgument, where + "corner_rays.sigma must be finite and > 0");
+    for (int k = 0; k < rays.count; ++k) {
+      DG_RETURN_IF_ERROR(checkCovariance(rays.covariance[static_cast<size_t>(k)],
+                                         where + "corner_rays.covariance[" + std::to_string(k) + "]"));
     }
     return checkRigidTransform(rays.body_T_camera, where + "corner_rays.body_T_camera");
   }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <array>
 #include <optional>
 #include <string>
 
@@ -32,13 +33,17 @@ enum class ObservationKind {
 
 /// A partial gate (2–3 corners in the image; 4 allowed) as the rays the camera saw: for corner k < count, its
 /// position `p_gate` in the gate's own frame [m] (the map gate's, after association) and the undistorted
-/// normalised image coordinates (x/z, y/z, camera frame z forward) it was seen at, each coordinate with σ
-/// `sigma` (the pixel σ over fx and fy). The temporary graph turns each corner into an EdgeSE3CornerProjection.
+/// normalised image coordinates (x/z, y/z, camera frame z forward) it was seen at, with the 2×2 covariance
+/// `covariance[k]` of those coordinates (the pixel noise through the lens: σ_px² J⁻¹J⁻ᵀ, J = ∂pixel/∂(x/z, y/z)
+/// there; near a fisheye's border one pixel spans several times 1/fx). The temporary graph turns each corner
+/// into an EdgeSE3CornerProjection.
 struct GateCornerRays {
   int count = 0;                                                      ///< 2 … 4 (the first `count` columns)
   Eigen::Matrix<double, 3, 4> p_gate = Eigen::Matrix<double, 3, 4>::Zero();
   Eigen::Matrix<double, 2, 4> normalized = Eigen::Matrix<double, 2, 4>::Zero();
-  Eigen::Vector2d sigma = Eigen::Vector2d::Constant(1e-3);          ///< > 0
+  /// Per corner (the first `count`): covariance of its normalised coordinates [1], symmetric positive definite.
+  std::array<Eigen::Matrix2d, 4> covariance{Eigen::Matrix2d::Identity() * 1e-6, Eigen::Matrix2d::Identity() * 1e-6,
+                                            Eigen::Matrix2d::Identity() * 1e-6, Eigen::Matrix2d::Identity() * 1e-6};
   Eigen::Isometry3d body_T_camera = Eigen::Isometry3d::Identity();    ///< the camera on the body
 
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW

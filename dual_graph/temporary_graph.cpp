@@ -75,7 +75,7 @@ Result<TemporaryGraph::NodeCorners> TemporaryGraph::cornersAtNode(const GateObse
   corners.rays.body_T_camera = attachment.node_T_body * body_T_camera;
   const Eigen::Matrix3d camera_R_body = body_T_camera.linear().transpose();
   for (int k = 0; k < corners.rays.count; ++k) {
-    Eigen::Matrix2d covariance = corners.rays.sigma.cwiseAbs2().asDiagonal();
+    Eigen::Matrix2d covariance = corners.rays.covariance[static_cast<size_t>(k)];
     if (attachment.compensated) {
       // The node → body increment's uncertainty (right perturbation ε of node_T_body) moves the corner in the
       // body frame by −ε_t + [p_body]× ε_θ; p_body from the pose the frontend predicted.

@@ -25,6 +25,18 @@ constexpr double kMinDepth = 0.1;  // [m]: a candidate's corners must all be thi
 
 }  // namespace
 
+Eigen::Matrix2d rayCovariance(const CameraModel& camera, const Eigen::Vector2d& normalized, double pixel_sigma) {
+  Eigen::Matrix<double, 2, 3> d_pixel_d_point;
+  camera.project(Eigen::Vector3d(normalized.x(), normalized.y(), 1.0), &d_pixel_d_point);
+  // At z = 1 the point's x and y are the normalised coordinates: ∂pixel/∂(x/z, y/z) is the Jacobian's left block.
+  const Eigen::Matrix2d inverse = d_pixel_d_point.leftCols<2>().inverse();
+  return pixel_sigma * pixel_sigma * inverse * inverse.transpose();
+}
+
+namespace {
+
+}  // namespace
+
 Result<std::optional<PartialGateMatch>> matchPartialGate(const CornerDetection& detection, const CameraModel& camera,
                                                          const GateMap& map, const Eigen::Isometry3d& world_T_body,
                                                          const PartialGateParams& params, std::optional<int> only_gate) {
@@ -70,7 +82,7 @@ Result<std::optional<PartialGateMatch>> matchPartialGate(const CornerDetection& 
       match.rays.p_gate.col(k) = p_gate.col(order[static_cast<size_t>(labels[static_cast<size_t>(k)])]);
       match.rays.normalized.col(k) = rays->col(k);
     }
-    match.rays.sigma = Eigen::Vector2d(params.pixel_sigma / camera.fx(), params.pixel_sigma / camera.fy());
+    for (int k = 0; k < count; ++k) match.rays.covariance[static_cast<size_t>(k)] = rayCovariance(camera, rays->col(k), params.pixel_sigma);
     match.rays.body_T_camera = camera.body_T_camera;
     match.predicted_body_T_gate = world_T_body.inverse() * world_T_gate;
     best = match;

@@ -18,6 +18,11 @@ namespace dualgraph {
 /// ones right to left. The simulator labels its detections with it and the frontend its predictions.
 std::array<int, 4> cornerLabelOrder(const GateCornerPixels& pixels);
 
+/// The covariance of the undistorted normalised coordinates (x/z, y/z) of a corner seen at `normalized` with
+/// pixel noise σ = `pixel_sigma` [px] per coordinate: σ² J⁻¹J⁻ᵀ, J = ∂pixel/∂(x/z, y/z) there (CameraModel's
+/// analytic Jacobian). At the image centre ≈ diag(σ/fx, σ/fy)²; towards a fisheye's border several times more.
+Eigen::Matrix2d rayCovariance(const CameraModel& camera, const Eigen::Vector2d& normalized, double pixel_sigma);
+
 /// What matching a partial detection needs.
 struct PartialGateParams {
   double gate_size = 1.5;      ///< inner side of the map's gates [m]

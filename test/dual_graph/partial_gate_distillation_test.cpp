@@ -58,7 +58,7 @@ struct PartialScenario {
     GateCornerRays rays;
     rays.count = static_cast<int>(corners.size());
     rays.body_T_camera = forwardCamera();
-    rays.sigma = Eigen::Vector2d::Constant(ray_sigma);
+    for (Eigen::Matrix2d& covariance : rays.covariance) covariance = ray_sigma * ray_sigma * Eigen::Matrix2d::Identity();
     const Eigen::Isometry3d camera_T_gate = (poses[static_cast<size_t>(t)] * forwardCamera()).inverse() * gate;
     for (int k = 0; k < rays.count; ++k) {
       rays.p_gate.col(k) = gateCorners().col(corners[static_cast<size_t>(k)]);
@@ -203,9 +203,13 @@ TEST(PartialGateDistillation, InvalidCornerRaysAreRefusedNamingTheField) {
   GateObservation nan = s.raysAt(2, {0, 1});
   nan.corner_rays.normalized(0, 1) = std::nan("");
   EXPECT_NE(validateGateObservation(nan).message().find("non-finite"), std::string::npos);
-  GateObservation sigma = s.raysAt(2, {0, 1});
-  sigma.corner_rays.sigma.x() = 0.0;
-  EXPECT_NE(validateGateObservation(sigma).message().find("sigma"), std::string::npos);
+  GateObservation singular = s.raysAt(2, {0, 1});
+  singular.corner_rays.covariance[1](0, 0) = 0.0;
+  EXPECT_NE(validateGateObservation(singular).message().find("corner_rays.covariance[1]"), std::string::npos)
+      << validateGateObservation(singular).message();
+  GateObservation unused = s.raysAt(2, {0, 1});
+  unused.corner_rays.covariance[3].setZero();  // past count: not read
+  EXPECT_TRUE(validateGateObservation(unused).ok());
   EXPECT_TRUE(validateGateObservation(s.raysAt(3, {0, 1, 3})).ok());
 }
 

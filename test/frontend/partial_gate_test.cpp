@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "frontend/gates/gate_frontend.h"
 #include "frontend/gates/partial_gate.h"
@@ -91,7 +92,21 @@ TEST(PartialGate, TwoOrThreeCornersComeBackAsRaysToTheRightCornersOfTheRightGate
         const Eigen::Vector3d p = camera_T_gate * Eigen::Vector3d(seen.corner_rays.p_gate.col(k));
         EXPECT_LT((p.head<2>() / p.z() - seen.corner_rays.normalized.col(k)).norm(), 1e-9) << "corner " << k;
       }
-      EXPECT_NEAR(seen.corner_rays.sigma.x() * view.camera.fx(), frontend->counters().pixel_sigma, 1e-12);
+      // Each ray's covariance is the pixel noise carried through the undistortion (central differences here).
+      const double sigma = frontend->counters().pixel_sigma;
+      for (int k = 0; k < seen.corner_rays.count; ++k) {
+        const Eigen::Vector2d pixel = view.camera.project(Eigen::Vector3d(seen.corner_rays.normalized(0, k),
+                                                                          seen.corner_rays.normalized(1, k), 1.0)).pixel;
+        Eigen::Matrix2Xd around(2, 4);
+        around << pixel.x() + 0.01, pixel.x() - 0.01, pixel.x(), pixel.x(), pixel.y(), pixel.y(), pixel.y() + 0.01,
+            pixel.y() - 0.01;
+        auto undistorted = view.camera.undistortToNormalized(around);
+        ASSERT_TRUE(undistorted.ok());
+        Eigen::Matrix2d d_normalized_d_pixel;
+        d_normalized_d_pixel << (undistorted->col(0) - undistorted->col(1)) / 0.02, (undistorted->col(2) - undistorted->col(3)) / 0.02;
+        const Eigen::Matrix2d expected = sigma * sigma * d_normalized_d_pixel * d_normalized_d_pixel.transpose();
+        EXPECT_LT((seen.corner_rays.covariance[static_cast<size_t>(k)] - expected).norm(), 1e-6 * expected.norm()) << "corner " << k;
+      }
       EXPECT_EQ(frontend->counters().partial, 1);
       EXPECT_EQ(frontend->counters().used, 1);
     }
@@ -175,6 +190,26 @@ TEST(PartialGate, TheCornerCsvWritesAndReadsCornersNotSeenAsNan) {
   EXPECT_NE(half.status().message().find("v_tr"), std::string::npos) << half.status().message();
   std::vector<CornerDetection> bad = {keepOnly(view.detection, {0})};
   EXPECT_EQ(writeCornerDetections((dir.path() / "bad.csv").string(), bad).code(), StatusCode::kInvalidArgument);
+}
+
+// Near the border of the RATM fisheye (175° diagonal) a pixel spans several times what it does at the centre:
+// a ray's covariance there is not (σ/fx)², which made the corner edges of partial gates over-confident.
+TEST(RayCovariance, GrowsTowardsAFisheyesBorderAndIsTheCentresSigmaOverFAtTheCentre) {
+  auto camera = loadCameraYaml(testing::sourcePath("data/cameras/ratm_piloted.yaml"));
+  ASSERT_TRUE(camera.ok());
+  const double sigma = 3.0;
+  const Eigen::Matrix2d centre = rayCovariance(*camera, Eigen::Vector2d::Zero(), sigma);
+  EXPECT_NEAR(std::sqrt(centre(0, 0)) * camera->fx(), sigma, 1e-9);
+  EXPECT_NEAR(std::sqrt(centre(1, 1)) * camera->fy(), sigma, 1e-9);
+  Eigen::Matrix2Xd border(2, 1);
+  border << 630.0, 240.0;  // 10 px from the right edge, on the centre row
+  auto ray = camera->undistortToNormalized(border);
+  ASSERT_TRUE(ray.ok());
+  const Eigen::Matrix2d far = rayCovariance(*camera, ray->col(0), sigma);
+  std::printf("[ measured ] ray sigma at the right border / at the centre: %.2f (x), %.2f (y)\n",
+              std::sqrt(far(0, 0) / centre(0, 0)), std::sqrt(far(1, 1) / centre(1, 1)));
+  EXPECT_GT(far(0, 0), 4.0 * centre(0, 0));  // radial: more than twice the σ
+  EXPECT_GT(far(1, 1), centre(1, 1));        // tangential too
 }
 
 }  // namespace
