@@ -93,6 +93,11 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
   cmd->add_option("--camera-time-offset", p.field.camera_time_offset, "Detections stamped this late [s]");
   cmd->add_option("--camera-mount-error", p.field.camera_mount_error_deg, "Written camera mount off by [deg]");
   cmd->add_flag("--no-plot", o.no_plot, "Do not write xy.png");
+  cmd->final_callback([cmd, &o] {
+    for (const CLI::Option* option : cmd->get_options()) {
+      if (option->count() > 0) o.given.insert(option->get_name());
+    }
+  });
   return cmd;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <set>
 
 #include "frontend/io/camera_io.h"
 #include "frontend/io/track_io.h"
@@ -40,37 +41,35 @@ Status writePlot(const std::string& path, const SimulatedRace& race) {
   return writeXyPlotPng(path, plot);
 }
 
-// The profile's parameters, except where the command line set a value other than the clean default (a
-// flag given with exactly the clean default value is taken as not given).
-Status applyProfileUnderFlags(const std::string& profile, RaceSimParams& p) {
+// The profile's parameters, except those the command line gave (`given`: the option names it counted, so a
+// flag given with the clean value, `--blur 0`, wins over the profile too).
+Status applyProfileUnderFlags(const std::string& profile, const std::set<std::string>& given, RaceSimParams& p) {
   const RaceSimParams flags = p;
-  const RaceSimParams clean;
   DG_RETURN_IF_ERROR(applySimulationProfile(profile, p));
-  auto keep = [](const auto& flag, const auto& clean_value, auto& out) {
-    if (flag != clean_value) out = flag;
+  auto keep = [&given](const char* option, const auto& flag, auto& out) {
+    if (given.count(option) > 0) out = flag;
   };
-  keep(flags.detection.pixel_sigma, clean.detection.pixel_sigma, p.detection.pixel_sigma);
-  keep(flags.detection.blur_px_per_rad_s, clean.detection.blur_px_per_rad_s, p.detection.blur_px_per_rad_s);
-  keep(flags.detection.min_visible_corners, clean.detection.min_visible_corners, p.detection.min_visible_corners);
-  keep(flags.flight.lap_speed_variation, clean.flight.lap_speed_variation, p.flight.lap_speed_variation);
-  keep(flags.flight.lap_line_variation, clean.flight.lap_line_variation, p.flight.lap_line_variation);
-  keep(flags.detection.max_range, clean.detection.max_range, p.detection.max_range);
-  keep(flags.detection.miss_probability, clean.detection.miss_probability, p.detection.miss_probability);
-  keep(flags.detection.displaced_corner_probability, clean.detection.displaced_corner_probability,
-       p.detection.displaced_corner_probability);
-  keep(flags.detection.wrong_id_probability, clean.detection.wrong_id_probability, p.detection.wrong_id_probability);
-  keep(flags.detection.false_gate_probability, clean.detection.false_gate_probability, p.detection.false_gate_probability);
-  keep(flags.detection.unknown_ids, clean.detection.unknown_ids, p.detection.unknown_ids);
-  keep(flags.vio.yaw_rate_bias, clean.vio.yaw_rate_bias, p.vio.yaw_rate_bias);
-  keep(flags.vio.velocity_bias, clean.vio.velocity_bias, p.vio.velocity_bias);
-  keep(flags.vio.velocity_bias_random_walk, clean.vio.velocity_bias_random_walk, p.vio.velocity_bias_random_walk);
-  keep(flags.vio.scale_error_sigma, clean.vio.scale_error_sigma, p.vio.scale_error_sigma);
-  keep(flags.map_position_sigma, clean.map_position_sigma, p.map_position_sigma);
-  keep(flags.map_yaw_sigma, clean.map_yaw_sigma, p.map_yaw_sigma);
-  keep(flags.field.vio_frame_yaw, clean.field.vio_frame_yaw, p.field.vio_frame_yaw);
-  keep(flags.field.vio_frame_offset, clean.field.vio_frame_offset, p.field.vio_frame_offset);
-  keep(flags.field.camera_time_offset, clean.field.camera_time_offset, p.field.camera_time_offset);
-  keep(flags.field.camera_mount_error_deg, clean.field.camera_mount_error_deg, p.field.camera_mount_error_deg);
+  keep("--pixel-sigma", flags.detection.pixel_sigma, p.detection.pixel_sigma);
+  keep("--blur", flags.detection.blur_px_per_rad_s, p.detection.blur_px_per_rad_s);
+  keep("--min-visible-corners", flags.detection.min_visible_corners, p.detection.min_visible_corners);
+  keep("--lap-speed-variation", flags.flight.lap_speed_variation, p.flight.lap_speed_variation);
+  keep("--lap-line-variation", flags.flight.lap_line_variation, p.flight.lap_line_variation);
+  keep("--max-range", flags.detection.max_range, p.detection.max_range);
+  keep("--miss-probability", flags.detection.miss_probability, p.detection.miss_probability);
+  keep("--displaced-corner-probability", flags.detection.displaced_corner_probability, p.detection.displaced_corner_probability);
+  keep("--wrong-id-probability", flags.detection.wrong_id_probability, p.detection.wrong_id_probability);
+  keep("--false-gate-probability", flags.detection.false_gate_probability, p.detection.false_gate_probability);
+  keep("--unknown-ids", flags.detection.unknown_ids, p.detection.unknown_ids);
+  keep("--yaw-rate-bias", flags.vio.yaw_rate_bias, p.vio.yaw_rate_bias);
+  keep("--velocity-bias", flags.vio.velocity_bias, p.vio.velocity_bias);
+  keep("--velocity-bias-random-walk", flags.vio.velocity_bias_random_walk, p.vio.velocity_bias_random_walk);
+  keep("--scale-error-sigma", flags.vio.scale_error_sigma, p.vio.scale_error_sigma);
+  keep("--map-sigma", flags.map_position_sigma, p.map_position_sigma);
+  keep("--map-yaw-sigma", flags.map_yaw_sigma, p.map_yaw_sigma);
+  keep("--vio-frame-yaw", flags.field.vio_frame_yaw, p.field.vio_frame_yaw);
+  keep("--vio-frame-offset", flags.field.vio_frame_offset, p.field.vio_frame_offset);
+  keep("--camera-time-offset", flags.field.camera_time_offset, p.field.camera_time_offset);
+  keep("--camera-mount-error", flags.field.camera_mount_error_deg, p.field.camera_mount_error_deg);
   return Status();
 }
 
@@ -83,7 +82,7 @@ int runSimulateCommand(SimulateOptions o) {
   auto camera = loadCameraYaml(camera_path);
   if (!camera.ok()) return fail(camera.status().message());
   RaceSimParams& p = o.params;
-  const Status profiled = applyProfileUnderFlags(o.profile, p);
+  const Status profiled = applyProfileUnderFlags(o.profile, o.given, p);
   if (!profiled.ok()) return fail(profiled.message());
   if (!o.partial_gates.empty()) p.detection.partial_gates = o.partial_gates == "on";
   p.output = o.detections == "poses" ? RaceSimParams::DetectionOutput::kPoses : RaceSimParams::DetectionOutput::kCorners;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <set>
 #include <string>
 
 #include "frontend/simulation/race_profiles.h"
@@ -23,6 +24,7 @@ struct SimulateOptions {
   std::string partial_gates;  ///< "on" | "off" | empty: the profile's
   std::string profile = "realistic";  ///< simulationProfileNames(); a flag given explicitly wins over the profile
   RaceSimParams params;
+  std::set<std::string> given;  ///< the options the command line gave ("--blur", …): they win over the profile
 };
 
 /// Runs it; returns the process exit code (0 ok, 1 bad input or failure).

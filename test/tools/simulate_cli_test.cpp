@@ -69,6 +69,19 @@ TEST(SimulateCli, TheDefaultProfileIsRealisticAndAFlagWinsOverIt) {
   EXPECT_DOUBLE_EQ(offset(r.str()), 0.015) << r.str();
   EXPECT_DOUBLE_EQ(offset(c.str()), 0.0) << c.str();
   EXPECT_DOUBLE_EQ(offset(f.str()), 0.03) << f.str();
+  // A flag given with the clean profile's value wins as well: realistic with these errors switched off.
+  ASSERT_EQ(runDualgraph(common + "/switched_off --camera-time-offset 0 --blur 0 --partial-gates off "
+                                  "--lap-line-variation 0 --lap-speed-variation 0")
+                .exit_code,
+            0);
+  std::ifstream off_file(tempDir() + "/switched_off/sequence.yaml");
+  std::stringstream off;
+  off << off_file.rdbuf();
+  EXPECT_DOUBLE_EQ(offset(off.str()), 0.0) << off.str();
+  for (const char* line : {"  blur_px_per_rad_s: 0\n", "  partial_gates: false\n", "  lap_line_variation: 0\n",
+                           "  lap_speed_variation: 0\n", "  pixel_sigma: 3\n"}) {
+    EXPECT_NE(off.str().find(line), std::string::npos) << line << off.str();
+  }
 }
 
 TEST(SimulateCli, SameSeedSameBytesOtherSeedOtherBytes) {
