@@ -27,6 +27,8 @@ class DetectionFeed {
         time_offset_(time_offset) {}
 
   bool done() const { return next_ >= size_; }
+  /// The offset of the instants not handed out yet [s] (a self-calibrated camera's).
+  void setTimeOffset(double time_offset) { time_offset_ = time_offset; }
   size_t remaining() const { return size_ - next_; }
   /// Time of the next detection on the odometry's clock (not done()).
   double nextTime() const { return stampAt(next_) - time_offset_; }
@@ -62,7 +64,7 @@ class DetectionFeed {
 
   const Sequence& sequence_;
   const size_t size_;
-  const double time_offset_;
+  double time_offset_;
   size_t next_ = 0;
 };
 

@@ -189,7 +189,8 @@ Status handDetectionsUpTo(double until, const std::deque<OdometrySample>& recent
 
 /// runSequenceWith's loop; `search` (may be null) finds the frame while initialising or lost.
 Result<SequenceRunResult> runLoop(Localizer& localizer, GateFrontend& frontend, const Sequence& sequence,
-                                  const RunProgress& progress, double time_offset, FrameSearch* search) {
+                                  const RunProgress& progress, double time_offset, FrameSearch* search,
+                                  const std::optional<SequenceRunParams::CameraSwitch>& camera_switch = std::nullopt) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<OdometrySample>& samples = sequence.odometry.samples;
   if (samples.empty()) return Status(StatusCode::kInvalidArgument, sequence.dir + ": no odometry samples");
@@ -202,8 +203,15 @@ Result<SequenceRunResult> runLoop(Localizer& localizer, GateFrontend& frontend, 
   // over once the odometry has reached t + latency, at its pose among the recent samples.
   const double latency = localizer.params().detection_latency;
   std::deque<OdometrySample> recent;  // the accepted samples of the last latency + 1 s
+  bool switched = false;
   for (size_t k = 0; k < samples.size(); ++k) {
     const OdometrySample& sample = samples[k];
+    if (camera_switch && !switched && sample.t >= camera_switch->t) {  // what arrives from now on, with it
+      frontend.setCamera(camera_switch->camera);
+      feed.setTimeOffset(camera_switch->camera.time_offset);
+      result.camera_switched_at = sample.t;
+      switched = true;
+    }
     // The detections that arrived by this sample go first: if it closes a keyframe interval, they are in it.
     const bool first = recent.empty();
     if (!first && localizer.checkOdometry(sample).ok()) {
@@ -248,6 +256,13 @@ double detectionTimeOffset(const Sequence& sequence, const SequenceRunParams& pa
 Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRunParams& params,
                                       const RunProgress& progress) {
   if (sequence.odometry.samples.empty()) return Status(StatusCode::kInvalidArgument, sequence.dir + ": no odometry samples");
+  if (params.camera_switch) {
+    if (!sequence.has_corners || !sequence.camera) {
+      return Status(StatusCode::kInvalidArgument, sequence.dir + ": a camera switch needs corner detections and a camera");
+    }
+    const Status camera = params.camera_switch->camera.validate();
+    if (!camera.ok()) return Status(camera.code(), sequence.dir + ": the camera switched to: " + camera.message());
+  }
   auto known_map = sequence.map.gateMap();
   if (!known_map.ok()) return Status(known_map.status().code(), sequence.dir + ": " + known_map.status().message());
   GateFrontendParams frontend_params = params.frontend;
@@ -271,7 +286,7 @@ Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRu
   FrameSearch search(params, *known_map);
   if (find_frame) search.startInitial(first_odom_T_body);
   return runLoop(**localizer, *frontend, sequence, progress, detectionTimeOffset(sequence, params),
-                 params.localizer.mapping ? nullptr : &search);
+                 params.localizer.mapping ? nullptr : &search, params.camera_switch);
 }
 
 Result<SequenceRunResult> runSequenceWith(Localizer& localizer, GateFrontend& frontend, const Sequence& sequence,

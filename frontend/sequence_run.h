@@ -34,6 +34,8 @@ struct SequenceRunResult {
   /// used and every sample stayed initialising). The Localizer was relocalised at `initialization.world_T_odom`.
   std::optional<FrameInitialization> initialization;
   double wall_seconds = 0.0;                  ///< whole run
+  /// With params.camera_switch: the odometry sample's time [s] at which the run switched to that camera.
+  std::optional<double> camera_switched_at;
 };
 
 /// Called after every odometry sample with (samples done, samples in total); may be empty.

@@ -6,6 +6,7 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "errors.h"
+#include "frontend/calibration/self_calibration.h"
 #include "frontend/gates/gate_frontend.h"
 #include "frontend/io/run_config.h"
 #include "frontend/io/sequence_folder.h"
@@ -139,12 +140,14 @@ void bindRun(py::module_& m) {
       .def_readonly("detections_before_odometry", &SequenceRunResult::detections_before_odometry)
       .def_readonly("detections_after_odometry", &SequenceRunResult::detections_after_odometry)
       .def_readonly("observations_rejected", &SequenceRunResult::observations_rejected)
-      .def_readonly("wall_seconds", &SequenceRunResult::wall_seconds);
+      .def_readonly("wall_seconds", &SequenceRunResult::wall_seconds)
+      .def_readonly("camera_switched_at", &SequenceRunResult::camera_switched_at,
+                    "[s]: when the run switched to the self-calibrated camera (None: it did not)");
   m.def("run_sequence",
         [](const Sequence& sequence, SequenceRunParams config) {  // Sequence is read-only from Python
           Result<SequenceRunResult> run = [&] {
             py::gil_scoped_release release;
-            return runSequence(sequence, config);
+            return runSequenceSelfCalibrating(sequence, config, {}, nullptr);
           }();
           return unwrap(std::move(run));
         },

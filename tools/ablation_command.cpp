@@ -6,6 +6,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "frontend/calibration/self_calibration.h"
 #include "frontend/io/camera_io.h"
 #include "frontend/simulation/race_profiles.h"
 #include "frontend/simulation/race_sequence.h"
@@ -109,7 +110,7 @@ int runAblationCommand(const AblationOptions& o) {
             params.localizer.d_single = v.d_main_or_single;
             params.localizer.single_all_detections = v.single_all_detections;
           }
-          auto run = runSequence(*sequence, params);
+          auto run = runSequenceSelfCalibrating(*sequence, params, {}, nullptr);
           if (!run.ok()) return failStaged(folder + " (" + v.name + "): " + run.status().message());
           auto metrics = computeRunMetrics(*sequence, *run);
           if (!metrics.ok()) return failStaged(folder + " (" + v.name + "): " + metrics.status().message());

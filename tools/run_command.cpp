@@ -83,7 +83,8 @@ int runRunCommand(const RunOptions& o) {
     std::cerr << "\rdualgraph run: " << std::setw(3) << percent << " % (" << done << "/" << total << " odometry samples, "
               << std::fixed << std::setprecision(1) << elapsed << " s)" << std::flush;
   };
-  auto run = runSequence(*sequence, *params, progress);
+  SelfCalibrationReport self_calibration;
+  auto run = runSequenceSelfCalibrating(*sequence, *params, progress, &self_calibration);
   if (last_percent >= 0) std::cerr << "\n";
   if (!run.ok()) return fail(o.sequence + ": " + run.status().message());
   auto metrics = computeRunMetrics(*sequence, *run);
@@ -93,7 +94,8 @@ int runRunCommand(const RunOptions& o) {
   // written: a failure leaves no partial run (a half-written folder would mix with an older run's files).
   auto staged = StagedFolder::create(o.out);
   if (!staged.ok()) return fail(staged.status().message());
-  const Status written = writeRunFolder(staged->path(), o.sequence, params->localizer, *run, *metrics);
+  const Status written = writeRunFolder(staged->path(), o.sequence, params->localizer, *run, *metrics,
+                                        params->self_calibration_after_s > 0.0 ? &self_calibration : nullptr);
   if (!written.ok()) return fail(staged->unstaged(written).message());
   const Status committed = staged->commit();
   if (!committed.ok()) return fail(committed.message());
@@ -102,6 +104,10 @@ int runRunCommand(const RunOptions& o) {
     warn(std::to_string(unknown_gates_skipped) + " detections name a gate that is not in the map: skipped (--skip-unknown-gates)");
   }
   warnOutsideOdometry(*sequence, *run);
+  if (self_calibration.attempted && !self_calibration.applied) {
+    warn("self-calibration not applied (" + self_calibration.why_not + "): the whole run used " + o.sequence +
+         "/camera.yaml as it is");
+  }
   if (run->initialization && !run->initialization->locked) {
     std::cerr << "dualgraph run: the VIO's frame in the gate map was not found (" << run->initialization->why_not
               << "): no detection was used and no sample has a map pose (estimate.tum is empty, tracking_state.csv "
@@ -137,6 +143,13 @@ int runRunCommand(const RunOptions& o) {
               << " agreeing detections (runner-up " << run->initialization->runner_up << "): yaw "
               << std::atan2(frame.linear()(1, 0), frame.linear()(0, 0)) * 180.0 / M_PI << " deg, offset "
               << frame.translation().norm() << " m\n";
+  }
+  if (self_calibration.applied) {
+    std::cout << "  self-calibrated on the first " << params->self_calibration_after_s << " s (" << self_calibration.iterations
+              << " runs): camera clock offset " << 1e3 * self_calibration.time_offset_before << " -> "
+              << 1e3 * self_calibration.time_offset_after << " ms (1 sigma " << 1e3 * self_calibration.time_offset_sigma
+              << " ms), mount rotation corrected by " << self_calibration.mount_change_deg << " deg; used from t="
+              << self_calibration.at_s << " s\n";
   }
   std::cout << "  tracking " << metrics->time_tracking_s << " s, lost " << metrics->time_lost_s << " s ("
             << metrics->lost_share_pct << " %), initialising " << metrics->time_initialising_s << " s; "

@@ -195,7 +195,7 @@ Status writeRunYaml(const std::string& path, const std::string& sequence, const 
   });
 }
 
-JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run) {
+JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const SelfCalibrationReport* self) {
   JsonObject json;
   json.add("ate_m", m.estimate.ate_se3_m)
       .add("ate_unaligned_m", m.estimate.ate_unaligned_m)
@@ -254,6 +254,16 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run) {
       .add("relocalizations", m.relocalizations)
       .add("keyframes_conditioned", run.localizer_counters.keyframes_conditioned)
       .add("wall_s", run.wall_seconds);
+  if (self != nullptr) {
+    json.add("self_calibration_applied", self->applied ? 1L : (self->attempted ? 0L : -1L))
+        .add("self_calibration_at_s", self->at_s)
+        .add("self_calibration_time_offset_before_s", self->time_offset_before)
+        .add("self_calibration_time_offset_s", self->time_offset_after)
+        .add("self_calibration_time_offset_sigma_s", self->time_offset_sigma)
+        .add("self_calibration_mount_change_deg", self->mount_change_deg)
+        .add("self_calibration_iterations", static_cast<long>(self->iterations))
+        .add("self_calibration_why_not", self->why_not);
+  }
   return json;
 }
 
@@ -266,7 +276,8 @@ std::string folderName(const std::string& dir) {
 }  // namespace
 
 Status writeRunFolder(const std::string& dir, const std::string& sequence_dir, const LocalizerParams& params,
-                      const SequenceRunResult& run, const RunMetrics& metrics) {
+                      const SequenceRunResult& run, const RunMetrics& metrics,
+                      const SelfCalibrationReport* self_calibration) {
   const fs::path folder(dir);
   DG_RETURN_IF_ERROR(writeTum((folder / "estimate.tum").string(), stampedPoses(mapPoses(run.estimate))));
   DG_RETURN_IF_ERROR(writeTrackingStates((folder / "tracking_state.csv").string(), run.estimate));
@@ -274,7 +285,7 @@ Status writeRunFolder(const std::string& dir, const std::string& sequence_dir, c
   DG_RETURN_IF_ERROR(writeStats((folder / "stats.csv").string(), run.stats, run.keyframes, params));
   DG_RETURN_IF_ERROR(writeRunYaml((folder / "run.yaml").string(), sequence_dir, params));
   if (!metrics.has_ground_truth) return Status();
-  return writeJsonFile((folder / "metrics.json").string(), metricsJson(metrics, run));
+  return writeJsonFile((folder / "metrics.json").string(), metricsJson(metrics, run, self_calibration));
 }
 
 Result<RunReport> loadRunReport(const std::string& run_dir, const std::string& sequence_dir) {

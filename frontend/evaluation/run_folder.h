@@ -9,6 +9,7 @@
 
 #include "core/status.h"
 #include "dual_graph/localizer_params.h"
+#include "frontend/calibration/self_calibration.h"
 #include "frontend/evaluation/run_metrics.h"
 #include "frontend/evaluation/trajectory_metrics.h"
 #include "frontend/gates/track.h"
@@ -27,8 +28,12 @@ namespace dualgraph {
 ///   run.yaml       `sequence:` (absolute), `mode:` and the keyframe thresholds (`d_main`, `d_temp` or `d_single`)
 ///   metrics.json   RunMetrics' figures (only when `metrics.has_ground_truth`; non-finite values as null)
 /// kIoError naming the file that could not be written.
+/// With `self_calibration` (a self-calibrating run), metrics.json also holds `self_calibration_applied` (1/0,
+/// −1 not attempted), `self_calibration_at_s`, `_time_offset_before_s`, `_time_offset_s`, `_time_offset_sigma_s`,
+/// `_mount_change_deg`, `_iterations` and `_why_not` (a string, empty when applied).
 Status writeRunFolder(const std::string& dir, const std::string& sequence_dir, const LocalizerParams& params,
-                      const SequenceRunResult& run, const RunMetrics& metrics);
+                      const SequenceRunResult& run, const RunMetrics& metrics,
+                      const SelfCalibrationReport* self_calibration = nullptr);
 
 /// What `dualgraph report` shows of one run folder, read by loadRunReport.
 struct RunReport {

@@ -78,6 +78,8 @@ class GateFrontend {
   const std::vector<Eigen::Vector3d>& lastUnmatched() const { return last_unmatched_; }
   /// The map as the frontend knows it (grows in mapping mode).
   const GateMap& map() const { return map_; }
+  /// Replaces the camera for the detections to come (a self-calibrated one: mount, intrinsics, time_offset).
+  void setCamera(const CameraModel& camera) { camera_ = camera; }
 
  private:
   GateFrontend(const GateFrontendParams& params, GateMap map, double gate_size, std::optional<CameraModel> camera)

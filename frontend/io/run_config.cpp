@@ -79,6 +79,7 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
     else if (key == "relocalization_sigma_r") status = readPositive(source, field, value, params.relocalization.sigma_r);
     else if (key == "relocalization_global_after_s") status = readPositive(source, field, value, params.relocalization.global_after_s);
     else if (key == "time_offset") status = readTimeOffset(source, field, value, params.time_offset);
+    else if (key == "self_calibration_after_s") status = readNumber(source, field, value, params.self_calibration_after_s);
     else return fieldError(source, entry.first.Mark(), field, "unknown key");
     DG_RETURN_IF_ERROR(status);
   }
@@ -89,6 +90,10 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
   if (pnp.min_range < 0.0 || pnp.min_range >= pnp.max_range) {
     const std::string key = marks.count("min_range") != 0 || marks.count("max_range") == 0 ? "min_range" : "max_range";
     return fieldError(source, markOf(key), "frontend." + key, "min_range must be >= 0 and below max_range");
+  }
+  if (!(params.self_calibration_after_s >= 0.0)) {
+    return fieldError(source, markOf("self_calibration_after_s"), "frontend.self_calibration_after_s",
+                      "must be >= 0 [s] (0: off)");
   }
   if (pnp.min_corner_angle_deg < 0.0 || pnp.min_corner_angle_deg >= 90.0) {
     return fieldError(source, markOf("min_corner_angle_deg"), "frontend.min_corner_angle_deg", "must be in [0, 90)");

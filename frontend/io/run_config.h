@@ -35,6 +35,17 @@ struct SequenceRunParams {
   /// Camera-to-VIO clock offset [s] (`frontend.time_offset`): when set, used instead of the camera file's
   /// CameraModel::time_offset (and for pose detections, which have no camera file).
   std::optional<double> time_offset;
+  /// Self-calibration (`frontend.self_calibration_after_s`, 0: off): once this much odometry time has passed,
+  /// the camera's clock offset and mount rotation are calibrated on the flight so far and the rest of the run
+  /// uses that camera (frontend/calibration/self_calibration.h; corner sequences with a camera only) [s].
+  double self_calibration_after_s = 0.0;
+  /// Set in code, not read: the camera the run switches to once the odometry reaches `t` [s] (its model, mount
+  /// and time_offset for the detections handed over after that; params.time_offset no longer applies).
+  struct CameraSwitch {
+    double t = 0.0;
+    CameraModel camera;
+  };
+  std::optional<CameraSwitch> camera_switch;
 
   /// The diagonal covariance from the two sigmas above.
   Matrix6d defaultPoseDetectionCovariance() const;

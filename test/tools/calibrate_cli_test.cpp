@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "frontend/io/camera_io.h"
@@ -106,6 +108,34 @@ TEST(CalibrateCli, AnUnwritableOutputExitsOneAndUsageErrorsExitTwo) {
   EXPECT_FALSE(fs::exists(tempDir() + "/missing_folder"));
   EXPECT_EQ(runDualgraph("calibrate").exit_code, 2);
   EXPECT_EQ(runDualgraph("calibrate --sequence " + lateFlight() + " --max-iterations 0").exit_code, 2);
+}
+
+// `dualgraph run` with frontend.self_calibration_after_s: the late flight's first 8 s calibrated, the rest run
+// with that camera, said on stdout and in metrics.json; when the calibration cannot be done, a warning on stderr.
+TEST(CalibrateCli, RunSelfCalibratesWhenTheConfigSaysSo) {
+  const std::string config = testing::writeFile("self_calibrating.yaml", "frontend:\n  self_calibration_after_s: 8\n");
+  const std::string out = tempDir() + "/self_run";
+  const CommandRun run = runDualgraph("run --sequence " + lateFlight() + " --out " + out + " --config " + config);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("self-calibrated on the first 8 s"), std::string::npos) << run.out;
+  const std::string metrics = readFile(out + "/metrics.json");
+  EXPECT_EQ(jsonNumber(metrics, "self_calibration_applied"), 1.0) << metrics;
+  EXPECT_NEAR(jsonNumber(metrics, "self_calibration_time_offset_s"), 0.03, 0.002) << metrics;
+  EXPECT_NEAR(jsonNumber(metrics, "self_calibration_mount_change_deg"), 1.5, 0.3) << metrics;
+  // A sequence whose detections all come after the calibration time: attempted, failed, said.
+  const std::string late_only = copyOfLateFlight("late_only");
+  std::string corners = readFile(late_only + "/corners.csv"), kept;
+  size_t line_start = 0;
+  for (size_t end; (end = corners.find('\n', line_start)) != std::string::npos; line_start = end + 1) {
+    const std::string line = corners.substr(line_start, end - line_start + 1);
+    if (line.empty() || line[0] == '#' || !std::isdigit(static_cast<unsigned char>(line[0])) || std::stod(line) > 12.0) {
+      kept += line;
+    }
+  }
+  std::ofstream(late_only + "/corners.csv") << kept;
+  const CommandRun failed = runDualgraph("run --sequence " + late_only + " --out " + tempDir() + "/self_failed --config " + config);
+  EXPECT_NE(failed.err.find("self-calibration not applied (the calibration failed"), std::string::npos) << failed.err;
+  EXPECT_EQ(jsonNumber(readFile(tempDir() + "/self_failed/metrics.json"), "self_calibration_applied"), 0.0);
 }
 
 }  // namespace
