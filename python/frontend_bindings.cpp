@@ -99,6 +99,9 @@ void bindRun(py::module_& m) {
       .def_readwrite("localizer", &SequenceRunParams::localizer)
       .def_readwrite("pose_detection_sigma_t", &SequenceRunParams::pose_detection_sigma_t)
       .def_readwrite("pose_detection_sigma_r", &SequenceRunParams::pose_detection_sigma_r)
+      .def_readwrite("self_calibration_after_s", &SequenceRunParams::self_calibration_after_s,
+                     "[s]: after this much of the flight, the camera's clock offset and mount are calibrated on the "
+                     "flight so far and the rest of the run uses that camera (0: off; data/config/default.yaml: 15)")
       .def_property("initialization", [](const SequenceRunParams& p) { return p.auto_initialize ? "auto" : "given"; },
                     [](SequenceRunParams& p, const std::string& v) {
                       if (v != "auto" && v != "given") throw py::value_error("initialization: expected auto or given, got " + v);

@@ -41,6 +41,10 @@ Result<SequenceRunResult> runSequenceSelfCalibrating(const Sequence& sequence, c
     r.why_not = "off (frontend.self_calibration_after_s: 0)";
     return runSequence(sequence, params, progress);
   }
+  if (params.localizer.mapping) {
+    r.why_not = "not in mapping mode (no map to calibrate against)";
+    return runSequence(sequence, params, progress);
+  }
   if (!sequence.has_corners || !sequence.camera) {
     r.why_not = "needs corner detections and a camera (the sequence has " +
                 std::string(sequence.has_corners ? "no camera" : "pose detections") + ")";

@@ -32,7 +32,7 @@ struct SelfCalibrationReport {
 /// camera at t_c (SequenceRunParams::camera_switch), else as it is. Causal: nothing after t_c is used before it,
 /// and up to t_c the run is the one the calibration started from. The calibration is taken as instantaneous
 /// (onboard it would run beside the flight, seconds of CPU, and be applied when done). Otherwise (off, pose
-/// detections, no camera, a flight not longer than t_c) it is runSequence, `report` saying why. Errors:
+/// detections, no camera, mapping mode, a flight not longer than t_c) it is runSequence, `report` saying why. Errors:
 /// runSequence's (a calibration that fails is reported, not returned).
 Result<SequenceRunResult> runSequenceSelfCalibrating(const Sequence& sequence, const SequenceRunParams& params,
                                                       const RunProgress& progress, SelfCalibrationReport* report,

@@ -117,6 +117,13 @@ class SameAsTheCli(unittest.TestCase):
         with self.assertRaises(ValueError):
             config.initialization = "guess"
 
+    def test_self_calibration_is_the_configs(self):
+        self.assertEqual(dualgraph.RunConfig().self_calibration_after_s, 0.0)
+        self.assertEqual(dualgraph.load_run_config(CONFIG).self_calibration_after_s, 15.0)
+        config = dualgraph.load_run_config(CONFIG)
+        config.self_calibration_after_s = 0.0
+        self.assertIsNone(dualgraph.run_sequence(self.sequence, config).camera_switched_at)
+
     def test_localizer_driven_from_python_equals_dualgraph_run(self):
         times, poses, localizer = localize_in_python(self.sequence, self.config)
         self.assertSameTrajectory(times, poses, self.cli_times, self.cli_poses)
