@@ -66,6 +66,7 @@ struct SequenceRunParams {
 ///                                      #   [rad], allow_reversed, mapping_min_sightings, mapping_consistency [m]
 ///       pose_detection_sigma_t: 0.1  # SequenceRunParams [m], [rad] (_r)
 ///       time_offset: 0.015           # optional [s]: overrides the camera file's time_offset
+///       self_calibration_after_s: 15 # [s], >= 0 (0: off): self-calibration (frontend/calibration/self_calibration.h)
 ///       relocalization_sigma_t: 2.0  # RelocalizationParams [m]; likewise _sigma_r [rad], _global_after_s [s]
 ///
 /// Either section may be missing (defaults). Errors are "source:LINE: field 'NAME': why": kParseError
