@@ -3,13 +3,102 @@
 // 10 s of compile per file at -O3 (14 s under the sanitizers), so the command files stay free of it.
 #include "tools/command_line.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <string>
+#include <vector>
+
 namespace dualgraph::tools {
+namespace {
+
+/// A number > 0 (the message names the value: CLI11's PositiveNumber printed its range's DBL_MAX in full).
+CLI::Validator positive() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !std::isfinite(value)) return "'" + text + "' is not a number";
+        return value > 0.0 ? std::string() : "must be > 0 (got " + text + ")";
+      },
+      "POSITIVE");
+}
+
+/// A number ≥ 0, likewise.
+CLI::Validator nonNegative() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !std::isfinite(value)) return "'" + text + "' is not a number";
+        return value >= 0.0 ? std::string() : "must be >= 0 (got " + text + ")";
+      },
+      "NONNEGATIVE");
+}
+
+/// Edit distance (insertions, deletions, substitutions) between two short words.
+size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string versionText() { return std::string("dualgraph ") + DUALGRAPH_VERSION; }
+
+}  // namespace
+
+void configureApp(CLI::App& app) {
+  app.name("dualgraph");
+  app.option_defaults()->always_capture_default();
+  app.set_version_flag("--version", versionText(), "Print the version and exit");
+}
+
+int answerBeforeParsing(const CLI::App& app, int argc, char** argv) {
+  if (argc < 2) return -1;
+  const std::string word = argv[1];
+  if (word == "help") {
+    std::cout << app.help();
+    return 0;
+  }
+  if (word == "version") {
+    std::cout << versionText() << "\n";
+    return 0;
+  }
+  if (word.empty() || word[0] == '-') return -1;
+  std::vector<std::string> names;
+  std::string nearest;
+  size_t nearest_distance = 3;  // suggest only within 2 edits
+  for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; })) {
+    if (command->get_name() == word) return -1;
+    names.push_back(command->get_name());
+    const size_t distance = editDistance(word, command->get_name());
+    if (distance < nearest_distance) {
+      nearest_distance = distance;
+      nearest = command->get_name();
+    }
+  }
+  std::string list;
+  for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
+  std::cerr << "dualgraph: unknown command '" << word << "'" << (nearest.empty() ? "" : " (did you mean '" + nearest + "'?)")
+            << "; the commands are " << list << " (dualgraph --help)\n";
+  return 2;
+}
 
 CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& o) {
   CLI::App* cmd = app.add_subcommand("optimize", "Optimise a g2o file and print a summary");
   cmd->add_option("input", o.input, "Input graph (g2o text format)");
   cmd->add_option("-o,--output", o.output, "Write the optimised graph here (only on success)");
-  cmd->add_option("-i,--iterations", o.iterations, "Maximum iterations")->check(CLI::NonNegativeNumber);
+  cmd->add_option("-i,--iterations", o.iterations, "Maximum iterations")->check(nonNegative());
   cmd->add_option("--solver", o.algorithm, "lm (Levenberg-Marquardt) or gn (Gauss-Newton)")
       ->check(CLI::IsMember({"lm", "gn"}));
   cmd->add_option("--linear", o.linear, "Linear solver: cholmod, eigen or auto (Eigen up to 3000 unknowns, CHOLMOD above)")
@@ -43,7 +132,7 @@ CLI::App* addEvalCommand(CLI::App& app, EvalOptions& o) {
   cmd->add_option("--json", o.json, "Also write the metrics as one JSON object to this file (atomically)");
   cmd->add_option("--max-gap", o.max_gap_s, "Estimate poses without ground truth within this many seconds are "
                                             "not associated (counted)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   return cmd;
 }
 
@@ -54,8 +143,8 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
   cmd->add_option("--out", o.out, "Sequence folder to write (created)")->required();
   cmd->add_option("--seed", p.seed, "Seed of every random draw");
   cmd->add_option("--camera", o.camera, "Camera YAML (default: the bundled RATM piloted camera)");
-  cmd->add_option("--laps", o.laps, "Laps (default: the track's)")->check(CLI::PositiveNumber);
-  cmd->add_option("--speed", o.speed, "Top speed [m/s] (default: the track's)")->check(CLI::PositiveNumber);
+  cmd->add_option("--laps", o.laps, "Laps (default: the track's)")->check(positive())->default_str("");
+  cmd->add_option("--speed", o.speed, "Top speed [m/s] (default: the track's)")->check(positive())->default_str("");
   cmd->add_option("--detections", o.detections, "corners (pixels, corners.csv) or poses (PnP, detections.csv)")
       ->check(CLI::IsMember({"corners", "poses"}));
   cmd->add_option("--gt-rate", p.gt_rate, "Ground-truth rate [Hz] (>= 100)");
@@ -93,6 +182,10 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
   cmd->add_option("--camera-time-offset", p.field.camera_time_offset, "Detections stamped this late [s]");
   cmd->add_option("--camera-mount-error", p.field.camera_mount_error_deg, "Written camera mount off by [deg]");
   cmd->add_flag("--no-plot", o.no_plot, "Do not write xy.png");
+  for (const std::string& name : profileOptionNames()) {  // their defaults are the --profile's, not the struct's
+    CLI::Option* option = cmd->get_option(name);
+    option->default_str("")->description(option->get_description() + " (default: the --profile's)");
+  }
   cmd->final_callback([cmd, &o] {
     for (const CLI::Option* option : cmd->get_options()) {
       if (option->count() > 0) o.given.insert(option->get_name());
@@ -108,9 +201,12 @@ CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
   cmd->add_option("--out", o.out, "Output folder (created)")->required();
   cmd->add_option("--config", o.config, "Configuration YAML (default: the bundled data/config/default.yaml)");
   cmd->add_option("--mode", o.mode, "dual or single (default: the config's)")->check(CLI::IsMember({"dual", "single"}));
-  cmd->add_option("--d-main", o.d_main, "Main-graph keyframe distance [m]")->check(CLI::PositiveNumber);
-  cmd->add_option("--d-temp", o.d_temp, "Temporary-graph node distance [m]")->check(CLI::PositiveNumber);
-  cmd->add_option("--d-single", o.d_single, "Single-graph node distance [m]")->check(CLI::PositiveNumber);
+  cmd->add_option("--d-main", o.d_main, "Main-graph keyframe distance [m] (default: the config's)")
+      ->check(positive())->default_str("");
+  cmd->add_option("--d-temp", o.d_temp, "Temporary-graph node distance [m] (default: the config's)")
+      ->check(positive())->default_str("");
+  cmd->add_option("--d-single", o.d_single, "Single-graph node distance [m] (default: the config's)")
+      ->check(positive())->default_str("");
   cmd->add_flag("--quiet", o.quiet, "No progress line and no summary (warnings still go to stderr)");
   cmd->add_flag("--skip-unknown-gates", o.skip_unknown_gates,
                 "Drop detections naming a gate that is not in gates.yaml, with a warning (default: exit 1 naming the line)");
@@ -122,7 +218,8 @@ CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
 
 CLI::App* addAblationCommand(CLI::App& app, AblationOptions& o) {
   CLI::App* cmd = app.add_subcommand("ablation", "Simulate and run the paper's ablation: Tables I-IV (Markdown + CSV)");
-  cmd->add_option("--tracks", o.tracks, "Track YAML files (default: the bundled RATM ellipse and lemniscate)");
+  cmd->add_option("--tracks", o.tracks, "Track YAML files (default: the bundled RATM ellipse and lemniscate)")
+      ->default_str("");
   cmd->add_option("--seeds", o.seeds, "Seeds, e.g. 1,2,3")->delimiter(',');
   cmd->add_option("--profiles", o.profiles,
                   "Simulation profiles side by side (Table IV), e.g. realistic,clean,harsh (the default); Tables I-III on the first")
@@ -130,7 +227,7 @@ CLI::App* addAblationCommand(CLI::App& app, AblationOptions& o) {
       ->check(CLI::IsMember({"clean", "realistic", "harsh"}));
   cmd->add_option("--out", o.out, "Output folder (sequences, runs and tables)")->required();
   cmd->add_option("--config", o.config, "Base configuration (default: the bundled data/config/default.yaml)");
-  cmd->add_option("--laps", o.laps, "Laps per flight (default: the tracks')")->check(CLI::PositiveNumber);
+  cmd->add_option("--laps", o.laps, "Laps per flight (default: the tracks')")->check(positive())->default_str("");
   cmd->add_flag("--quiet", o.quiet, "No progress lines");
   return cmd;
 }
@@ -138,7 +235,7 @@ CLI::App* addAblationCommand(CLI::App& app, AblationOptions& o) {
 CLI::App* addReportCommand(CLI::App& app, ReportOptions& o) {
   CLI::App* cmd = app.add_subcommand(
       "report", "HTML report (inline SVG) and PNG plots of run folders: XY trajectories, error, optimisation time");
-  cmd->add_option("--run", o.runs, "Run folder of `dualgraph run` (repeat for several runs)")->required();
+  cmd->add_option("--run", o.runs, "Run folder of `dualgraph run` (repeat for several runs)")->required()->default_str("");
   cmd->add_option("--out", o.out, "HTML file to write; the PNGs <run>_xy.png, ... go next to it")->required();
   cmd->add_option("--sequence", o.sequence, "Sequence folder of every run (default: the one run.yaml names)");
   return cmd;
@@ -153,9 +250,9 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
   cmd->add_option("--out", o.out, "Write the calibrated camera YAML here (time_offset and the corrected body_T_camera)");
   cmd->add_option("--json", o.json, "Write the report (estimate, 1 sigma, every run) as one JSON object here");
   cmd->add_option("--max-iterations", o.max_iterations, "Runs at most (each: run, match, solve, update)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   cmd->add_option("--knot-spacing", o.knot_spacing, "Knot spacing of the VIO drift correction [s] (default 4)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive())->default_str("");
   cmd->add_flag("--quiet", o.quiet, "No per-run lines and no summary");
   return cmd;
 }

@@ -14,6 +14,13 @@
 
 namespace dualgraph::tools {
 
+/// Before any subcommand is added: every option's default shown in --help, and --version ("dualgraph X.Y.Z").
+void configureApp(CLI::App& app);
+/// What `dualgraph` answers before parsing: the words `help` (usage, exit 0) and `version` (exit 0), and an
+/// unknown command (one line naming it, the nearest command when one is close, and the commands; exit 2).
+/// Returns that exit code, or −1 when parsing should go on.
+int answerBeforeParsing(const CLI::App& app, int argc, char** argv);
+
 // Each registers its subcommand and flags on `app`, bound to `options` (defaults: the struct's).
 CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& options);
 CLI::App* addEvalCommand(CLI::App& app, EvalOptions& options);

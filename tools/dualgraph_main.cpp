@@ -10,6 +10,7 @@
 int main(int argc, char** argv) {
   CLI::App app{"dualgraph: drift-corrected localisation with a dual pose graph, and its graph engine"};
   app.require_subcommand(1);
+  dualgraph::tools::configureApp(app);
   dualgraph::tools::OptimizeOptions optimize_options;
   CLI::App* optimize = dualgraph::tools::addOptimizeCommand(app, optimize_options);
   dualgraph::tools::EvalOptions eval_options;
@@ -24,6 +25,8 @@ int main(int argc, char** argv) {
   CLI::App* report = dualgraph::tools::addReportCommand(app, report_options);
   dualgraph::tools::CalibrateOptions calibrate_options;
   CLI::App* calibrate = dualgraph::tools::addCalibrateCommand(app, calibrate_options);
+  const int answered = dualgraph::tools::answerBeforeParsing(app, argc, argv);
+  if (answered >= 0) return answered;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

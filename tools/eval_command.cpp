@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "core/atomic_file.h"
 #include "frontend/io/odometry_io.h"
 #include "frontend/evaluation/trajectory_metrics.h"
 #include "frontend/io/json_writer.h"
@@ -83,6 +84,10 @@ JsonObject toJson(const EvalOptions& o, const TrajectoryMetrics& m) {
 int runEvalCommand(const EvalOptions& o) {
   const auto alignment = parseTrajectoryAlignment(o.align);
   if (!alignment.ok()) return fail(alignment.status().message());
+  if (!o.json.empty()) {  // before the work, not after it
+    const Status writable = checkWritableFile(o.json);
+    if (!writable.ok()) return fail(writable.message());
+  }
   const auto gt = readTumOdometry(o.gt);
   if (!gt.ok()) return fail(gt.status().message());
   const auto est = readTumOdometry(o.est);

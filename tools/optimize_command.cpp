@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "core/atomic_file.h"
 #include "core/g2o_io.h"
 #include "core/optimizer.h"
 #include "solvers/linear_solver_factory.h"
@@ -50,6 +51,10 @@ int runOptimizeCommand(const OptimizeOptions& o) {
   if (o.input.empty()) return fail("an input file is required (or --list-types)");
   const auto linear_kind = parseLinearSolverKind(o.linear);
   if (!linear_kind.ok()) return fail(linear_kind.status().message());
+  if (!o.output.empty()) {  // before the work, not after it
+    const Status writable = checkWritableFile(o.output);
+    if (!writable.ok()) return fail(writable.message());
+  }
 
   const auto load_start = std::chrono::steady_clock::now();
   Graph graph;

@@ -41,39 +41,57 @@ Status writePlot(const std::string& path, const SimulatedRace& race) {
   return writeXyPlotPng(path, plot);
 }
 
+// Every option whose default is the profile's: visit(name, from's field, to's field), in one place for the
+// help text (profileOptionNames) and for applyProfileUnderFlags.
+template <typename Visit>
+void forEachProfileOption(const RaceSimParams& from, RaceSimParams& to, Visit&& visit) {
+  visit("--pixel-sigma", from.detection.pixel_sigma, to.detection.pixel_sigma);
+  visit("--blur", from.detection.blur_px_per_rad_s, to.detection.blur_px_per_rad_s);
+  visit("--min-visible-corners", from.detection.min_visible_corners, to.detection.min_visible_corners);
+  visit("--lap-speed-variation", from.flight.lap_speed_variation, to.flight.lap_speed_variation);
+  visit("--lap-line-variation", from.flight.lap_line_variation, to.flight.lap_line_variation);
+  visit("--max-range", from.detection.max_range, to.detection.max_range);
+  visit("--miss-probability", from.detection.miss_probability, to.detection.miss_probability);
+  visit("--displaced-corner-probability", from.detection.displaced_corner_probability, to.detection.displaced_corner_probability);
+  visit("--wrong-id-probability", from.detection.wrong_id_probability, to.detection.wrong_id_probability);
+  visit("--false-gate-probability", from.detection.false_gate_probability, to.detection.false_gate_probability);
+  visit("--unknown-ids", from.detection.unknown_ids, to.detection.unknown_ids);
+  visit("--yaw-rate-bias", from.vio.yaw_rate_bias, to.vio.yaw_rate_bias);
+  visit("--velocity-bias", from.vio.velocity_bias, to.vio.velocity_bias);
+  visit("--velocity-bias-random-walk", from.vio.velocity_bias_random_walk, to.vio.velocity_bias_random_walk);
+  visit("--scale-error-sigma", from.vio.scale_error_sigma, to.vio.scale_error_sigma);
+  visit("--map-sigma", from.map_position_sigma, to.map_position_sigma);
+  visit("--map-yaw-sigma", from.map_yaw_sigma, to.map_yaw_sigma);
+  visit("--vio-frame-yaw", from.field.vio_frame_yaw, to.field.vio_frame_yaw);
+  visit("--vio-frame-offset", from.field.vio_frame_offset, to.field.vio_frame_offset);
+  visit("--camera-time-offset", from.field.camera_time_offset, to.field.camera_time_offset);
+  visit("--camera-mount-error", from.field.camera_mount_error_deg, to.field.camera_mount_error_deg);
+}
+
 // The profile's parameters, except those the command line gave (`given`: the option names it counted, so a
 // flag given with the clean value, `--blur 0`, wins over the profile too).
 Status applyProfileUnderFlags(const std::string& profile, const std::set<std::string>& given, RaceSimParams& p) {
   const RaceSimParams flags = p;
   DG_RETURN_IF_ERROR(applySimulationProfile(profile, p));
-  auto keep = [&given](const char* option, const auto& flag, auto& out) {
+  forEachProfileOption(flags, p, [&given](const std::string& option, const auto& flag, auto& out) {
     if (given.count(option) > 0) out = flag;
-  };
-  keep("--pixel-sigma", flags.detection.pixel_sigma, p.detection.pixel_sigma);
-  keep("--blur", flags.detection.blur_px_per_rad_s, p.detection.blur_px_per_rad_s);
-  keep("--min-visible-corners", flags.detection.min_visible_corners, p.detection.min_visible_corners);
-  keep("--lap-speed-variation", flags.flight.lap_speed_variation, p.flight.lap_speed_variation);
-  keep("--lap-line-variation", flags.flight.lap_line_variation, p.flight.lap_line_variation);
-  keep("--max-range", flags.detection.max_range, p.detection.max_range);
-  keep("--miss-probability", flags.detection.miss_probability, p.detection.miss_probability);
-  keep("--displaced-corner-probability", flags.detection.displaced_corner_probability, p.detection.displaced_corner_probability);
-  keep("--wrong-id-probability", flags.detection.wrong_id_probability, p.detection.wrong_id_probability);
-  keep("--false-gate-probability", flags.detection.false_gate_probability, p.detection.false_gate_probability);
-  keep("--unknown-ids", flags.detection.unknown_ids, p.detection.unknown_ids);
-  keep("--yaw-rate-bias", flags.vio.yaw_rate_bias, p.vio.yaw_rate_bias);
-  keep("--velocity-bias", flags.vio.velocity_bias, p.vio.velocity_bias);
-  keep("--velocity-bias-random-walk", flags.vio.velocity_bias_random_walk, p.vio.velocity_bias_random_walk);
-  keep("--scale-error-sigma", flags.vio.scale_error_sigma, p.vio.scale_error_sigma);
-  keep("--map-sigma", flags.map_position_sigma, p.map_position_sigma);
-  keep("--map-yaw-sigma", flags.map_yaw_sigma, p.map_yaw_sigma);
-  keep("--vio-frame-yaw", flags.field.vio_frame_yaw, p.field.vio_frame_yaw);
-  keep("--vio-frame-offset", flags.field.vio_frame_offset, p.field.vio_frame_offset);
-  keep("--camera-time-offset", flags.field.camera_time_offset, p.field.camera_time_offset);
-  keep("--camera-mount-error", flags.field.camera_mount_error_deg, p.field.camera_mount_error_deg);
+  });
   return Status();
 }
 
 }  // namespace
+
+const std::vector<std::string>& profileOptionNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    RaceSimParams scratch;
+    forEachProfileOption(RaceSimParams{}, scratch, [&out](const std::string& option, const auto&, auto&) {
+      out.push_back(option);
+    });
+    return out;
+  }();
+  return names;
+}
 
 int runSimulateCommand(SimulateOptions o) {
   auto track = loadTrackYaml(o.track);

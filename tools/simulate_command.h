@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "frontend/simulation/race_profiles.h"
 #include "frontend/simulation/race_sequence.h"
@@ -26,6 +27,9 @@ struct SimulateOptions {
   RaceSimParams params;
   std::set<std::string> given;  ///< the options the command line gave ("--blur", …): they win over the profile
 };
+
+/// The options whose default is the --profile's (the profile sets them; given on the command line, they win).
+const std::vector<std::string>& profileOptionNames();
 
 /// Runs it; returns the process exit code (0 ok, 1 bad input or failure).
 int runSimulateCommand(SimulateOptions options);

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/token_reader.h"
 #include "frontend/io/yaml_fields.h"
 
@@ -284,16 +285,10 @@ Status saveTrackYaml(const std::string& path, const Track& track) {
   const std::string text = trackToYaml(track);
   const auto check = parseTrackYaml(text, path);
   if (!check.ok()) return Status(StatusCode::kInvalidArgument, check.status().message() + " (track not written)");
-  const std::string temporary = path + ".tmp";
-  std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-  if (!out) return Status(StatusCode::kIoError, temporary + ": cannot open for writing");
-  out << text;
-  out.close();
-  if (!out || std::rename(temporary.c_str(), path.c_str()) != 0) {
-    std::remove(temporary.c_str());
-    return Status(StatusCode::kIoError, path + (out ? ": cannot rename the temporary file into place" : ": write failed"));
-  }
-  return Status::okStatus();
+  return writeFileAtomically(path, [&text](std::ostream& out) {
+    out << text;
+    return Status::okStatus();
+  });
 }
 
 }  // namespace dualgraph

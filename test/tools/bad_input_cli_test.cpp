@@ -72,6 +72,7 @@ TEST(BadInputCli, OptimizeBadGraphWritesNoOutput) {
                                       "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\nVERTEX_SE3:QUAT 1 1 0 0 0 0 0 1\n"
                                       "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 nan\n");
   const std::string out = tempDir() + "/optimize_out";
+  fs::create_directories(out);  // a writable output (a missing folder is refused before the input is read)
   EXPECT_TRUE(failsWithOneLine(runDualgraph("optimize " + input + " -o " + out + "/graph.g2o"), input + ":3:"));
   EXPECT_TRUE(contents(out).empty());
 }
@@ -89,6 +90,7 @@ TEST(BadInputCli, EvalBadGroundTruthWritesNoJson) {
   const std::string gt = writeFile("eval_gt.tum", "0 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 0\n");
   const std::string est = writeFile("eval_est.tum", "0 0 0 0 0 0 0 1\n1 1 0 0 0 0 0 1\n");
   const std::string out = tempDir() + "/eval_out";
+  fs::create_directories(out);  // a writable output (a missing folder is refused before the inputs are read)
   EXPECT_TRUE(failsWithOneLine(runDualgraph("eval --gt " + gt + " --est " + est + " --json " + out + "/m.json"),
                                gt + ":2:"));
   EXPECT_TRUE(contents(out).empty());
