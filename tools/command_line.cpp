@@ -125,14 +125,18 @@ CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& o) {
 
 CLI::App* addEvalCommand(CLI::App& app, EvalOptions& o) {
   CLI::App* cmd = app.add_subcommand("eval", "Trajectory accuracy of an estimate against ground truth (ATE, RPE)");
-  cmd->add_option("--gt", o.gt, "Ground truth, TUM (t x y z qx qy qz qw)")->required();
-  cmd->add_option("--est", o.est, "Estimate, TUM (covariance columns allowed and ignored)")->required();
+  cmd->add_option("--gt", o.gt, "Ground truth: TUM (t x y z qx qy qz qw, s) or EuRoC CSV (#timestamp [ns],p_RS_R_x,...)")
+      ->required();
+  cmd->add_option("--est", o.est, "Estimate, TUM (covariance columns allowed and ignored) or EuRoC CSV")->required();
   cmd->add_option("--align", o.align, "Alignment for the rotation ATE: se3 (Umeyama, no scale), 4dof (x y z yaw), none")
       ->check(CLI::IsMember({"se3", "4dof", "none"}));
   cmd->add_option("--json", o.json, "Also write the metrics as one JSON object to this file (atomically)");
   cmd->add_option("--max-gap", o.max_gap_s, "Estimate poses without ground truth within this many seconds are "
                                             "not associated (counted)")
       ->check(positive());
+  cmd->add_option("--min-associated", o.min_associated,
+                  "Fewer estimate poses with ground truth than this share is an error naming both time spans")
+      ->check(CLI::Range(0.0, 1.0));
   return cmd;
 }
 

@@ -33,6 +33,13 @@ std::string rpeKey(double distance_m) {
   return buffer;
 }
 
+/// "[t_first, t_last] s" of a trajectory (not empty: the readers refuse empty files).
+std::string spanOf(const StampedPoses& poses) {
+  char buffer[96];
+  std::snprintf(buffer, sizeof(buffer), "[%.6f, %.6f] s", poses.front().first, poses.back().first);
+  return buffer;
+}
+
 void printTable(const TrajectoryMetrics& m) {
   const std::string selected = trajectoryAlignmentName(m.alignment);
   std::printf("%-14s %ld of %ld estimate poses (before the ground truth %ld, after it %ld, beyond the gap %ld)\n",
@@ -88,17 +95,37 @@ int runEvalCommand(const EvalOptions& o) {
     const Status writable = checkWritableFile(o.json);
     if (!writable.ok()) return fail(writable.message());
   }
-  const auto gt = readTumOdometry(o.gt);
+  TrajectoryFormat gt_format = TrajectoryFormat::kTum, est_format = TrajectoryFormat::kTum;
+  const auto gt = readTrajectory(o.gt, &gt_format);
   if (!gt.ok()) return fail(gt.status().message());
-  const auto est = readTumOdometry(o.est);
+  const auto est = readTrajectory(o.est, &est_format);
   if (!est.ok()) return fail(est.status().message());
+  const StampedPoses gt_poses = stampedPosesFromSamples(gt->samples), est_poses = stampedPosesFromSamples(est->samples);
+
+  // Too few estimate poses with ground truth: the two files do not describe the same stretch of time (another
+  // clock, nanoseconds read as seconds, another flight) and any figure would be a plausible wrong answer.
+  const auto association = associateByTime(gt_poses, est_poses, o.max_gap_s);
+  if (!association.ok()) return fail(o.est + " against " + o.gt + ": " + association.status().message());
+  const long associated = static_cast<long>(association->size());
+  if (static_cast<double>(associated) < o.min_associated * static_cast<double>(est_poses.size())) {
+    char share[32];
+    std::snprintf(share, sizeof(share), "%.1f %%", 100.0 * static_cast<double>(associated) / static_cast<double>(est_poses.size()));
+    return fail("only " + std::to_string(associated) + " of " + std::to_string(est_poses.size()) + " estimate poses (" +
+                share + ", below --min-associated " + std::to_string(o.min_associated) + ") have ground truth within " +
+                std::to_string(o.max_gap_s) + " s: " + o.est + " (" + trajectoryFormatName(est_format) + ") spans " +
+                spanOf(est_poses) + ", " + o.gt + " (" + trajectoryFormatName(gt_format) + ") spans " + spanOf(gt_poses) +
+                " (another clock, or nanoseconds read as seconds?)");
+  }
 
   TrajectoryMetricsParams params;
   params.alignment = *alignment;
   params.max_gap_s = o.max_gap_s;
-  const auto metrics =
-      evaluateTrajectory(stampedPosesFromSamples(gt->samples), stampedPosesFromSamples(est->samples), params);
+  const auto metrics = evaluateTrajectory(gt_poses, est_poses, params);
   if (!metrics.ok()) return fail(o.est + " against " + o.gt + ": " + metrics.status().message());
+  std::printf("%-14s %s: %s, %zu poses, %s\n", "ground truth", o.gt.c_str(), trajectoryFormatName(gt_format),
+              gt_poses.size(), spanOf(gt_poses).c_str());
+  std::printf("%-14s %s: %s, %zu poses, %s\n", "estimate", o.est.c_str(), trajectoryFormatName(est_format),
+              est_poses.size(), spanOf(est_poses).c_str());
   printTable(*metrics);
   if (!o.json.empty()) {
     const Status written = writeJsonFile(o.json, toJson(o, *metrics));

@@ -6,14 +6,16 @@
 
 namespace dualgraph::tools {
 
-/// Options of `dualgraph eval`: an estimate (TUM, estimate_T_body) against ground truth (TUM,
-/// world_T_body); times in s, positions in m.
+/// Options of `dualgraph eval`: an estimate (estimate_T_body) against ground truth (world_T_body), each a TUM
+/// file (t in s) or a EuRoC/ASL CSV (t in ns, recognised from its header, frontend/io/odometry_io.h); m.
 struct EvalOptions {
   std::string gt;           ///< ground-truth TUM file
   std::string est;          ///< estimate TUM file (covariance columns allowed, ignored)
   std::string align = "se3";  ///< se3, 4dof or none: the alignment of the rotation ATE
   std::string json;         ///< write the metrics here as one JSON object (atomically) when set
   double max_gap_s = 0.1;   ///< association gap [s]
+  /// Below this share of the estimate's poses with ground truth: an error naming both files' time spans.
+  double min_associated = 0.5;
 };
 
 /// Runs it; returns the process exit code (0 ok, 1 bad input or no usable overlap).

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
 #include <map>
+#include <string>
 
 #include "types/se3_covariance.h"
 #include "frontend/io/delimited_text.h"
@@ -116,6 +118,23 @@ Result<OdometryLog> readTumOdometry(const std::string& path) {
   }
   if (log.samples.empty()) return noDataRows(path, *lines);
   return log;
+}
+
+const char* trajectoryFormatName(TrajectoryFormat format) {
+  return format == TrajectoryFormat::kEuroc ? "EuRoC CSV" : "TUM";
+}
+
+Result<OdometryLog> readTrajectory(const std::string& path, TrajectoryFormat* format) {
+  std::ifstream in(path);
+  if (!in) return readTumOdometry(path);  // its own message (missing, a folder, unreadable)
+  std::string first;
+  while (std::getline(in, first) && first.find_first_not_of(" \t\r") == std::string::npos) {
+  }
+  const size_t start = first.find_first_not_of(" \t");
+  const bool euroc = start != std::string::npos &&
+                     (first.compare(start, 10, "#timestamp") == 0 || first.find("p_RS_R_x") != std::string::npos);
+  if (format != nullptr) *format = euroc ? TrajectoryFormat::kEuroc : TrajectoryFormat::kTum;
+  return euroc ? readEurocOdometry(path) : readTumOdometry(path);
 }
 
 Result<OdometryLog> readEurocOdometry(const std::string& path) {

@@ -38,6 +38,15 @@ Result<OdometryLog> readTumOdometry(const std::string& path);
 /// No covariance.
 Result<OdometryLog> readEurocOdometry(const std::string& path);
 
+/// A trajectory file's format, as readTrajectory recognised it.
+enum class TrajectoryFormat { kTum, kEuroc };
+const char* trajectoryFormatName(TrajectoryFormat format);  ///< "TUM", "EuRoC CSV"
+
+/// A trajectory in either format, recognised from its first non-blank line: a EuRoC/ASL header (starting
+/// `#timestamp` or naming `p_RS_R_x`) is readEurocOdometry (nanoseconds, w first), anything else
+/// readTumOdometry (seconds, w last). `format` (optional) says which. The readers' own errors.
+Result<OdometryLog> readTrajectory(const std::string& path, TrajectoryFormat* format = nullptr);
+
 /// How many eigenvalues `toRelativeCovariances` had to raise to its floor (a sign that the absolute
 /// covariances are not a random walk, e.g. they shrank after a loop closure or a reset).
 struct RelativeCovarianceReport {

@@ -201,6 +201,35 @@ TEST(EurocOdometry, ColumnsAreMatchedByNameInAnyOrder) {
   EXPECT_TRUE(log->samples[0].odom_T_body.linear().isApprox(quatFromXyzw(0, 0, 1, 0).toRotationMatrix()));
 }
 
+TEST(TrajectoryFile, TheFormatIsRecognisedFromTheFirstLine) {
+  ReadersTempDir dir;
+  struct Case {
+    const char* name;
+    const char* text;
+    TrajectoryFormat format;
+    double first_t;
+  };
+  const Case cases[] = {
+      {"euroc.csv", "\n#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n"
+                    "2000000000,1,2,3,1,0,0,0\n", TrajectoryFormat::kEuroc, 2.0},
+      {"euroc_named.csv", "# q_RS_x [], q_RS_y [], q_RS_z [], q_RS_w [], timestamp [ns], p_RS_R_z [m], p_RS_R_y [m], "
+                          "p_RS_R_x [m]\n0,0,0,1,1000000000,3,2,1\n", TrajectoryFormat::kEuroc, 1.0},
+      {"tum.txt", "\n  \n# t tx ty tz qx qy qz qw\n2000000000 1 2 3 0 0 0 1\n", TrajectoryFormat::kTum, 2e9},
+      {"tum_bare.txt", "0.5 1 2 3 0 0 0 1\n", TrajectoryFormat::kTum, 0.5},
+  };
+  for (const Case& c : cases) {
+    TrajectoryFormat format = c.format == TrajectoryFormat::kTum ? TrajectoryFormat::kEuroc : TrajectoryFormat::kTum;
+    Result<OdometryLog> log = readTrajectory(dir.write(c.name, c.text), &format);
+    ASSERT_TRUE(log.ok()) << c.name << ": " << log.status().toString();
+    EXPECT_EQ(format, c.format) << c.name;
+    EXPECT_EQ(log->samples.front().t, c.first_t) << c.name;
+  }
+  EXPECT_STREQ(trajectoryFormatName(TrajectoryFormat::kEuroc), "EuRoC CSV");
+  const Status missing = readTrajectory(dir.file("missing.txt")).status();
+  EXPECT_FALSE(missing.ok());
+  EXPECT_NE(missing.message().find("missing.txt"), std::string::npos) << missing.message();
+}
+
 TEST(OdometryIncrements, ByIndexAndByTimeWithGeodesicInterpolation) {
   std::vector<OdometrySample> samples(2);
   samples[1].t = 1.0;

@@ -116,6 +116,56 @@ TEST(EvalCli, NoOverlapInTimeExitsOneAndWritesNothing) {
   EXPECT_FALSE(testing::fileExists(json_path));
 }
 
+/// The loop of loopTum as a EuRoC/ASL ground-truth CSV: t in ns from `t0_ns`, position, quaternion w first.
+std::string loopEuroc(int poses, long long t0_ns) {
+  std::ostringstream text;
+  text.precision(17);
+  text << "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n";
+  for (int k = 0; k < poses; ++k) {
+    const double t = 0.05 * k;
+    const double a = 0.2 * t;
+    const double yaw = std::atan2(10.0 * std::cos(2.0 * a), -10.0 * std::sin(a));
+    text << t0_ns + 50000000LL * k << ',' << 10.0 * std::cos(a) << ',' << 5.0 * std::sin(2.0 * a) << ','
+         << 1.5 + 0.5 * std::sin(0.3 * t) << ',' << std::cos(yaw / 2.0) << ",0,0," << std::sin(yaw / 2.0) << '\n';
+  }
+  return text.str();
+}
+
+// Issue 23, item 2: a EuRoC CSV ground truth was read as TUM ("associated 11 of 9486", ATE 0.0042 m, exit 0).
+TEST(EvalCli, AEurocGroundTruthIsRecognisedFromItsHeader) {
+  const std::string gt = writeFile("gt_euroc.csv", loopEuroc(600, 0));
+  // One pose fewer: 0.05·599 in double lies a hair after the ground truth's last stamp, 29950000000 ns.
+  const std::string est = writeFile("est_for_euroc.tum", loopTum(599, 0.0, kOffset, false));
+  const CommandRun run = runDualgraph("eval --gt " + gt + " --est " + est);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("ground truth   " + gt + ": EuRoC CSV, 600 poses, [0.000000, 29.950000] s"), std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("estimate       " + est + ": TUM, 599 poses"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("associated     599 of 599"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("ATE unaligned  1.3000 m"), std::string::npos) << run.out;
+}
+
+// Files that do not describe the same stretch of time (another clock; nanoseconds read as seconds) give an
+// error naming both spans instead of figures from the few poses that happen to associate.
+TEST(EvalCli, TooFewAssociatedPosesIsAnErrorNamingBothTimeSpans) {
+  const std::string gt = writeFile("gt_mostly_before.tum", loopTum(600, 0.0, kNoOffset, false));     // [0, 29.95] s
+  const std::string est = writeFile("est_mostly_after.tum", loopTum(600, 27.0, kNoOffset, false));   // [27, 56.95] s
+  const std::string json_path = tempDir() + "/too_few.json";
+  const CommandRun run = runDualgraph("eval --gt " + gt + " --est " + est + " --json " + json_path);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("only 60 of 600 estimate poses (10.0 %, below --min-associated 0.5"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find(est + " (TUM) spans [27.000000, 56.950000] s"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find(gt + " (TUM) spans [0.000000, 29.950000] s"), std::string::npos) << run.err;
+  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+  EXPECT_TRUE(run.out.empty()) << run.out;
+  EXPECT_FALSE(testing::fileExists(json_path));
+  // Asked for, the overlap alone is evaluated.
+  const CommandRun allowed = runDualgraph("eval --gt " + gt + " --est " + est + " --min-associated 0.05");
+  EXPECT_EQ(allowed.exit_code, 0) << allowed.err;
+  EXPECT_NE(allowed.out.find("associated     60 of 600"), std::string::npos) << allowed.out;
+  EXPECT_EQ(runDualgraph("eval --gt " + gt + " --est " + est + " --min-associated 2").exit_code, 2);
+}
+
 TEST(EvalCli, MissingOrBadArgumentsAreUsageErrors) {
   const std::string gt = writeFile("gt_usage.tum", loopTum(50, 0.0, kNoOffset, false));
   EXPECT_EQ(runDualgraph("eval").exit_code, 2);
