@@ -92,9 +92,9 @@ information_metric_to_g2o). Batches are all-or-nothing: every row is checked bef
         for (const auto& [id, vertex] : g.graph().vertices()) if (vertex->fixed()) ids.push_back(id);
         return py::array_t<long long>(static_cast<py::ssize_t>(ids.size()), ids.data());
       })
-      .def("fix_gauge", &PyGraph::fixGauge, "choice"_a = "lowest",
-           "Fixes the lowest- or highest-id vertex of the largest dimension unless something is fixed; returns its id or None "
-           "(the CLI's optimize uses 'highest').")
+      .def("fix_gauge", &PyGraph::fixGauge, "choice"_a = "highest",
+           "Fixes the highest- (default, as `dualgraph optimize --gauge highest`) or lowest-id vertex of the largest "
+           "dimension unless something is fixed; returns its id or None.")
       .def("set_robust_kernel", &PyGraph::setRobustKernel, "spec"_a, "'none', 'huber:1.0', 'cauchy:d', 'tukey:d', 'dcs:d' on every edge.")
       .def("chi2", [](const PyGraph& g, bool robust) { return g.graph().chi2(robust); }, "robust"_a = false)
       .def("optimize",

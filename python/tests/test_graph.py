@@ -34,6 +34,7 @@ class ParkingGarage(unittest.TestCase):
         graph = dualgraph.Graph.load(PARKING_GARAGE)
         self.assertEqual(graph.num_vertices, cli["vertices"])
         self.assertEqual(graph.num_edges, cli["edges"])
+        self.assertEqual(dualgraph.Graph.load(PARKING_GARAGE).fix_gauge(), cli["gauge_vertex"])  # same default
         self.assertEqual(graph.fix_gauge("highest"), cli["gauge_vertex"])  # the CLI's default gauge
         summary = graph.optimize()
         self.assertEqual(summary.iterations, cli["iterations"])
