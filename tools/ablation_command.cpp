@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "tools/ablation_command.h"
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -11,6 +12,7 @@
 #include "frontend/simulation/race_profiles.h"
 #include "frontend/simulation/race_sequence.h"
 #include "frontend/io/run_config.h"
+#include "frontend/evaluation/run_folder.h"
 #include "frontend/evaluation/run_metrics.h"
 #include "frontend/io/track_io.h"
 #include "tools/ablation_tables.h"
@@ -47,6 +49,13 @@ const std::vector<Variant>& variants() {
 int fail(const std::string& message) {
   std::cerr << "dualgraph ablation: " << message << "\n";
   return 1;
+}
+
+/// A configuration's name as a folder name: "Dual 2.0/0.1" -> "dual_2.0_0.1".
+std::string slug(const std::string& name) {
+  std::string out;
+  for (const char c : name) out += (c == ' ' || c == '/') ? '_' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
 }
 
 std::string fixed(double v, int digits) {
@@ -114,6 +123,13 @@ int runAblationCommand(const AblationOptions& o) {
           if (!run.ok()) return failStaged(folder + " (" + v.name + "): " + run.status().message());
           auto metrics = computeRunMetrics(*sequence, *run);
           if (!metrics.ok()) return failStaged(folder + " (" + v.name + "): " + metrics.status().message());
+          // The run folder, for `dualgraph report` (run.yaml names the sequence where it will be after commit).
+          const std::string run_name = "runs/" + profile + "/" + track_name + "_seed" + std::to_string(seed) + "/" + slug(v.name);
+          const std::string final_sequence =
+              (out / ("sequences/" + profile + "/" + track_name + "_seed" + std::to_string(seed))).string();
+          std::filesystem::create_directories(staged->file(run_name));
+          const Status run_written = writeRunFolder(staged->file(run_name), final_sequence, params.localizer, *run, *metrics);
+          if (!run_written.ok()) return failStaged(run_written.message());
           rows.push_back({profile, track_name, seed, v.name, *metrics});
           if (!o.quiet) {
             std::cerr << "ablation: " << profile << " " << track_name << " seed " << seed << " " << v.name << ": ATE "

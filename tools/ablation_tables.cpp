@@ -25,10 +25,20 @@ std::pair<double, double> meanStd(const std::vector<double>& v) {
   for (double x : v) sum += x;
   const double mean = sum / static_cast<double>(v.size());
   for (double x : v) sq += (x - mean) * (x - mean);
-  return {mean, v.size() > 1 ? std::sqrt(sq / static_cast<double>(v.size() - 1)) : 0.0};
+  return {mean, v.size() > 1 ? std::sqrt(sq / static_cast<double>(v.size() - 1)) : std::nan("")};  // no spread of one
 }
 
+/// A CSV field: the number, or empty where there is none (the spread of one run).
+std::string csvNumber(double v) {
+  if (!std::isfinite(v)) return "";
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+/// "mean ± std", or "mean (1 run)" where a spread cannot be had.
 std::string pm(const std::vector<double>& v, int digits) {
+  if (v.size() == 1) return fixed(v.front(), digits) + " (1 run)";
   const auto [mean, sd] = meanStd(v);
   return fixed(mean, digits) + " ± " + fixed(sd, digits);
 }
@@ -59,21 +69,33 @@ Status writeAblationTables(const std::filesystem::path& out, const std::vector<A
   std::ostringstream md, t1, t2, t3, t4, all;
 
   md << "# Ablation (simulated RATM tracks; `dualgraph ablation`)\n\nTables I–III on the `" << first_profile
-     << "` profile; Table IV every profile side by side.\n\n## Table I — " << first_track << ", seed " << first_seed
-     << "\n\n| configuration | ATE [m] | nodes | edges | Opt P95 [ms] |\n|---|---:|---:|---:|---:|\n";
-  t1 << "configuration,ate_m,nodes,edges,opt_ms_p95\n";
-  bool vio_row = false;
-  for (const AblationRow& r : rows) {
-    if (r.profile != first_profile || r.track != first_track || r.seed != first_seed) continue;
-    if (!vio_row) {
-      md << "| VIO | " << fixed(r.metrics.vio.ate_se3_m, 3) << " | | | |\n";
-      t1 << "VIO," << r.metrics.vio.ate_se3_m << ",,,\n";
-      vio_row = true;
+     << "` profile; Table IV every profile side by side. Each run's folder is under `runs/PROFILE/TRACK_seedN/` "
+        "(`dualgraph report --run ...`).\n";
+  t1 << "track,configuration,ate_m,nodes,edges,opt_ms_p95\n";
+  for (const std::string& track : tracks) {  // one Table I per track, its first seed
+    int seed = 0;
+    for (const AblationRow& r : rows) {
+      if (r.profile == first_profile && r.track == track) {
+        seed = r.seed;
+        break;
+      }
     }
-    const RunMetrics& m = r.metrics;
-    md << "| " << r.variant << " | " << fixed(m.estimate.ate_se3_m, 3) << " | " << m.nodes << " | " << m.edges << " | "
-       << fixed(m.opt_ms_p95, 2) << " |\n";
-    t1 << r.variant << ',' << m.estimate.ate_se3_m << ',' << m.nodes << ',' << m.edges << ',' << m.opt_ms_p95 << '\n';
+    md << "\n## Table I — " << track << ", seed " << seed
+       << "\n\n| configuration | ATE [m] | nodes | edges | Opt P95 [ms] |\n|---|---:|---:|---:|---:|\n";
+    bool vio_row = false;
+    for (const AblationRow& r : rows) {
+      if (r.profile != first_profile || r.track != track || r.seed != seed) continue;
+      if (!vio_row) {
+        md << "| VIO | " << fixed(r.metrics.vio.ate_se3_m, 3) << " | | | |\n";
+        t1 << track << ",VIO," << r.metrics.vio.ate_se3_m << ",,,\n";
+        vio_row = true;
+      }
+      const RunMetrics& m = r.metrics;
+      md << "| " << r.variant << " | " << fixed(m.estimate.ate_se3_m, 3) << " | " << m.nodes << " | " << m.edges << " | "
+         << fixed(m.opt_ms_p95, 2) << " |\n";
+      t1 << track << ',' << r.variant << ',' << m.estimate.ate_se3_m << ',' << m.nodes << ',' << m.edges << ','
+         << m.opt_ms_p95 << '\n';
+    }
   }
 
   md << "\n## Table II — ATE over seeds (mean ± std)\n\n| track | configuration | translation [m] | rotation [deg] | runs |\n"
@@ -97,7 +119,7 @@ Status writeAblationTables(const std::filesystem::path& out, const std::vector<A
       const auto [tm, ts] = meanStd(t);
       const auto [rm, rs] = meanStd(rot);
       md << "| " << track << " | " << name << " | " << pm(t, 3) << " | " << pm(rot, 2) << " | " << t.size() << " |\n";
-      t2 << track << ',' << name << ',' << tm << ',' << ts << ',' << rm << ',' << rs << ',' << t.size() << '\n';
+      t2 << track << ',' << name << ',' << tm << ',' << csvNumber(ts) << ',' << rm << ',' << csvNumber(rs) << ',' << t.size() << '\n';
     };
     emit("VIO", vio_t, vio_r);
     for (const std::string& v : variants) emit(v, by_variant[v].first, by_variant[v].second);
@@ -134,7 +156,7 @@ Status writeAblationTables(const std::filesystem::path& out, const std::vector<A
         const auto [am, as] = meanStd(ate);
         const double rm = meanStd(reduction).first;
         md << ' ' << pm(ate, 3) << " (" << fixed(rm, 1) << " %) |";
-        t4 << track << ',' << variant << ',' << profile << ',' << am << ',' << as << ',' << rm << ',' << ate.size() << '\n';
+        t4 << track << ',' << variant << ',' << profile << ',' << am << ',' << csvNumber(as) << ',' << rm << ',' << ate.size() << '\n';
       }
       md << '\n';
     }

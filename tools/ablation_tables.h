@@ -20,11 +20,11 @@ struct AblationRow {
   RunMetrics metrics;
 };
 
-/// Writes the paper's tables from the rows (Tables I–III on the first profile; the first track and first seed
-/// for Tables I and III):
-///  - table1.csv / Table I: every configuration with ATE (SE(3)-aligned) [m], nodes, edges, Opt P95 [ms];
+/// Writes the paper's tables from the rows (Tables I–III on the first profile; Table I per track on its first
+/// seed, Table III on the first track and seed):
+///  - table1.csv / Table I: per track, every configuration with ATE (SE(3)-aligned) [m], nodes, edges, Opt P95 [ms];
 ///  - table2.csv / Table II: per track, VIO and every configuration, ATE translation [m] and rotation
-///    [deg] as mean ± sample std over the seeds;
+///    [deg] as mean ± sample std over the seeds ("mean (1 run)" and an empty CSV std for one seed);
 ///  - table3.csv / Table III: correction at gate crossings per lap (mean ± std [m]) of Dual 2.0/0.1;
 ///  - table4.csv / Table IV: per track and configuration, every profile side by side: ATE mean ± std [m] and
 ///    the mean reduction against the VIO [%];

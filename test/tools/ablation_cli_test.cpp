@@ -46,6 +46,19 @@ TEST(AblationCli, OneLapWritesEveryConfigurationAndBothSingleBaselines) {
   EXPECT_TRUE(std::filesystem::exists(out + "/table4.csv"));
   EXPECT_TRUE(std::filesystem::is_directory(out + "/sequences/clean/ratm_ellipse_seed1"));
   EXPECT_TRUE(std::filesystem::is_directory(out + "/sequences/realistic/ratm_ellipse_seed1"));
+  // One seed: no spread to show (issue 23, item 11: it printed "± 0.000").
+  EXPECT_EQ(tables.find("± 0.000"), std::string::npos) << tables;
+  EXPECT_NE(tables.find(" (1 run) |"), std::string::npos) << tables;
+  // Every run's folder is kept, and `dualgraph report` reads it.
+  const std::string run_folder = out + "/runs/realistic/ratm_ellipse_seed1/dual_2.0_0.1";
+  for (const char* file : {"estimate.tum", "keyframes.tum", "stats.csv", "run.yaml", "metrics.json", "tracking_state.csv"}) {
+    EXPECT_TRUE(std::filesystem::exists(run_folder + "/" + file)) << file;
+  }
+  EXPECT_TRUE(std::filesystem::is_directory(out + "/runs/clean/ratm_ellipse_seed1/single_0.1_all"));
+  const testing::CommandRun report =
+      testing::runDualgraph("report --run " + run_folder + " --run " + out + "/runs/realistic/ratm_ellipse_seed1/single_2.0 --out " +
+                            testing::tempDir() + "/ablation_report.html");
+  EXPECT_EQ(report.exit_code, 0) << report.err;
   // runs.csv: profile,track,seed,configuration,ate_m,...,keyframes,nodes,edges,... (clean rows last)
   std::ifstream csv(out + "/runs.csv");
   std::string line;
@@ -75,6 +88,21 @@ TEST(AblationCli, OneLapWritesEveryConfigurationAndBothSingleBaselines) {
     EXPECT_EQ(paper.first, all.first) << d << ": the same nodes";
     EXPECT_LT(paper.second, all.second) << d << ": fewer detection edges";
   }
+}
+
+// Table I for every track (it covered the first one only).
+TEST(AblationCli, TableIIsWrittenForEveryTrack) {
+  const std::string out = testing::tempDir() + "/ablation_two_tracks";
+  const testing::CommandRun run = testing::runDualgraph(
+      "ablation --tracks " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") + " " +
+      testing::sourcePath("data/tracks/ratm_lemniscate.yaml") + " --seeds 2 --laps 1 --profiles clean --quiet --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string tables = readAll(out + "/tables.md");
+  EXPECT_NE(tables.find("## Table I — ratm_ellipse, seed 2"), std::string::npos) << tables;
+  EXPECT_NE(tables.find("## Table I — ratm_lemniscate, seed 2"), std::string::npos) << tables;
+  const std::string table1 = readAll(out + "/table1.csv");
+  EXPECT_EQ(table1.rfind("track,configuration,ate_m,", 0), 0u) << table1;
+  EXPECT_NE(table1.find("ratm_lemniscate,Dual 2.0/0.1,"), std::string::npos) << table1;
 }
 
 }  // namespace
