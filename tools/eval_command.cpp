@@ -53,6 +53,9 @@ void printTable(const TrajectoryMetrics& m) {
     std::printf("%-14s %s%s\n", ate.label, formatMetric(ate.value, "m").c_str(),
                 selected == ate.alignment ? "  (--align)" : "");
   }
+  const ErrorStatistics& s = m.ate_stats;
+  std::printf("%-14s rmse %.4f  mean %.4f  median %.4f  std %.4f  min %.4f  max %.4f m (%s)\n", "ATE stats", s.rmse,
+              s.mean, s.median, s.std, s.min, s.max, selected == "none" ? "no alignment" : (selected + " alignment").c_str());
   std::printf("%-14s %s (%s)\n", "ATE rotation", formatMetric(m.ate_rot_deg, "deg").c_str(),
               selected == "none" ? "no alignment" : (selected + " alignment").c_str());
   for (const RelativePoseError& rpe : m.rpe) {
@@ -71,7 +74,13 @@ JsonObject toJson(const EvalOptions& o, const TrajectoryMetrics& m) {
       .add("ate_m", m.ate_se3_m)
       .add("ate_4dof_m", m.ate_4dof_m)
       .add("ate_unaligned_m", m.ate_unaligned_m)
-      .add("ate_rot_deg", m.ate_rot_deg);
+      .add("ate_rot_deg", m.ate_rot_deg)
+      .add("ate_rmse_m", m.ate_stats.rmse)  // these six with the alignment asked for (evo's statistics)
+      .add("ate_mean_m", m.ate_stats.mean)
+      .add("ate_median_m", m.ate_stats.median)
+      .add("ate_std_m", m.ate_stats.std)
+      .add("ate_min_m", m.ate_stats.min)
+      .add("ate_max_m", m.ate_stats.max);
   for (const RelativePoseError& rpe : m.rpe) {
     const std::string key = rpeKey(rpe.distance_m);
     json.add(key + "_m", rpe.translation_rmse_m).add(key + "_deg", rpe.rotation_rmse_deg).add(key + "_pairs", rpe.pairs);

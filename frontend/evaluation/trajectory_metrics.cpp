@@ -72,6 +72,33 @@ std::pair<double, double> absoluteErrors(const TrajectoryAssociation& associatio
   return {std::sqrt(sum_position / n), std::sqrt(sum_rotation / n) * kRadToDeg};
 }
 
+ErrorStatistics positionErrorStatistics(const TrajectoryAssociation& association, const Eigen::Isometry3d& world_T_estimate) {
+  std::vector<double> errors(association.size());
+  for (size_t k = 0; k < association.size(); ++k) {
+    errors[k] = (association.world_T_body_gt[k].second.translation() -
+                 world_T_estimate * association.estimate_T_body[k].second.translation()).norm();
+  }
+  ErrorStatistics s;
+  if (errors.empty()) return s;
+  const double n = static_cast<double>(errors.size());
+  double sum = 0.0, sum_squares = 0.0;
+  for (const double e : errors) {
+    sum += e;
+    sum_squares += e * e;
+  }
+  s.mean = sum / n;
+  s.rmse = std::sqrt(sum_squares / n);
+  double deviation = 0.0;
+  for (const double e : errors) deviation += (e - s.mean) * (e - s.mean);
+  s.std = std::sqrt(deviation / n);
+  std::sort(errors.begin(), errors.end());
+  const size_t middle = errors.size() / 2;
+  s.median = errors.size() % 2 == 1 ? errors[middle] : 0.5 * (errors[middle - 1] + errors[middle]);
+  s.min = errors.front();
+  s.max = errors.back();
+  return s;
+}
+
 /// Means of the associated GT and estimate positions.
 std::pair<Eigen::Vector3d, Eigen::Vector3d> meanPositions(const TrajectoryAssociation& association) {
   Eigen::Vector3d mean_gt = Eigen::Vector3d::Zero();
@@ -238,6 +265,7 @@ Result<TrajectoryMetrics> evaluateTrajectory(const StampedPoses& world_T_body_gt
   metrics.alignment = params.alignment;
   metrics.world_T_estimate = *world_T_estimate;
   std::tie(metrics.ate_m, metrics.ate_rot_deg) = absoluteErrors(*association, *world_T_estimate);
+  metrics.ate_stats = positionErrorStatistics(*association, *world_T_estimate);
   const auto se3 = alignTrajectory(*association, TrajectoryAlignment::kSE3);
   const auto four_dof = alignTrajectory(*association, TrajectoryAlignment::kFourDof);
   metrics.ate_se3_m = se3.ok() ? absoluteErrors(*association, *se3).first : kNaN;

@@ -83,6 +83,12 @@ struct TrajectoryMetricsParams {
   std::vector<double> rpe_distances_m{1.0, 10.0};  ///< RPE windows Δ [m]
 };
 
+/// evo's statistics of the position errors |p_gt − world_T_estimate · p_est| over the associated poses [m]
+/// (std: the population's, as numpy's default).
+struct ErrorStatistics {
+  double rmse = 0.0, mean = 0.0, median = 0.0, std = 0.0, min = 0.0, max = 0.0;
+};
+
 /// Accuracy of an estimate against ground truth. Position ATE: RMSE over the associated poses of
 /// |p_gt − world_T_estimate · p_est| [m]. Rotation ATE: RMSE of the geodesic angle of
 /// R_gt⁻¹ · (world_T_estimate · estimate_T_body)_R [deg].
@@ -94,6 +100,7 @@ struct TrajectoryMetrics {
   double ate_se3_m = 0.0;        ///< position ATE after SE(3) alignment [m]; NaN below 3 poses
   double ate_4dof_m = 0.0;       ///< position ATE after 4-DoF alignment [m]; NaN below 3 poses
   double ate_unaligned_m = 0.0;  ///< position ATE without alignment [m]
+  ErrorStatistics ate_stats;     ///< the position errors with the alignment asked for (rmse = ate_m) [m]
   std::vector<RelativePoseError> rpe;  ///< one per TrajectoryMetricsParams::rpe_distances_m, same order
   long estimate_poses = 0;       ///< poses in the estimate
   long associated = 0;           ///< poses with ground truth (the ATE's sample count)
