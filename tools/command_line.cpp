@@ -7,35 +7,30 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
 namespace dualgraph::tools {
 namespace {
 
-/// A number > 0 (the message names the value: CLI11's PositiveNumber printed its range's DBL_MAX in full).
-CLI::Validator positive() {
+/// A number above `bound` (or at least it, unless `strict`); the message names the value (CLI11's PositiveNumber
+/// printed its range's DBL_MAX in full).
+CLI::Validator numberAbove(double bound, bool strict, const char* name) {
   return CLI::Validator(
-      [](std::string& text) -> std::string {
+      [bound, strict](std::string& text) -> std::string {
         char* end = nullptr;
         const double value = std::strtod(text.c_str(), &end);
         if (end == text.c_str() || *end != '\0' || !std::isfinite(value)) return "'" + text + "' is not a number";
-        return value > 0.0 ? std::string() : "must be > 0 (got " + text + ")";
+        if (strict ? value > bound : value >= bound) return std::string();
+        std::ostringstream message;
+        message << "must be " << (strict ? "> " : ">= ") << bound << " (got " << text << ")";
+        return message.str();
       },
-      "POSITIVE");
+      name);
 }
-
-/// A number ≥ 0, likewise.
-CLI::Validator nonNegative() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        char* end = nullptr;
-        const double value = std::strtod(text.c_str(), &end);
-        if (end == text.c_str() || *end != '\0' || !std::isfinite(value)) return "'" + text + "' is not a number";
-        return value >= 0.0 ? std::string() : "must be >= 0 (got " + text + ")";
-      },
-      "NONNEGATIVE");
-}
+CLI::Validator positive() { return numberAbove(0.0, true, "POSITIVE"); }
+CLI::Validator nonNegative() { return numberAbove(0.0, false, "NONNEGATIVE"); }
 
 /// Edit distance (insertions, deletions, substitutions) between two short words.
 size_t editDistance(const std::string& a, const std::string& b) {
