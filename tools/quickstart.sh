@@ -13,10 +13,11 @@ build=${BUILD_DIR:-$root/build}
 
 # libceres-dev: the benchmark's side-by-side peer (optional at build time); pybind11-dev, python3-dev and
 # python3-numpy: the Python bindings and their tests (built with /usr/bin/python3); pkgconf: CI links a
-# program through the installed dualgraph.pc (it came in only as a dependency before).
+# program through the installed dualgraph.pc (it came in only as a dependency before); nlohmann-json3-dev: the
+# JSON writer's strings (header-only, build time only).
 packages=(build-essential cmake libeigen3-dev libsuitesparse-dev libopenblas-dev libgtest-dev
           libbenchmark-dev libcli11-dev libyaml-cpp-dev libopencv-dev libceres-dev
-          pybind11-dev python3-dev python3-numpy pkgconf)
+          pybind11-dev python3-dev python3-numpy pkgconf nlohmann-json3-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -27,7 +27,8 @@ class JsonObject {
   std::vector<std::pair<std::string, std::string>> fields_;
 };
 
-/// Escapes a string for a JSON string literal (without the quotes).
+/// Escapes a string for a JSON string literal (without the quotes), through nlohmann-json: control characters
+/// escaped, bytes that are not UTF-8 replaced by U+FFFD (so the output is always valid JSON).
 std::string jsonEscape(const std::string& text);
 
 /// Writes `json.str()` and a newline to `path` atomically (core/atomic_file.h: temporary + rename,
