@@ -119,7 +119,8 @@ int runAblationCommand(const AblationOptions& o) {
             params.localizer.d_single = v.d_main_or_single;
             params.localizer.single_all_detections = v.single_all_detections;
           }
-          auto run = runSequenceSelfCalibrating(*sequence, params, {}, nullptr);
+          SelfCalibrationReport self_calibration;
+          auto run = runSequenceSelfCalibrating(*sequence, params, {}, &self_calibration);
           if (!run.ok()) return failStaged(folder + " (" + v.name + "): " + run.status().message());
           auto metrics = computeRunMetrics(*sequence, *run);
           if (!metrics.ok()) return failStaged(folder + " (" + v.name + "): " + metrics.status().message());
@@ -128,7 +129,8 @@ int runAblationCommand(const AblationOptions& o) {
           const std::string final_sequence =
               (out / ("sequences/" + profile + "/" + track_name + "_seed" + std::to_string(seed))).string();
           std::filesystem::create_directories(staged->file(run_name));
-          const Status run_written = writeRunFolder(staged->file(run_name), final_sequence, params.localizer, *run, *metrics);
+          const Status run_written = writeRunFolder(staged->file(run_name), final_sequence, params.localizer, *run, *metrics,
+                                                    params.self_calibration_after_s > 0.0 ? &self_calibration : nullptr);
           if (!run_written.ok()) return failStaged(run_written.message());
           rows.push_back({profile, track_name, seed, v.name, *metrics});
           if (!o.quiet) {

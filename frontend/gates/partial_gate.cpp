@@ -33,10 +33,6 @@ Eigen::Matrix2d rayCovariance(const CameraModel& camera, const Eigen::Vector2d& 
   return pixel_sigma * pixel_sigma * inverse * inverse.transpose();
 }
 
-namespace {
-
-}  // namespace
-
 Result<std::optional<PartialGateMatch>> matchPartialGate(const CornerDetection& detection, const CameraModel& camera,
                                                          const GateMap& map, const Eigen::Isometry3d& world_T_body,
                                                          const PartialGateParams& params, std::optional<int> only_gate) {
@@ -82,10 +78,13 @@ Result<std::optional<PartialGateMatch>> matchPartialGate(const CornerDetection& 
       match.rays.p_gate.col(k) = p_gate.col(order[static_cast<size_t>(labels[static_cast<size_t>(k)])]);
       match.rays.normalized.col(k) = rays->col(k);
     }
-    for (int k = 0; k < count; ++k) match.rays.covariance[static_cast<size_t>(k)] = rayCovariance(camera, rays->col(k), params.pixel_sigma);
     match.rays.body_T_camera = camera.body_T_camera;
     match.predicted_body_T_gate = world_T_body.inverse() * world_T_gate;
     best = match;
+  }
+  // The rays' covariances depend on the rays alone: once, for the gate that matched.
+  for (int k = 0; best && k < count; ++k) {
+    best->rays.covariance[static_cast<size_t>(k)] = rayCovariance(camera, rays->col(k), params.pixel_sigma);
   }
   return best;
 }

@@ -132,9 +132,12 @@ Result<LapLines> LapLines::create(std::shared_ptr<const ClosedCurve> curve, std:
   // The turn factor, its smallest value within ±kEnvelopeReach (a sliding minimum over three laps' indices).
   std::vector<double> factor(n);
   for (size_t i = 0; i < n; ++i) factor[i] = 1.0 / (1.0 + std::pow(kTurnFactor * amplitude * curvature[i], 2));
-  auto at = [&](long j) { return lines.s_[static_cast<size_t>((j % static_cast<long>(n) + static_cast<long>(n)) % static_cast<long>(n))] +
-                                 std::floor(static_cast<double>(j) / static_cast<double>(n)) * length; };
-  auto value = [&](long j) { return factor[static_cast<size_t>((j % static_cast<long>(n) + static_cast<long>(n)) % static_cast<long>(n))]; };
+  const long samples = static_cast<long>(n);
+  auto wrapped = [samples](long j) { return static_cast<size_t>((j % samples + samples) % samples); };  // j mod n
+  auto at = [&](long j) {  // arc length of index j, laps before and after the reference one included
+    return lines.s_[wrapped(j)] + std::floor(static_cast<double>(j) / static_cast<double>(n)) * length;
+  };
+  auto value = [&](long j) { return factor[wrapped(j)]; };
   std::vector<double> eroded(n);
   std::deque<long> window;  // indices with increasing values
   long right = -static_cast<long>(n), left = -static_cast<long>(n);
