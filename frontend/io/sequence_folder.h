@@ -15,7 +15,7 @@
 namespace dualgraph {
 
 /// A sequence: what `dualgraph run` localises, read from a folder (loadSequence), or made in memory by the
-/// simulator (raceSequence) and written as a folder (writeSequence). The folder (DESIGN.md §6):
+/// simulator (raceSequence) and written as a folder (writeSequence). The folder (frontend/io/FORMATS.md):
 ///   vio.tum        odometry odom_T_body, TUM, optionally with the 21 absolute-covariance columns (required)
 ///   corners.csv    gate corner pixels (needs camera.yaml)        } exactly one of the two
 ///   detections.csv gate poses body_T_gate, optional covariances   }

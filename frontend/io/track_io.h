@@ -9,7 +9,7 @@
 
 namespace dualgraph {
 
-/// Reads our track YAML (DESIGN.md §6; complete examples in data/tracks/):
+/// Reads our track YAML (frontend/io/FORMATS.md; complete examples in data/tracks/):
 ///
 ///     name: ratm_ellipse            # optional string
 ///     gates:                        # required, >= 2 gates, ids unique

@@ -30,7 +30,7 @@ Status writeTum(const std::string& path, const StampedPoses& poses);
 
 /// Writes an odometry log as TUM (the form readTumOdometry reads back bit-exact): one line per
 /// sample, followed by the 21 upper-triangular entries of its absolute covariance when the log has
-/// them (DESIGN.md §6). Atomic like writeTum. kInvalidArgument naming the sample for a non-finite or
+/// them (frontend/io/FORMATS.md). Atomic like writeTum. kInvalidArgument naming the sample for a non-finite or
 /// non-increasing time, a non-rigid pose, a non-finite covariance or a covariance count that is
 /// neither 0 nor one per sample; kIoError when the file cannot be written.
 Status writeTumOdometry(const std::string& path, const OdometryLog& log);
