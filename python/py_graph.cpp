@@ -4,19 +4,19 @@
 #include <set>
 
 #include "arrays.h"
-#include "core/g2o_io.h"
+#include "dualgraph/core/g2o_io.h"
 #include "errors.h"
-#include "solvers/marginal_covariance.h"
-#include "types/edge_point_xyz_prior.h"
-#include "types/edge_se2.h"
-#include "types/edge_se3.h"
-#include "types/edge_se3_point_xyz.h"
-#include "types/edge_se3_prior.h"
-#include "types/parameter_se3_offset.h"
-#include "types/register_types.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se2.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/solvers/marginal_covariance.h"
+#include "dualgraph/types/edge_point_xyz_prior.h"
+#include "dualgraph/types/edge_se2.h"
+#include "dualgraph/types/edge_se3.h"
+#include "dualgraph/types/edge_se3_point_xyz.h"
+#include "dualgraph/types/edge_se3_prior.h"
+#include "dualgraph/types/parameter_se3_offset.h"
+#include "dualgraph/types/register_types.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se2.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace py = pybind11;
 
@@ -84,7 +84,14 @@ std::unique_ptr<PyGraph> PyGraph::load(const std::string& path, bool skip_unknow
   return loaded;
 }
 
-void PyGraph::save(const std::string& path) const { check(writeG2o(path, registry_, graph_)); }
+void PyGraph::save(const std::string& path) const {
+  if (custom_edges_ > 0) {  // refused, not skipped: a file without them would describe another problem
+    raise(Status(StatusCode::kFailedPrecondition,
+                 path + ": not written: the graph has " + std::to_string(custom_edges_) +
+                     " Python-defined edge(s) (add_custom_edge), which have no g2o form"));
+  }
+  check(writeG2o(path, registry_, graph_));
+}
 
 void PyGraph::addVertices(const std::string& kind, py::handle ids_object, py::handle estimates, bool fixed) {
   requireKind(kind);

@@ -11,10 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "core/graph.h"
-#include "core/optimizer.h"
-#include "core/type_registry.h"
-#include "solvers/linear_solver_factory.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/core/type_registry.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
+#include "custom_edge.h"
 
 namespace dualgraph::python {
 
@@ -58,8 +59,16 @@ class PyGraph {
   std::optional<int> fixGauge(const std::string& choice);
   void setRobustKernel(const std::string& spec);
 
+  /// An edge whose residual (and optionally Jacobians) are Python callables (custom_edge.h); returns its index
+  /// among the custom edges. `information` None: the identity.
+  long addCustomEdge(pybind11::handle ids, int dimension, pybind11::handle information, pybind11::object residual,
+                     pybind11::object jacobians, bool as_matrix);
+  long numCustomEdges() const { return custom_edges_; }
+
   SolverSummary optimize(const OptimizeOptions& options);
   pybind11::array_t<double> marginals(pybind11::handle ids, bool metric);
+  /// Σ eᵀΩe (robust: Σ ρ) at the current estimates; re-raises a custom edge's callback error.
+  double chi2(bool robust) const;
 
   Graph& graph() { return graph_; }
   const Graph& graph() const { return graph_; }
@@ -84,6 +93,9 @@ class PyGraph {
   Graph graph_;
   std::unique_ptr<Optimizer> optimizer_;
   LinearSolverKind optimizer_kind_ = LinearSolverKind::kCholmod;
+  /// Shared with every custom edge: the first callback failure of the current call.
+  std::shared_ptr<CallbackFailure> callback_failure_ = std::make_shared<CallbackFailure>();
+  long custom_edges_ = 0;
 };
 
 /// "se3", "se2", "point", or "" for a vertex of another (user-registered) type.

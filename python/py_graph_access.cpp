@@ -3,14 +3,14 @@
 #include <set>
 
 #include "arrays.h"
-#include "core/robust_kernel.h"
+#include "dualgraph/core/robust_kernel.h"
 #include "errors.h"
 #include "py_graph.h"
-#include "solvers/marginal_covariance.h"
-#include "types/se3_math.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se2.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/solvers/marginal_covariance.h"
+#include "dualgraph/types/se3_math.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se2.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace py = pybind11;
 
@@ -148,7 +148,9 @@ SolverSummary PyGraph::optimize(const OptimizeOptions& options) {
   params.damping = options.damping == "diagonal" ? LmDamping::kDiagonal : LmDamping::kIdentity;
   Optimizer& optimizer_ref = optimizer(unwrap(parseLinearSolverKind(options.linear_solver)));
   // The GIL stays held: a Graph is not thread-safe, and another thread must not change it mid-solve.
+  callback_failure_->clear();
   const SolverSummary summary = optimizer_ref.optimize(params);
+  callback_failure_->raiseIfFailed();  // a custom edge's callback raised (or returned a bad value): that error
   if (options.check && !summary.usable()) {
     const std::string name = terminationReasonName(summary.termination);
     raiseOptimizationError(name, summary.message.empty() ? name : name + ": " + summary.message);
@@ -159,7 +161,10 @@ SolverSummary PyGraph::optimize(const OptimizeOptions& options) {
 py::array_t<double> PyGraph::marginals(py::handle ids_object, bool metric) {
   const std::vector<int> ids = toIds(ids_object, "ids");
   MarginalCovariance marginal;
-  check(marginal.compute(optimizer(optimizer_kind_), graph_));
+  callback_failure_->clear();
+  const Status computed = marginal.compute(optimizer(optimizer_kind_), graph_);
+  callback_failure_->raiseIfFailed();
+  check(computed);
   Eigen::MatrixXd covariance = unwrap(marginal.jointBlock(ids));
   if (metric) {  // g2o's [δt; δq] chart of VertexSE3 → metric [δt; δθ]: Σ_metric = D Σ D, D = diag(1,1,1,2,2,2)
     Eigen::VectorXd scale = Eigen::VectorXd::Ones(covariance.rows());
