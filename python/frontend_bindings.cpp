@@ -3,15 +3,18 @@
 // does, from Python.
 #include <pybind11/stl.h>
 
+#include <cstdio>
+
 #include "arrays.h"
 #include "bindings.h"
 #include "errors.h"
-#include "frontend/calibration/self_calibration.h"
-#include "frontend/gates/gate_frontend.h"
-#include "frontend/io/run_config.h"
-#include "frontend/io/sequence_folder.h"
-#include "frontend/sequence_run.h"
+#include "dualgraph/frontend/calibration/self_calibration.h"
+#include "dualgraph/frontend/gates/gate_frontend.h"
+#include "dualgraph/frontend/io/run_config.h"
+#include "dualgraph/frontend/io/sequence_folder.h"
+#include "dualgraph/frontend/sequence_run.h"
 #include "py_localizer.h"
+#include "typed_args.h"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
@@ -44,29 +47,30 @@ py::tuple odometryArrays(const OdometryLog& log) {
 
 void bindSequence(py::module_& m) {
   py::class_<Sequence>(m, "Sequence", "A sequence folder as `dualgraph simulate` writes it (DESIGN.md §6).")
-      .def_readonly("dir", &Sequence::dir)
-      .def_readonly("has_corners", &Sequence::has_corners)
+      .def_readonly("dir", &Sequence::dir, "the folder it was read from")
+      .def_readonly("has_corners", &Sequence::has_corners,
+                    "True: corners.csv (pixel corners, `corners`); False: detections.csv (gate poses, `pose_detections`)")
       .def_property_readonly("odometry", [](const Sequence& s) { return odometryArrays(s.odometry); },
-                             "(times (n,), odom_T_body (n, 7)).")
+                             "(times (n,) [s], odom_T_body (n, 7) [x y z qx qy qz qw] [m]).")
       .def_property_readonly("odometry_matrices", [](const Sequence& s) {
         py::array_t<double> out({static_cast<py::ssize_t>(s.odometry.samples.size()), py::ssize_t{4}, py::ssize_t{4}});
         for (size_t k = 0; k < s.odometry.samples.size(); ++k) {
           Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(out.mutable_data() + 16 * k) = s.odometry.samples[k].odom_T_body.matrix();
         }
         return out;
-      }, "odom_T_body (n, 4, 4), exactly as read.")
+      }, "odom_T_body (n, 4, 4) [m], exactly as read.")
       .def_property_readonly("odometry_covariances", [](const Sequence& s) {
         py::list out;  // None where a sample has no relative covariance (the first one always)
         for (const OdometrySample& sample : s.odometry.samples) {
           if (sample.relative_covariance) out.append(matrixArray(*sample.relative_covariance)); else out.append(py::none());
         }
         return out;
-      }, "Per sample: the relative covariance (6, 6) metric [t; theta], or None.")
+      }, "Per sample: the relative covariance (6, 6) metric [t; theta] [m^2, rad^2], or None.")
       .def("odometry_pose_at", [](const Sequence& s, double t) {
         const auto& samples = s.odometry.samples;
         if (samples.empty()) raise(Status(StatusCode::kFailedPrecondition, s.dir + ": no odometry samples"));
         return poseMatrix(samples.front().odom_T_body * unwrap(odometryIncrementBetween(samples, samples.front().t, t)));
-      }, "t"_a, "odom_T_body at t (4, 4), interpolated as `dualgraph run` does.")
+      }, "t"_a, "odom_T_body (4, 4) [m] at t [s], interpolated as `dualgraph run` does.")
       .def_property_readonly("corners", [](const Sequence& s) {
         std::vector<double> times;
         std::vector<long long> ids;
@@ -80,25 +84,32 @@ void bindSequence(py::module_& m) {
           }
         }
         return py::make_tuple(vectorArray(times), py::array_t<long long>(static_cast<py::ssize_t>(ids.size()), ids.data()), pixels);
-      }, "(times (m,), gate_ids (m,), pixels (m, 4, 2) tl tr br bl [u v]).")
-      .def_readonly("pose_detections", &Sequence::pose_detections)
+      }, "(times (m,) [s], gate_ids (m,) (-1: unknown), pixels (m, 4, 2) tl tr br bl [u v] [px]).")
+      .def_readonly("pose_detections", &Sequence::pose_detections, "the GateObservation list of detections.csv (when not has_corners)")
       .def_property_readonly("gates", [](const Sequence& s) {
         py::dict gates;
         for (const auto& [id, pose] : unwrap(s.map.gateMap()).world_T_gate) gates[py::int_(id)] = poseArray(pose);
         return gates;
-      }, "{gate_id: world_T_gate (7,)}")
+      }, "{gate_id: world_T_gate (7,) [x y z qx qy qz qw] [m]}")
       .def_property_readonly("ground_truth", [](const Sequence& s) -> py::object {
         if (!s.ground_truth) return py::none();
         return odometryArrays(*s.ground_truth);
-      }, "(times, world_T_body (n, 7)) or None.");
+      }, "(times (n,) [s], world_T_body (n, 7) [m]) or None.")
+      .def("__repr__", [](const Sequence& s) {
+        return "Sequence(dir='" + s.dir + "', odometry=" + std::to_string(s.odometry.samples.size()) + " samples, " +
+               (s.has_corners ? "corners=" + std::to_string(s.corners.size()) : "pose_detections=" + std::to_string(s.pose_detections.size())) +
+               ", ground_truth=" + (s.ground_truth ? std::to_string(s.ground_truth->samples.size()) + " samples" : std::string("None")) + ")";
+      });
 }
 
 void bindRun(py::module_& m) {
   py::class_<SequenceRunParams>(m, "RunConfig", "`dualgraph run`'s configuration (data/config/default.yaml).")
-      .def(py::init<>())
-      .def_readwrite("localizer", &SequenceRunParams::localizer)
-      .def_readwrite("pose_detection_sigma_t", &SequenceRunParams::pose_detection_sigma_t)
-      .def_readwrite("pose_detection_sigma_r", &SequenceRunParams::pose_detection_sigma_r)
+      .def(py::init<>(), "The defaults (those of data/config/default.yaml).")
+      .def_readwrite("localizer", &SequenceRunParams::localizer, "the `localizer:` section: LocalizerParams")
+      .def_readwrite("pose_detection_sigma_t", &SequenceRunParams::pose_detection_sigma_t,
+                     "position sigma of detections.csv rows without a covariance [m]")
+      .def_readwrite("pose_detection_sigma_r", &SequenceRunParams::pose_detection_sigma_r,
+                     "orientation sigma of detections.csv rows without a covariance [rad]")
       .def_readwrite("self_calibration_after_s", &SequenceRunParams::self_calibration_after_s,
                      "[s]: after this much of the flight, the camera's clock offset and mount are calibrated on the "
                      "flight so far and the rest of the run uses that camera (0: off; data/config/default.yaml: 15)")
@@ -109,12 +120,24 @@ void bindRun(py::module_& m) {
                     },
                     "'auto': the VIO's frame found from the detections; 'given': localizer.initial_world_T_odom")
       .def_property("trust_ids", [](const SequenceRunParams& p) { return p.frontend.trust_ids; },
-                    [](SequenceRunParams& p, bool v) { p.frontend.trust_ids = v; })
+                    [](SequenceRunParams& p, bool v) { p.frontend.trust_ids = v; },
+                    "true: a detection's own gate id (>= 0) names its gate (still gated); false: the Hungarian "
+                    "assignment on distance decides")
       .def_property("adaptive_pixel_sigma", [](const SequenceRunParams& p) { return p.frontend.adaptive_pixel_sigma; },
-                    [](SequenceRunParams& p, bool v) { p.frontend.adaptive_pixel_sigma = v; })
+                    [](SequenceRunParams& p, bool v) { p.frontend.adaptive_pixel_sigma = v; },
+                    "estimate the corner noise sigma [px] from the PnP residuals; the PnP covariance and the "
+                    "reprojection gate follow it")
       .def_property("partial_gates", [](const SequenceRunParams& p) { return p.frontend.partial_gates; },
-                    [](SequenceRunParams& p, bool v) { p.frontend.partial_gates = v; });
-  m.def("load_run_config", [](const std::string& path) { return unwrap(loadRunConfig(path)); }, "path"_a);
+                    [](SequenceRunParams& p, bool v) { p.frontend.partial_gates = v; },
+                    "use gates partly out of the image (2-3 corners) as corner rays (dual mode, landmark 'pose')")
+      .def("__repr__", [](const SequenceRunParams& p) {
+        char text[160];
+        std::snprintf(text, sizeof(text), "RunConfig(initialization='%s', self_calibration_after_s=%g, trust_ids=%s, localizer=",
+                      p.auto_initialize ? "auto" : "given", p.self_calibration_after_s, p.frontend.trust_ids ? "True" : "False");
+        return std::string(text) + std::string(py::repr(py::cast(p.localizer))) + ")";
+      });
+  m.def("load_run_config", [](const std::string& path) { return unwrap(loadRunConfig(path)); }, "path"_a,
+        "Reads `dualgraph run`'s YAML configuration (data/config/default.yaml lists every key with its unit).");
 
   m.def("load_sequence",
         [](const std::string& dir, SequenceRunParams config) {  // a copy: read without the GIL
@@ -124,7 +147,8 @@ void bindRun(py::module_& m) {
           }();
           return unwrap(std::move(sequence));
         },
-        "dir"_a, "config"_a = SequenceRunParams{}, "Reads a sequence folder (errors name file:line: field).");
+        "dir"_a, py::arg_v("config", SequenceRunParams{}, "RunConfig()"),
+        "Reads a sequence folder (errors name file:line: field); config gives the default detection covariance.");
 
   py::class_<SequenceRunResult>(m, "RunResult", "The outputs of run_sequence (as `dualgraph run` writes them).")
       .def_property_readonly("estimate", [](const SequenceRunResult& r) { return stampedPoses(r.estimate); },
@@ -136,16 +160,29 @@ void bindRun(py::module_& m) {
                                return states;
                              },
                              "The tracking state at every estimate sample: 'initialising', 'tracking' or 'lost'.")
-      .def_property_readonly("keyframes", [](const SequenceRunResult& r) { return stampedPoses(r.keyframes); })
-      .def_property_readonly("stats", [](const SequenceRunResult& r) { return PyLocalizer::statsToList(r.stats); })
-      .def_property_readonly("localizer_counters", [](const SequenceRunResult& r) { return PyLocalizer::countersToDict(r.localizer_counters); })
-      .def_property_readonly("frontend_counters", [](const SequenceRunResult& r) { return frontendCounters(r.frontend_counters); })
-      .def_readonly("detections_before_odometry", &SequenceRunResult::detections_before_odometry)
-      .def_readonly("detections_after_odometry", &SequenceRunResult::detections_after_odometry)
-      .def_readonly("observations_rejected", &SequenceRunResult::observations_rejected)
-      .def_readonly("wall_seconds", &SequenceRunResult::wall_seconds)
+      .def_property_readonly("keyframes", [](const SequenceRunResult& r) { return stampedPoses(r.keyframes); },
+                             "(times (n,) [s], world_T_body (n, 7) [m]) of the keyframes, final estimates")
+      .def_property_readonly("stats", [](const SequenceRunResult& r) { return PyLocalizer::statsToList(r.stats); },
+                             "one dict per main-graph optimisation, as Localizer.stats()")
+      .def_property_readonly("localizer_counters", [](const SequenceRunResult& r) { return PyLocalizer::countersToDict(r.localizer_counters); },
+                             "the Localizer's counters [count], as Localizer.counters()")
+      .def_property_readonly("frontend_counters", [](const SequenceRunResult& r) { return frontendCounters(r.frontend_counters); },
+                             "where the detections went [count], as GateFrontend.counters()")
+      .def_readonly("detections_before_odometry", &SequenceRunResult::detections_before_odometry,
+                    "detections earlier than the first odometry sample, not used [count]")
+      .def_readonly("detections_after_odometry", &SequenceRunResult::detections_after_odometry,
+                    "detections later than the last odometry sample, not used [count]")
+      .def_readonly("observations_rejected", &SequenceRunResult::observations_rejected, "observations the Localizer refused [count]")
+      .def_readonly("wall_seconds", &SequenceRunResult::wall_seconds, "wall time of the run [s]")
       .def_readonly("camera_switched_at", &SequenceRunResult::camera_switched_at,
-                    "[s]: when the run switched to the self-calibrated camera (None: it did not)");
+                    "[s]: when the run switched to the self-calibrated camera (None: it did not)")
+      .def("__repr__", [](const SequenceRunResult& r) {
+        char text[64];
+        std::snprintf(text, sizeof(text), ", wall_seconds=%.3f)", r.wall_seconds);
+        return "RunResult(estimate=" + std::to_string(r.estimate.size()) + " poses, keyframes=" +
+               std::to_string(r.keyframes.size()) + ", used_detections=" + std::to_string(r.frontend_counters.used) +
+               ", observations_rejected=" + std::to_string(r.observations_rejected) + text;
+      });
   m.def("run_sequence",
         [](const Sequence& sequence, SequenceRunParams config) {  // Sequence is read-only from Python
           Result<SequenceRunResult> run = [&] {
@@ -154,7 +191,8 @@ void bindRun(py::module_& m) {
           }();
           return unwrap(std::move(run));
         },
-        "sequence"_a, "config"_a = SequenceRunParams{}, "The frontend and the Localizer over a sequence, as `dualgraph run`.");
+        "sequence"_a, py::arg_v("config", SequenceRunParams{}, "RunConfig()"),
+        "The frontend and the Localizer over a sequence, as `dualgraph run` (without the GIL).");
 }
 
 void bindGateFrontend(py::module_& m) {
@@ -164,9 +202,10 @@ void bindGateFrontend(py::module_& m) {
              params.mapping = config.localizer.mapping;
              return unwrap(GateFrontend::create(params, sequence.map, sequence.camera));
            }),
-           "sequence"_a, "config"_a = SequenceRunParams{}, "The sequence's map and camera, the config's frontend section.")
+           "sequence"_a, py::arg_v("config", SequenceRunParams{}, "RunConfig()"),
+           "The sequence's map and camera, the config's frontend section.")
       .def("process_corners",
-           [](GateFrontend& f, double t, py::handle gate_ids, py::handle pixels, py::handle world_T_body) {
+           [](GateFrontend& f, double t, IdsLike gate_ids, ArrayLike pixels, ArrayLike world_T_body) {
              const std::vector<int> ids = toIds(gate_ids, "gate_ids", -1, -1);  // -1: unknown, the association decides
              DoubleArray corners = toDoubles(pixels, "pixels");
              if (corners.ndim() != 3 || corners.shape(0) != static_cast<py::ssize_t>(ids.size()) || corners.shape(1) != 4 || corners.shape(2) != 2) {
@@ -181,13 +220,22 @@ void bindGateFrontend(py::module_& m) {
              }
              return unwrap(f.processCorners(image, toPose(world_T_body, "world_T_body")));
            },
-           "t"_a, "gate_ids"_a, "pixels"_a, "world_T_body"_a, "One image's corner detections -> observations with map ids.")
+           "t"_a, "gate_ids"_a, "pixels"_a, "world_T_body"_a,
+           "One image's corner detections -> observations with map ids. t [s]; gate_ids (m,) (-1: unknown); pixels "
+           "(m, 4, 2) tl tr br bl [u v] [px] (nan: a corner not seen); world_T_body at t (7,) or (4, 4) [m].")
       .def("process_poses",
-           [](GateFrontend& f, const std::vector<GateObservation>& detections, py::handle world_T_body) {
+           [](GateFrontend& f, const std::vector<GateObservation>& detections, ArrayLike world_T_body) {
              return unwrap(f.processPoses(detections, toPose(world_T_body, "world_T_body")));
            },
-           "detections"_a, "world_T_body"_a)
-      .def("counters", [](const GateFrontend& f) { return frontendCounters(f.counters()); });
+           "detections"_a, "world_T_body"_a,
+           "Pose detections (GateObservation list) of one instant -> associated observations; world_T_body (7,) or (4, 4) [m].")
+      .def("counters", [](const GateFrontend& f) { return frontendCounters(f.counters()); },
+           "where the detections went [count]: detections, used, reversed, pnp_rejected, not_associated, ...")
+      .def("__repr__", [](const GateFrontend& f) {
+        const GateFrontendCounters& c = f.counters();
+        return "GateFrontend(detections=" + std::to_string(c.detections) + ", used=" + std::to_string(c.used) +
+               ", pnp_rejected=" + std::to_string(c.pnp_rejected) + ", not_associated=" + std::to_string(c.not_associated) + ")";
+      });
 }
 
 }  // namespace
