@@ -18,4 +18,5 @@ PYBIND11_MODULE(dualgraph, m) {
   dualgraph::python::bindGraph(m);
   dualgraph::python::bindLocalizer(m);
   dualgraph::python::bindFrontend(m);
+  dualgraph::python::bindEvaluation(m);
 }

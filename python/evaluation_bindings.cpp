@@ -1,0 +1,158 @@
+// SPDX-License-Identifier: MIT
+// dualgraph.evaluate_trajectory (ATE / RPE as `dualgraph eval`), dualgraph.read_trajectory, TrajectoryMetrics.
+#include <pybind11/stl.h>
+
+#include <cstdio>
+
+#include "arrays.h"
+#include "bindings.h"
+#include "dualgraph/frontend/evaluation/trajectory_metrics.h"
+#include "dualgraph/frontend/io/odometry_io.h"
+#include "errors.h"
+#include "typed_args.h"
+
+namespace py = pybind11;
+using namespace pybind11::literals;
+
+namespace dualgraph::python {
+namespace {
+
+bool isPath(py::handle object) {
+  return py::isinstance<py::str>(object) || py::hasattr(object, "__fspath__");
+}
+
+/// readTrajectory (TUM or EuRoC CSV, recognised from the file) without the GIL.
+OdometryLog readTrajectoryFile(py::handle path_object) {
+  const std::string path = py::str(py::module_::import("os").attr("fspath")(path_object));
+  Result<OdometryLog> log = [&] {
+    py::gil_scoped_release release;
+    return readTrajectory(path);
+  }();
+  return unwrap(std::move(log));
+}
+
+/// A path (read as the CLI reads it: bit-exact parity), an (n, 8) array [t x y z qx qy qz qw], or (times (n,),
+/// poses (n, 7) or (n, 4, 4)) as Sequence.odometry, Sequence.ground_truth and RunResult.estimate give them.
+StampedPoses toStampedPoses(py::handle object, const std::string& name) {
+  if (isPath(object)) return stampedPosesFromSamples(readTrajectoryFile(object).samples);
+  StampedPoses out;
+  if (py::isinstance<py::tuple>(object) && py::len(object) == 2) {
+    const py::tuple pair = py::reinterpret_borrow<py::tuple>(object);
+    const DoubleArray times = toDoubles(pair[0], name + "[0]");
+    if (times.ndim() != 1) raiseInvalid(name + "[0]: expected times of shape (n,), got " + shapeString(times));
+    requireFinite(times, name + "[0]");
+    const IsometryList poses = toPoses(pair[1], name + "[1]", static_cast<long>(times.size()));
+    for (py::ssize_t i = 0; i < times.size(); ++i) out.emplace_back(times.data()[i], poses[static_cast<size_t>(i)]);
+    return out;
+  }
+  const auto rows = toRows(object, name, -1, 8);
+  const Eigen::MatrixXd pose_rows = rows.rightCols<7>();
+  py::array_t<double> poses({static_cast<py::ssize_t>(rows.rows()), py::ssize_t{7}});
+  for (long i = 0; i < rows.rows(); ++i) {
+    for (int k = 0; k < 7; ++k) poses.mutable_data()[7 * i + k] = pose_rows(i, k);
+  }
+  const IsometryList isometries = toPoses(poses, name + "[:, 1:]", rows.rows());
+  for (long i = 0; i < rows.rows(); ++i) out.emplace_back(rows(i, 0), isometries[static_cast<size_t>(i)]);
+  return out;
+}
+
+py::dict statsDict(const ErrorStatistics& s) {
+  return py::dict("rmse"_a = s.rmse, "mean"_a = s.mean, "median"_a = s.median, "std"_a = s.std, "min"_a = s.min,
+                  "max"_a = s.max);
+}
+
+py::list rpeList(const TrajectoryMetrics& m) {
+  py::list out;
+  for (const RelativePoseError& r : m.rpe) {
+    out.append(py::dict("distance_m"_a = r.distance_m, "pairs"_a = r.pairs, "translation_rmse_m"_a = r.translation_rmse_m,
+                        "rotation_rmse_deg"_a = r.rotation_rmse_deg));
+  }
+  return out;
+}
+
+std::string number(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
+  return buffer;
+}
+
+}  // namespace
+
+void bindEvaluation(py::module_& m) {
+  py::class_<TrajectoryMetrics>(m, "TrajectoryMetrics", R"doc(Accuracy of an estimate against ground truth (evaluate_trajectory).
+
+Position errors |p_gt - world_T_estimate * p_est| [m] over the associated poses, with the alignment asked
+for; rotation error the geodesic angle of R_gt^-1 * R_aligned [deg]; RPE over travelled-distance windows
+(alignment-free). The same figures as `dualgraph eval` (frontend/evaluation/trajectory_metrics.h).)doc")
+      .def_property_readonly("alignment", [](const TrajectoryMetrics& t) { return std::string(trajectoryAlignmentName(t.alignment)); },
+                             "the alignment used, e.g. 'se3', '4dof', 'none'")
+      .def_property_readonly("world_T_estimate", [](const TrajectoryMetrics& t) { return poseMatrix(t.world_T_estimate); },
+                             "(4, 4) the transform the alignment found, estimate frame -> world [m]")
+      .def_readonly("ate_m", &TrajectoryMetrics::ate_m, "position ATE (RMSE) with that alignment [m]")
+      .def_readonly("ate_rot_deg", &TrajectoryMetrics::ate_rot_deg, "rotation ATE (RMSE of the angle) with that alignment [deg]")
+      .def_property_readonly("stats", [](const TrajectoryMetrics& t) { return statsDict(t.ate_stats); },
+                             "evo's statistics of the position errors [m]: {'rmse', 'mean', 'median', 'std' (population), "
+                             "'min', 'max'}; rmse == ate_m")
+      .def_property_readonly("rpe", &rpeList,
+                             "one dict per RPE window: {'distance_m' [m], 'pairs' [count], 'translation_rmse_m' [m], "
+                             "'rotation_rmse_deg' [deg]} (NaN RMSEs without pairs)")
+      .def_readonly("estimate_poses", &TrajectoryMetrics::estimate_poses, "poses in the estimate [count]")
+      .def_readonly("associated", &TrajectoryMetrics::associated, "estimate poses with ground truth: the ATE's sample count [count]")
+      .def_property_readonly("unassociated", &TrajectoryMetrics::unassociated,
+                             "before_span + after_span + beyond_gap [count]")
+      .def_readonly("before_span", &TrajectoryMetrics::before_span, "estimate stamps before the first ground-truth sample [count]")
+      .def_readonly("after_span", &TrajectoryMetrics::after_span, "estimate stamps after the last ground-truth sample [count]")
+      .def_readonly("beyond_gap", &TrajectoryMetrics::beyond_gap,
+                    "estimate stamps inside the ground truth's span but farther than max_gap_s from its samples [count]")
+      .def("__repr__", [](const TrajectoryMetrics& t) {
+        return "TrajectoryMetrics(alignment='" + std::string(trajectoryAlignmentName(t.alignment)) + "', ate_m=" +
+               number(t.ate_m) + ", ate_rot_deg=" + number(t.ate_rot_deg) + ", associated=" + std::to_string(t.associated) +
+               " of " + std::to_string(t.estimate_poses) + ", rpe=" + std::to_string(t.rpe.size()) + " windows)";
+      });
+
+  m.def("evaluate_trajectory",
+        [](TrajectoryLike gt, TrajectoryLike est, const std::string& align, double max_gap_s,
+           const std::vector<double>& rpe_distances_m, double max_dt_s) {
+          TrajectoryMetricsParams params;
+          params.alignment = unwrap(parseTrajectoryAlignment(align));  // every mode the library knows, by its name
+          params.max_gap_s = max_gap_s;
+          params.max_dt_s = max_dt_s;
+          params.rpe_distances_m = rpe_distances_m;
+          const StampedPoses gt_poses = toStampedPoses(gt, "gt");
+          const StampedPoses est_poses = toStampedPoses(est, "est");
+          Result<TrajectoryMetrics> metrics = [&] {
+            py::gil_scoped_release release;
+            return evaluateTrajectory(gt_poses, est_poses, params);
+          }();
+          return unwrap(std::move(metrics));
+        },
+        "gt"_a, "est"_a, "align"_a = "se3", "max_gap_s"_a = 0.1, py::arg_v("rpe_distances_m", std::vector<double>{1.0, 10.0}, "(1.0, 10.0)"), "max_dt_s"_a = 0.0,
+        R"doc(ATE and RPE of an estimate against ground truth, as `dualgraph eval --align ALIGN`.
+
+gt, est: a trajectory file path (TUM `t x y z qx qy qz qw` [s, m] or EuRoC CSV [ns], as read_trajectory),
+an (n, 8) array [t x y z qx qy qz qw] (t [s], position [m], quaternion Hamilton), or (times (n,) [s],
+poses (n, 7) or (n, 4, 4)) as Sequence.odometry / Sequence.ground_truth / RunResult.estimate give them.
+Every estimate pose inside the ground truth's time span with a ground-truth sample within max_gap_s [s] is
+paired with the ground truth interpolated at its stamp (`eval --max-gap`); max_dt_s > 0 [s] pairs it instead with
+the ground-truth pose of the nearest stamp within max_dt_s (`eval --max-dt`, evo's association). align: the name of an alignment of
+frontend/evaluation/trajectory_metrics.h ('se3' Umeyama without scale, '4dof' yaw + translation, 'none', and
+any mode added there). rpe_distances_m: the RPE windows [m]. Raises InvalidArgumentError for a bad input or
+alignment name, FailedPreconditionError when nothing can be associated or too few poses to align.)doc");
+
+  m.def("read_trajectory",
+        [](PathLike path) {
+          const OdometryLog log = readTrajectoryFile(path);
+          py::array_t<double> out({static_cast<py::ssize_t>(log.samples.size()), py::ssize_t{8}});
+          for (size_t i = 0; i < log.samples.size(); ++i) {
+            out.mutable_data()[8 * i] = log.samples[i].t;
+            const Eigen::Matrix<double, 7, 1> pose = poseToVector(log.samples[i].odom_T_body);
+            for (int k = 0; k < 7; ++k) out.mutable_data()[8 * i + 1 + k] = pose[k];
+          }
+          return out;
+        },
+        "path"_a,
+        "A TUM trajectory (`t x y z qx qy qz qw`, t [s], position [m]) or EuRoC CSV (t [ns], quaternion w first), "
+        "recognised from the file as `dualgraph eval` does -> (n, 8) [t x y z qx qy qz qw] (t [s], w >= 0).");
+}
+
+}  // namespace dualgraph::python
