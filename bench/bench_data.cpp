@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <map>
 
-#include "core/g2o_io.h"
-#include "types/register_types.h"
+#include "dualgraph/core/g2o_io.h"
+#include "dualgraph/types/register_types.h"
 
 namespace dualgraph::bench {
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "core/graph.h"
-#include "core/type_registry.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/core/type_registry.h"
 
 namespace dualgraph::bench {
 

@@ -11,7 +11,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "solvers/block/block_kernels_avx2.h"
+#include "dualgraph/solvers/block/block_kernels_avx2.h"
 
 #ifdef DUALGRAPH_BENCH_HAVE_CERES
 #include <ceres/version.h>

@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include "solvers/block/block_cholesky.h"
-#include "solvers/block/block_kernels_avx2.h"
+#include "dualgraph/solvers/block/block_cholesky.h"
+#include "dualgraph/solvers/block/block_kernels_avx2.h"
 
 namespace dualgraph {
 namespace {

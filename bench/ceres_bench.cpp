@@ -11,8 +11,8 @@
 
 #include "bench/bench_data.h"
 #include "bench/ceres_pose_graph.h"
-#include "core/optimizer.h"
-#include "solvers/linear_solver_factory.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
 
 namespace dualgraph {
 namespace {

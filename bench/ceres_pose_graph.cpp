@@ -7,14 +7,14 @@
 #include <vector>
 
 #include "bench/ceres_residuals.h"
-#include "types/edge_point_xyz_prior.h"
-#include "types/edge_se2.h"
-#include "types/edge_se3.h"
-#include "types/edge_se3_point_xyz.h"
-#include "types/edge_se3_prior.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se2.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/types/edge_point_xyz_prior.h"
+#include "dualgraph/types/edge_se2.h"
+#include "dualgraph/types/edge_se3.h"
+#include "dualgraph/types/edge_se3_point_xyz.h"
+#include "dualgraph/types/edge_se3_prior.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se2.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph::bench {
 

@@ -7,8 +7,8 @@
 #include <memory>
 #include <string>
 
-#include "core/graph.h"
-#include "core/status.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/core/status.h"
 
 namespace dualgraph::bench {
 

@@ -16,8 +16,8 @@
 #include "bench/ceres_pose_graph.h"
 #include "bench/graph_clone.h"
 #include "bench/race_fixture.h"
-#include "core/optimizer.h"
-#include "solvers/linear_solver_factory.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
 
 namespace dualgraph {
 namespace {

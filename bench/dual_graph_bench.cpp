@@ -11,9 +11,9 @@
 #include "bench/bench_data.h"
 #include "bench/race_fixture.h"
 #include "bench/temporary_fixture.h"
-#include "solvers/block/block_kernels_avx2.h"
-#include "solvers/linear_solver_factory.h"
-#include "solvers/marginal_covariance.h"
+#include "dualgraph/solvers/block/block_kernels_avx2.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
+#include "dualgraph/solvers/marginal_covariance.h"
 
 namespace dualgraph {
 namespace {

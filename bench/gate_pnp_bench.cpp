@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "bench/bench_data.h"
-#include "frontend/io/camera_io.h"
-#include "frontend/gates/gate_pnp.h"
-#include "frontend/simulation/race_simulator.h"
-#include "frontend/io/track_io.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/gates/gate_pnp.h"
+#include "dualgraph/frontend/simulation/race_simulator.h"
+#include "dualgraph/frontend/io/track_io.h"
 
 namespace dualgraph {
 namespace {

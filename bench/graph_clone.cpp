@@ -5,15 +5,15 @@
 #include <random>
 #include <sstream>
 
-#include "core/robust_kernel.h"
-#include "types/edge_point_xyz_prior.h"
-#include "types/edge_se2.h"
-#include "types/edge_se3.h"
-#include "types/edge_se3_point_xyz.h"
-#include "types/edge_se3_prior.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se2.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/core/robust_kernel.h"
+#include "dualgraph/types/edge_point_xyz_prior.h"
+#include "dualgraph/types/edge_se2.h"
+#include "dualgraph/types/edge_se3.h"
+#include "dualgraph/types/edge_se3_point_xyz.h"
+#include "dualgraph/types/edge_se3_prior.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se2.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph::bench {
 namespace {

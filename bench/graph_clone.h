@@ -3,8 +3,8 @@
 // from the same start, and perturbing that start reproducibly.
 #pragma once
 
-#include "core/graph.h"
-#include "core/status.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/core/status.h"
 
 namespace dualgraph::bench {
 

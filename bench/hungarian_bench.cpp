@@ -7,7 +7,7 @@
 #include <limits>
 #include <random>
 
-#include "frontend/gates/hungarian.h"
+#include "dualgraph/frontend/gates/hungarian.h"
 
 namespace dualgraph {
 namespace {

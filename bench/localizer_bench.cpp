@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "dual_graph/localizer.h"
+#include "dualgraph/dual_graph/localizer.h"
 #include "test/testing/synthetic_race.h"
 
 namespace dualgraph {

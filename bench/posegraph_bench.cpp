@@ -10,10 +10,10 @@
 #include <memory>
 #include <string>
 
-#include "core/g2o_io.h"
-#include "core/optimizer.h"
-#include "solvers/linear_solver_factory.h"
-#include "types/register_types.h"
+#include "dualgraph/core/g2o_io.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
+#include "dualgraph/types/register_types.h"
 
 namespace dualgraph {
 namespace {

@@ -2,10 +2,10 @@
 #include "bench/race_fixture.h"
 
 #include "bench/bench_data.h"
-#include "frontend/io/camera_io.h"
-#include "frontend/io/run_config.h"
-#include "frontend/io/track_io.h"
-#include "frontend/simulation/race_sequence.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/run_config.h"
+#include "dualgraph/frontend/io/track_io.h"
+#include "dualgraph/frontend/simulation/race_sequence.h"
 
 namespace dualgraph::bench {
 namespace {

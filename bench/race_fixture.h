@@ -8,10 +8,10 @@
 #include <memory>
 #include <string>
 
-#include "core/status.h"
-#include "dual_graph/localizer.h"
-#include "frontend/io/sequence_folder.h"
-#include "frontend/sequence_run.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/dual_graph/localizer.h"
+#include "dualgraph/frontend/io/sequence_folder.h"
+#include "dualgraph/frontend/sequence_run.h"
 
 namespace dualgraph::bench {
 

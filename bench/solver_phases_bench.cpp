@@ -12,11 +12,11 @@
 #include <string>
 
 #include "bench/bench_data.h"
-#include "core/optimizer.h"
-#include "core/sparse_system.h"
-#include "solvers/cholmod_solver.h"
-#include "solvers/linear_solver_factory.h"
-#include "solvers/marginal_covariance.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/core/sparse_system.h"
+#include "dualgraph/solvers/cholmod_solver.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
+#include "dualgraph/solvers/marginal_covariance.h"
 
 namespace dualgraph {
 namespace {

@@ -6,11 +6,11 @@
 #include <map>
 #include <random>
 
-#include "core/robust_kernel.h"
-#include "dual_graph/gate_edge.h"
-#include "dual_graph/edge_factories.h"
-#include "types/vertex_se3.h"
-#include "types/se3_covariance.h"
+#include "dualgraph/core/robust_kernel.h"
+#include "dualgraph/dual_graph/gate_edge.h"
+#include "dualgraph/dual_graph/edge_factories.h"
+#include "dualgraph/types/vertex_se3.h"
+#include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph::bench {
 namespace {

@@ -9,12 +9,12 @@
 #include <memory>
 #include <vector>
 
-#include "core/graph.h"
-#include "core/optimizer.h"
-#include "dual_graph/localizer_params.h"
-#include "dual_graph/measurements.h"
-#include "dual_graph/odometry_history.h"
-#include "dual_graph/temporary_graph.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/dual_graph/localizer_params.h"
+#include "dualgraph/dual_graph/measurements.h"
+#include "dualgraph/dual_graph/odometry_history.h"
+#include "dualgraph/dual_graph/temporary_graph.h"
 
 namespace dualgraph::bench {
 

@@ -1,16 +1,18 @@
 # SPDX-License-Identifier: MIT
-# `cmake --install BUILD [--prefix DIR]` puts the five libraries, their headers, a CMake package and a
-# pkg-config file in place (included from the top-level CMakeLists.txt after the library folders):
+# `cmake --install BUILD [--prefix DIR]` puts the five libraries, their headers, a CMake package and
+# pkg-config files in place (included from the top-level CMakeLists.txt after the library folders):
 #
-#   DIR/include/dualgraph/{core,types,solvers,dual_graph,frontend}/*.h   (#include "core/graph.h" with
-#                                                                        -I DIR/include/dualgraph)
+#   DIR/include/dualgraph/{core,types,solvers,dual_graph,frontend}/*.h   (#include "dualgraph/core/graph.h"
+#                                                                        with -I DIR/include)
 #   DIR/lib/libdualgraph_{core,types,solvers,dual_graph,frontend}.{a|so.0.1.0}
-#   DIR/lib/cmake/dualgraph/  dualgraphConfig.cmake (+ Version, Targets, FindCHOLMOD.cmake)
-#   DIR/lib/pkgconfig/dualgraph.pc
+#   DIR/lib/cmake/dualgraph/  dualgraphConfig.cmake (+ Version, one Targets file per component, FindCHOLMOD.cmake)
+#   DIR/lib/pkgconfig/dualgraph.pc (everything) and dualgraph-engine.pc (core, types, solvers: Eigen + CHOLMOD)
 #
-# find_package(dualgraph 0.1 CONFIG REQUIRED) gives dualgraph::core, ::types, ::solvers, ::dual_graph and
-# ::frontend, finding Eigen3, CHOLMOD, yaml-cpp and OpenCV itself. The package and the .pc file are
-# relocatable (paths relative to their own location), so --prefix at install time works.
+# find_package(dualgraph 0.1 CONFIG REQUIRED [COMPONENTS core types solvers dual_graph frontend]) gives the
+# targets dualgraph::<component> of the components asked for and of those they need, finding only their
+# dependencies (the engine alone: Eigen, and CHOLMOD for a static build; frontend adds yaml-cpp and OpenCV).
+# No COMPONENTS: all five. The package and the .pc files are relocatable (paths relative to their own
+# location; the system libraries by name), so --prefix at install time and a moved prefix work.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
@@ -38,15 +40,18 @@ foreach(_name ${DUALGRAPH_EXPORTED_LIBRARIES})
           PATTERN "gate_pnp_posterior.h" EXCLUDE PATTERN "block_product_avx2.h" EXCLUDE)
 endforeach()
 
-install(TARGETS ${_dualgraph_install_targets}
-  EXPORT dualgraphTargets
-  ARCHIVE DESTINATION "${CMAKE_INSTALL_LIBDIR}"
-  LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}"
-  RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}"
-  INCLUDES DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/dualgraph")
-
+# One export set per component, so that a consumer asking for the engine loads (and finds the dependencies
+# of) the engine only; dualgraphConfig.cmake includes the files of the components asked for.
 set(DUALGRAPH_CMAKE_DIR "${CMAKE_INSTALL_LIBDIR}/cmake/dualgraph")
-install(EXPORT dualgraphTargets NAMESPACE dualgraph:: DESTINATION "${DUALGRAPH_CMAKE_DIR}")
+foreach(_name ${DUALGRAPH_EXPORTED_LIBRARIES})
+  install(TARGETS dualgraph_${_name}
+    EXPORT dualgraph_${_name}Targets
+    ARCHIVE DESTINATION "${CMAKE_INSTALL_LIBDIR}"
+    LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}"
+    RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}"
+    INCLUDES DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}")
+  install(EXPORT dualgraph_${_name}Targets NAMESPACE dualgraph:: DESTINATION "${DUALGRAPH_CMAKE_DIR}")
+endforeach()
 configure_package_config_file("${PROJECT_SOURCE_DIR}/cmake/dualgraphConfig.cmake.in"
   "${PROJECT_BINARY_DIR}/dualgraphConfig.cmake" INSTALL_DESTINATION "${DUALGRAPH_CMAKE_DIR}")
 # 0.x: only the same minor version is compatible (see SOVERSION).
@@ -63,9 +68,16 @@ string(REGEX REPLACE "/$" "" DUALGRAPH_PC_PREFIX_FROM_PCDIR "${DUALGRAPH_PC_PREF
 file(RELATIVE_PATH DUALGRAPH_PC_LIBDIR "${CMAKE_INSTALL_PREFIX}" "${CMAKE_INSTALL_FULL_LIBDIR}")
 file(RELATIVE_PATH DUALGRAPH_PC_INCLUDEDIR "${CMAKE_INSTALL_PREFIX}" "${CMAKE_INSTALL_FULL_INCLUDEDIR}")
 set(_dualgraph_cholmod_libs "")
-# CHOLMOD has no .pc file on Debian: its libraries by full path (libmetis.so.5 has no link name there).
+# CHOLMOD has no .pc file on Debian: its libraries by name, never by this machine's path (the .pc must work
+# wherever the prefix and the system libraries are). A library found only under its run-time name
+# (libmetis.so.5: Debian ships no link name for it without libmetis-dev) is named as such: -l:libmetis.so.5.
 foreach(_lib ${CHOLMOD_LIBRARIES})
-  if(_lib MATCHES "^/")
+  get_filename_component(_file "${_lib}" NAME)
+  if(_file MATCHES "^lib(.+)\\.(so|a)$")
+    string(APPEND _dualgraph_cholmod_libs " -l${CMAKE_MATCH_1}")
+  elseif(_file MATCHES "^lib.+\\.so\\.[0-9.]+$")
+    string(APPEND _dualgraph_cholmod_libs " -l:${_file}")
+  elseif(_lib MATCHES "^-")
     string(APPEND _dualgraph_cholmod_libs " ${_lib}")
   else()
     string(APPEND _dualgraph_cholmod_libs " -l${_lib}")
@@ -83,4 +95,14 @@ else()
   set(DUALGRAPH_PC_LIBS_PRIVATE "")
 endif()
 configure_file("${PROJECT_SOURCE_DIR}/cmake/dualgraph.pc.in" "${PROJECT_BINARY_DIR}/dualgraph.pc" @ONLY)
-install(FILES "${PROJECT_BINARY_DIR}/dualgraph.pc" DESTINATION "${CMAKE_INSTALL_LIBDIR}/pkgconfig")
+# The engine alone (core, types, solvers): Eigen, and CHOLMOD for static libraries.
+if(BUILD_SHARED_LIBS)
+  set(DUALGRAPH_ENGINE_PC_LIBS_EXTRA "")
+  set(DUALGRAPH_ENGINE_PC_LIBS_PRIVATE "${_dualgraph_cholmod_libs}")
+else()
+  set(DUALGRAPH_ENGINE_PC_LIBS_EXTRA "${_dualgraph_cholmod_libs}")
+  set(DUALGRAPH_ENGINE_PC_LIBS_PRIVATE "")
+endif()
+configure_file("${PROJECT_SOURCE_DIR}/cmake/dualgraph-engine.pc.in" "${PROJECT_BINARY_DIR}/dualgraph-engine.pc" @ONLY)
+install(FILES "${PROJECT_BINARY_DIR}/dualgraph.pc" "${PROJECT_BINARY_DIR}/dualgraph-engine.pc"
+        DESTINATION "${CMAKE_INSTALL_LIBDIR}/pkgconfig")

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "core/atomic_file.h"
+#include "dualgraph/core/atomic_file.h"
 
 #include <unistd.h>
 

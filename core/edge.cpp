@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "core/edge.h"
+#include "dualgraph/core/edge.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>

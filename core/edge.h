@@ -11,11 +11,11 @@
 #include <utility>
 #include <vector>
 
-#include "core/parameter.h"
-#include "core/robust_kernel.h"
-#include "core/status.h"
-#include "core/token_reader.h"
-#include "core/vertex.h"
+#include "dualgraph/core/parameter.h"
+#include "dualgraph/core/robust_kernel.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/core/token_reader.h"
+#include "dualgraph/core/vertex.h"
 
 namespace dualgraph {
 

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-#include "core/g2o_io.h"
+#include "dualgraph/core/g2o_io.h"
 
 #include <cstdio>
 #include <fstream>
 #include <map>
 #include <set>
 
-#include "core/atomic_file.h"
+#include "dualgraph/core/atomic_file.h"
 
 namespace dualgraph {
 namespace {

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "core/graph.h"
-#include "core/status.h"
-#include "core/type_registry.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/core/type_registry.h"
 
 namespace dualgraph {
 

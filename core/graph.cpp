@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "core/graph.h"
+#include "dualgraph/core/graph.h"
 
 #include <algorithm>
 #include <string>

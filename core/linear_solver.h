@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "core/status.h"
+#include "dualgraph/core/status.h"
 
 namespace dualgraph {
 

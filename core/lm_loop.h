@@ -6,8 +6,8 @@
 #include <cmath>
 #include <string>
 
-#include "core/optimizer.h"
-#include "core/wall_clock.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/core/wall_clock.h"
 
 namespace dualgraph {
 

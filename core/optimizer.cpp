@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "core/optimizer.h"
+#include "dualgraph/core/optimizer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/wall_clock.h"
+#include "dualgraph/core/wall_clock.h"
 
 namespace dualgraph {
 namespace {

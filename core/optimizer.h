@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "core/graph.h"
-#include "core/linear_solver.h"
-#include "core/sparse_system.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/core/linear_solver.h"
+#include "dualgraph/core/sparse_system.h"
 
 namespace dualgraph {
 

@@ -5,9 +5,9 @@
 #include <cstdio>
 #include <string>
 
-#include "core/lm_loop.h"
-#include "core/optimizer.h"
-#include "core/wall_clock.h"
+#include "dualgraph/core/lm_loop.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/core/wall_clock.h"
 
 namespace dualgraph {
 namespace {

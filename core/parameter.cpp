@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "core/parameter.h"
+#include "dualgraph/core/parameter.h"
 
 #include <string>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "core/robust_kernel.h"
+#include "dualgraph/core/robust_kernel.h"
 
 #include <cmath>
 #include <cstdlib>

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "core/status.h"
+#include "dualgraph/core/status.h"
 
 namespace dualgraph {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "core/sparse_system.h"
+#include "dualgraph/core/sparse_system.h"
 
 #include <algorithm>
 #include <string>

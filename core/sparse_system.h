@@ -7,8 +7,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "core/graph.h"
-#include "core/linear_solver.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/core/linear_solver.h"
 
 namespace dualgraph {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // SparseSystem::build: the structure of H (active vertices, block pattern, CSC layout, per-edge scatter slots).
-#include "core/sparse_system.h"
+#include "dualgraph/core/sparse_system.h"
 
 #include <algorithm>
 

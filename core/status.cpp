@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "core/status.h"
+#include "dualgraph/core/status.h"
 
 #include <sstream>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "core/token_reader.h"
+#include "dualgraph/core/token_reader.h"
 
 #include <cerrno>
 #include <climits>

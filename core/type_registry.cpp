@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "core/type_registry.h"
+#include "dualgraph/core/type_registry.h"
 
 namespace dualgraph {
 

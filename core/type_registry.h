@@ -9,10 +9,10 @@
 #include <typeindex>
 #include <vector>
 
-#include "core/edge.h"
-#include "core/parameter.h"
-#include "core/status.h"
-#include "core/vertex.h"
+#include "dualgraph/core/edge.h"
+#include "dualgraph/core/parameter.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/core/vertex.h"
 
 namespace dualgraph {
 

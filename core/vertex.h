@@ -6,8 +6,8 @@
 #include <ostream>
 #include <vector>
 
-#include "core/status.h"
-#include "core/token_reader.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/core/token_reader.h"
 
 namespace dualgraph {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "dual_graph/edge_factories.h"
+#include "dualgraph/dual_graph/edge_factories.h"
 
 
 namespace dualgraph {

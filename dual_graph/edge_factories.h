@@ -4,11 +4,11 @@
 
 #include <memory>
 
-#include "core/graph.h"
-#include "types/edge_point_xyz_prior.h"
-#include "types/edge_se3.h"
-#include "types/edge_se3_point_xyz.h"
-#include "types/edge_se3_prior.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/types/edge_point_xyz_prior.h"
+#include "dualgraph/types/edge_se3.h"
+#include "dualgraph/types/edge_se3_point_xyz.h"
+#include "dualgraph/types/edge_se3_prior.h"
 
 namespace dualgraph {
 

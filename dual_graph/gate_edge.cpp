@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
-#include "dual_graph/gate_edge.h"
+#include "dualgraph/dual_graph/gate_edge.h"
 
-#include "dual_graph/edge_factories.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se3.h"
-#include "types/se3_covariance.h"
+#include "dualgraph/dual_graph/edge_factories.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se3.h"
+#include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
 

@@ -5,10 +5,10 @@
 #include <Eigen/Geometry>
 #include <vector>
 
-#include "core/graph.h"
-#include "dual_graph/localizer_params.h"
-#include "dual_graph/measurements.h"
-#include "types/se3_math.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/dual_graph/localizer_params.h"
+#include "dualgraph/dual_graph/measurements.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 

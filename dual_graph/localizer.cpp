@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
-#include "dual_graph/localizer.h"
+#include "dualgraph/dual_graph/localizer.h"
 
 #include <cmath>
 
-#include "core/wall_clock.h"
-#include "types/se3_covariance.h"
+#include "dualgraph/core/wall_clock.h"
+#include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
 namespace {

@@ -9,13 +9,13 @@
 #include <string>
 #include <vector>
 
-#include "dual_graph/gate_map.h"
-#include "dual_graph/localizer_params.h"
-#include "dual_graph/main_graph.h"
-#include "dual_graph/measurements.h"
-#include "dual_graph/odometry_history.h"
-#include "dual_graph/temporary_graph.h"
-#include "dual_graph/tracking_monitor.h"
+#include "dualgraph/dual_graph/gate_map.h"
+#include "dualgraph/dual_graph/localizer_params.h"
+#include "dualgraph/dual_graph/main_graph.h"
+#include "dualgraph/dual_graph/measurements.h"
+#include "dualgraph/dual_graph/odometry_history.h"
+#include "dualgraph/dual_graph/temporary_graph.h"
+#include "dualgraph/dual_graph/tracking_monitor.h"
 
 namespace dualgraph {
 

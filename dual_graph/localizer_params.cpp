@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-#include "dual_graph/localizer_params.h"
+#include "dualgraph/dual_graph/localizer_params.h"
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 
-#include "core/robust_kernel.h"
+#include "dualgraph/core/robust_kernel.h"
 
 namespace dualgraph {
 namespace {

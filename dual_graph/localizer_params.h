@@ -6,9 +6,9 @@
 #include <optional>
 #include <string>
 
-#include "core/optimizer.h"
-#include "core/status.h"
-#include "solvers/linear_solver_factory.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
 
 namespace dualgraph {
 

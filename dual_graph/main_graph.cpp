@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: MIT
-#include "dual_graph/main_graph.h"
+#include "dualgraph/dual_graph/main_graph.h"
 
 #include <Eigen/Cholesky>
 #include <algorithm>
 
-#include "dual_graph/edge_factories.h"
-#include "dual_graph/marginal_prior.h"
-#include "types/se3_covariance.h"
-#include "solvers/marginal_covariance.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/dual_graph/edge_factories.h"
+#include "dualgraph/dual_graph/marginal_prior.h"
+#include "dualgraph/types/se3_covariance.h"
+#include "dualgraph/solvers/marginal_covariance.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 namespace {

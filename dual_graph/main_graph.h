@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "core/optimizer.h"
-#include "dual_graph/gate_edge.h"
-#include "dual_graph/gate_map.h"
-#include "dual_graph/localizer_params.h"
-#include "dual_graph/marginal_prior.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/dual_graph/gate_edge.h"
+#include "dualgraph/dual_graph/gate_map.h"
+#include "dualgraph/dual_graph/localizer_params.h"
+#include "dualgraph/dual_graph/marginal_prior.h"
 
 namespace dualgraph {
 

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
-#include "dual_graph/marginal_prior.h"
+#include "dualgraph/dual_graph/marginal_prior.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 
-#include "types/se3_math.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/types/se3_math.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 namespace {

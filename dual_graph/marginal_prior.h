@@ -7,8 +7,8 @@
 #include <memory>
 #include <vector>
 
-#include "core/edge.h"
-#include "core/graph.h"
+#include "dualgraph/core/edge.h"
+#include "dualgraph/core/graph.h"
 
 namespace dualgraph {
 

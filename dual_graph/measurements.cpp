@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-#include "dual_graph/measurements.h"
+#include "dualgraph/dual_graph/measurements.h"
 
 #include <cmath>
 
-#include "types/se3_covariance.h"
+#include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
 

@@ -7,8 +7,8 @@
 #include <optional>
 #include <string>
 
-#include "core/status.h"
-#include "types/se3_math.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 

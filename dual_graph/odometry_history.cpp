@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-#include "dual_graph/odometry_history.h"
+#include "dualgraph/dual_graph/odometry_history.h"
 
 #include <algorithm>
 
-#include "types/se3_covariance.h"
+#include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
 

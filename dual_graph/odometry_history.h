@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <deque>
 
-#include "dual_graph/measurements.h"
+#include "dualgraph/dual_graph/measurements.h"
 
 namespace dualgraph {
 

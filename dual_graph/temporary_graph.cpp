@@ -1,16 +1,16 @@
 // SPDX-License-Identifier: MIT
-#include "dual_graph/temporary_graph.h"
+#include "dualgraph/dual_graph/temporary_graph.h"
 
 #include <algorithm>
 
-#include "core/optimizer.h"
-#include "core/wall_clock.h"
-#include "dual_graph/edge_factories.h"
-#include "types/se3_covariance.h"
-#include "solvers/eigen_solver.h"
-#include "solvers/marginal_covariance.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/core/wall_clock.h"
+#include "dualgraph/dual_graph/edge_factories.h"
+#include "dualgraph/types/se3_covariance.h"
+#include "dualgraph/solvers/eigen_solver.h"
+#include "dualgraph/solvers/marginal_covariance.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 

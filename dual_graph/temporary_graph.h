@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "dual_graph/gate_edge.h"
-#include "dual_graph/localizer_params.h"
-#include "dual_graph/odometry_history.h"
-#include "dual_graph/temporary_pool.h"
-#include "solvers/block/block_lm_solver.h"
+#include "dualgraph/dual_graph/gate_edge.h"
+#include "dualgraph/dual_graph/localizer_params.h"
+#include "dualgraph/dual_graph/odometry_history.h"
+#include "dualgraph/dual_graph/temporary_pool.h"
+#include "dualgraph/solvers/block/block_lm_solver.h"
 
 namespace dualgraph {
 

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-#include "dual_graph/temporary_pool.h"
+#include "dualgraph/dual_graph/temporary_pool.h"
 
 #include <string>
 
-#include "dual_graph/edge_factories.h"
+#include "dualgraph/dual_graph/edge_factories.h"
 
 namespace dualgraph {
 

@@ -6,13 +6,13 @@
 #include <memory>
 #include <vector>
 
-#include "core/graph.h"
-#include "dual_graph/gate_edge.h"
-#include "types/edge_se3.h"
-#include "types/edge_se3_corner_projection.h"
-#include "types/edge_se3_point_xyz.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/dual_graph/gate_edge.h"
+#include "dualgraph/types/edge_se3.h"
+#include "dualgraph/types/edge_se3_corner_projection.h"
+#include "dualgraph/types/edge_se3_point_xyz.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "dual_graph/tracking_monitor.h"
+#include "dualgraph/dual_graph/tracking_monitor.h"
 
 #include <cmath>
 

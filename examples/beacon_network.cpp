@@ -13,13 +13,13 @@
 #include <sstream>
 #include <vector>
 
-#include "core/g2o_io.h"
-#include "core/graph.h"
-#include "core/optimizer.h"
+#include "dualgraph/core/g2o_io.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/core/optimizer.h"
 #include "range_types.h"
-#include "solvers/linear_solver_factory.h"
-#include "solvers/marginal_covariance.h"
-#include "types/register_types.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
+#include "dualgraph/solvers/marginal_covariance.h"
+#include "dualgraph/types/register_types.h"
 
 namespace {
 

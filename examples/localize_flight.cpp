@@ -8,9 +8,9 @@
 #include <random>
 #include <vector>
 
-#include "dual_graph/localizer.h"
-#include "frontend/io/trajectory_io.h"
-#include "types/se3_math.h"
+#include "dualgraph/dual_graph/localizer.h"
+#include "dualgraph/frontend/io/trajectory_io.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace {
 

@@ -6,10 +6,10 @@
 #include <Eigen/Core>
 #include <ostream>
 
-#include "core/edge.h"
-#include "core/status.h"
-#include "core/type_registry.h"
-#include "core/vertex.h"
+#include "dualgraph/core/edge.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/core/type_registry.h"
+#include "dualgraph/core/vertex.h"
 
 namespace beacons {
 

@@ -4,8 +4,8 @@
 
 #include <vector>
 
-#include "frontend/gates/gate_frontend.h"
-#include "frontend/io/sequence_folder.h"
+#include "dualgraph/frontend/gates/gate_frontend.h"
+#include "dualgraph/frontend/io/sequence_folder.h"
 
 namespace dualgraph {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/sequence_run.h"
+#include "dualgraph/frontend/sequence_run.h"
 
 #include <algorithm>
 #include <chrono>
@@ -8,8 +8,8 @@
 #include <limits>
 #include <optional>
 
-#include "dual_graph/odometry_history.h"
-#include "frontend/detection_feed.h"
+#include "dualgraph/dual_graph/odometry_history.h"
+#include "dualgraph/frontend/detection_feed.h"
 
 namespace dualgraph {
 namespace {

@@ -6,11 +6,11 @@
 #include <optional>
 #include <vector>
 
-#include "core/status.h"
-#include "dual_graph/localizer.h"
-#include "frontend/gates/gate_frontend.h"
-#include "frontend/io/run_config.h"
-#include "frontend/io/sequence_folder.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/dual_graph/localizer.h"
+#include "dualgraph/frontend/gates/gate_frontend.h"
+#include "dualgraph/frontend/io/run_config.h"
+#include "dualgraph/frontend/io/sequence_folder.h"
 
 namespace dualgraph {
 

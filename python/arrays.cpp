@@ -5,10 +5,10 @@
 #include <limits>
 #include <sstream>
 
-#include "dual_graph/measurements.h"
+#include "dualgraph/dual_graph/measurements.h"
 #include "errors.h"
-#include "types/se3_math.h"
-#include "types/se3_covariance.h"
+#include "dualgraph/types/se3_math.h"
+#include "dualgraph/types/se3_covariance.h"
 
 namespace py = pybind11;
 

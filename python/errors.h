@@ -8,7 +8,7 @@
 #include <string>
 #include <utility>
 
-#include "core/status.h"
+#include "dualgraph/core/status.h"
 
 namespace dualgraph::python {
 

@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "dual_graph/localizer.h"
+#include "dualgraph/dual_graph/localizer.h"
 
 namespace dualgraph::python {
 

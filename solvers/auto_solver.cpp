@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
-#include "solvers/auto_solver.h"
+#include "dualgraph/solvers/auto_solver.h"
 
-#include "solvers/cholmod_solver.h"
-#include "solvers/eigen_solver.h"
+#include "dualgraph/solvers/cholmod_solver.h"
+#include "dualgraph/solvers/eigen_solver.h"
 
 namespace dualgraph {
 

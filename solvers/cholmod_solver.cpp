@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-#include "solvers/cholmod_solver.h"
+#include "dualgraph/solvers/cholmod_solver.h"
 
 #include <cholmod.h>
 
 #include <cstring>
 #include <vector>
 
-#include "solvers/sparse_pattern.h"
+#include "dualgraph/solvers/sparse_pattern.h"
 
 namespace dualgraph {
 

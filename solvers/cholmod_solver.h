@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "core/linear_solver.h"
+#include "dualgraph/core/linear_solver.h"
 
 namespace dualgraph {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "solvers/eigen_solver.h"
+#include "dualgraph/solvers/eigen_solver.h"
 
 #include <Eigen/OrderingMethods>
 #include <algorithm>
@@ -7,7 +7,7 @@
 #include <numeric>
 #include <tuple>
 
-#include "solvers/sparse_pattern.h"
+#include "dualgraph/solvers/sparse_pattern.h"
 
 namespace dualgraph {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/linear_solver.h"
+#include "dualgraph/core/linear_solver.h"
 
 namespace dualgraph {
 

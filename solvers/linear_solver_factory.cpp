@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-#include "solvers/linear_solver_factory.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
 
-#include "solvers/auto_solver.h"
-#include "solvers/cholmod_solver.h"
-#include "solvers/eigen_solver.h"
+#include "dualgraph/solvers/auto_solver.h"
+#include "dualgraph/solvers/cholmod_solver.h"
+#include "dualgraph/solvers/eigen_solver.h"
 
 namespace dualgraph {
 

@@ -5,8 +5,8 @@
 #include <memory>
 #include <string>
 
-#include "core/linear_solver.h"
-#include "core/status.h"
+#include "dualgraph/core/linear_solver.h"
+#include "dualgraph/core/status.h"
 
 namespace dualgraph {
 

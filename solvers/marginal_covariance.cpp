@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "solvers/marginal_covariance.h"
+#include "dualgraph/solvers/marginal_covariance.h"
 
 #include <algorithm>
 #include <string>

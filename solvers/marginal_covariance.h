@@ -7,10 +7,10 @@
 #include <utility>
 #include <vector>
 
-#include "core/graph.h"
-#include "core/optimizer.h"
-#include "core/status.h"
-#include "solvers/linear_solver_factory.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
 
 namespace dualgraph {
 

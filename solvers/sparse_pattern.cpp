@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "solvers/sparse_pattern.h"
+#include "dualgraph/solvers/sparse_pattern.h"
 
 #include <algorithm>
 #include <cmath>

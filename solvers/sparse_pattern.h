@@ -2,8 +2,8 @@
 // Checks shared by the solvers in this folder (not part of the public solver API).
 #pragma once
 
-#include "core/linear_solver.h"
-#include "core/status.h"
+#include "dualgraph/core/linear_solver.h"
+#include "dualgraph/core/status.h"
 
 namespace dualgraph {
 

@@ -7,14 +7,14 @@
 #include <iostream>
 #include <sstream>
 
-#include "frontend/calibration/self_calibration.h"
-#include "frontend/io/camera_io.h"
-#include "frontend/simulation/race_profiles.h"
-#include "frontend/simulation/race_sequence.h"
-#include "frontend/io/run_config.h"
-#include "frontend/evaluation/run_folder.h"
-#include "frontend/evaluation/run_metrics.h"
-#include "frontend/io/track_io.h"
+#include "dualgraph/frontend/calibration/self_calibration.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/simulation/race_profiles.h"
+#include "dualgraph/frontend/simulation/race_sequence.h"
+#include "dualgraph/frontend/io/run_config.h"
+#include "dualgraph/frontend/evaluation/run_folder.h"
+#include "dualgraph/frontend/evaluation/run_metrics.h"
+#include "dualgraph/frontend/io/track_io.h"
 #include "tools/ablation_tables.h"
 #include "tools/data_dir.h"
 #include "tools/staged_folder.h"

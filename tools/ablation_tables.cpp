@@ -6,7 +6,7 @@
 #include <map>
 #include <sstream>
 
-#include "core/atomic_file.h"
+#include "dualgraph/core/atomic_file.h"
 
 namespace dualgraph::tools {
 namespace {

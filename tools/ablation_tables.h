@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/evaluation/run_metrics.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/evaluation/run_metrics.h"
 
 namespace dualgraph::tools {
 

@@ -6,11 +6,11 @@
 #include <iostream>
 #include <limits>
 
-#include "frontend/calibration/camera_calibration.h"
-#include "frontend/evaluation/run_metrics.h"
-#include "frontend/io/camera_io.h"
-#include "frontend/io/json_writer.h"
-#include "frontend/io/run_config.h"
+#include "dualgraph/frontend/calibration/camera_calibration.h"
+#include "dualgraph/frontend/evaluation/run_metrics.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/json_writer.h"
+#include "dualgraph/frontend/io/run_config.h"
 #include "tools/data_dir.h"
 
 namespace dualgraph::tools {

@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <iostream>
 
-#include "core/atomic_file.h"
-#include "frontend/io/odometry_io.h"
-#include "frontend/evaluation/trajectory_metrics.h"
-#include "frontend/io/json_writer.h"
+#include "dualgraph/core/atomic_file.h"
+#include "dualgraph/frontend/io/odometry_io.h"
+#include "dualgraph/frontend/evaluation/trajectory_metrics.h"
+#include "dualgraph/frontend/io/json_writer.h"
 
 namespace dualgraph::tools {
 namespace {

@@ -7,12 +7,12 @@
 #include <cstdio>
 #include <iostream>
 
-#include "core/atomic_file.h"
-#include "core/g2o_io.h"
-#include "core/optimizer.h"
-#include "solvers/linear_solver_factory.h"
-#include "frontend/io/json_writer.h"
-#include "types/register_types.h"
+#include "dualgraph/core/atomic_file.h"
+#include "dualgraph/core/g2o_io.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
+#include "dualgraph/frontend/io/json_writer.h"
+#include "dualgraph/types/register_types.h"
 
 namespace dualgraph::tools {
 namespace {

@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <iostream>
 
-#include "frontend/report/run_report.h"
+#include "dualgraph/frontend/report/run_report.h"
 #include "tools/staged_folder.h"
 
 namespace dualgraph::tools {

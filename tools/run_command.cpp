@@ -12,8 +12,8 @@
 #include <limits>
 #include <sstream>
 
-#include "frontend/io/run_config.h"
-#include "frontend/evaluation/run_folder.h"
+#include "dualgraph/frontend/io/run_config.h"
+#include "dualgraph/frontend/evaluation/run_folder.h"
 #include "tools/data_dir.h"
 #include "tools/staged_folder.h"
 

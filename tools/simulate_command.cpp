@@ -6,9 +6,9 @@
 #include <iostream>
 #include <set>
 
-#include "frontend/io/camera_io.h"
-#include "frontend/io/track_io.h"
-#include "frontend/report/xy_plot.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/track_io.h"
+#include "dualgraph/frontend/report/xy_plot.h"
 #include "tools/data_dir.h"
 #include "tools/staged_folder.h"
 

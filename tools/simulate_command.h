@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "frontend/simulation/race_profiles.h"
-#include "frontend/simulation/race_sequence.h"
+#include "dualgraph/frontend/simulation/race_profiles.h"
+#include "dualgraph/frontend/simulation/race_sequence.h"
 
 namespace dualgraph::tools {
 

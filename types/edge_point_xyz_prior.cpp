@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-#include "types/edge_point_xyz_prior.h"
+#include "dualgraph/types/edge_point_xyz_prior.h"
 
-#include "types/g2o_text.h"
+#include "dualgraph/types/g2o_text.h"
 
 namespace dualgraph {
 

@@ -4,8 +4,8 @@
 
 #include <Eigen/Core>
 
-#include "core/edge.h"
-#include "types/vertex_point_xyz.h"
+#include "dualgraph/core/edge.h"
+#include "dualgraph/types/vertex_point_xyz.h"
 
 namespace dualgraph {
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-#include "types/edge_se2.h"
+#include "dualgraph/types/edge_se2.h"
 
-#include "types/g2o_text.h"
+#include "dualgraph/types/g2o_text.h"
 
 namespace dualgraph {
 

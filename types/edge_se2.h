@@ -2,9 +2,9 @@
 // EdgeSE2 (EDGE_SE2): the relative planar pose between two VertexSE2, g2o's error, analytic Jacobians.
 #pragma once
 
-#include "core/edge.h"
-#include "types/se2.h"
-#include "types/vertex_se2.h"
+#include "dualgraph/core/edge.h"
+#include "dualgraph/types/se2.h"
+#include "dualgraph/types/vertex_se2.h"
 
 namespace dualgraph {
 

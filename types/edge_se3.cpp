@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-#include "types/edge_se3.h"
+#include "dualgraph/types/edge_se3.h"
 
-#include "types/se3_math.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 

@@ -4,8 +4,8 @@
 
 #include <Eigen/Geometry>
 
-#include "core/edge.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/core/edge.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-#include "types/edge_se3_point_xyz.h"
+#include "dualgraph/types/edge_se3_point_xyz.h"
 
-#include "types/g2o_text.h"
-#include "types/parameter_se3_offset.h"
-#include "types/se3_math.h"
+#include "dualgraph/types/g2o_text.h"
+#include "dualgraph/types/parameter_se3_offset.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 

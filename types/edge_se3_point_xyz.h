@@ -4,9 +4,9 @@
 
 #include <Eigen/Geometry>
 
-#include "core/edge.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/core/edge.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 

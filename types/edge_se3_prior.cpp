@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
-#include "types/edge_se3_prior.h"
+#include "dualgraph/types/edge_se3_prior.h"
 
-#include "types/parameter_se3_offset.h"
-#include "types/se3_math.h"
+#include "dualgraph/types/parameter_se3_offset.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 

@@ -4,9 +4,9 @@
 
 #include <Eigen/Geometry>
 
-#include "core/edge.h"
-#include "types/g2o_text.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/core/edge.h"
+#include "dualgraph/types/g2o_text.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 

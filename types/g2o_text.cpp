@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-#include "types/g2o_text.h"
+#include "dualgraph/types/g2o_text.h"
 
 #include <cmath>
 
-#include "types/se3_math.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 

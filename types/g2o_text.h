@@ -7,8 +7,8 @@
 #include <array>
 #include <ostream>
 
-#include "core/status.h"
-#include "core/token_reader.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/core/token_reader.h"
 
 namespace dualgraph {
 

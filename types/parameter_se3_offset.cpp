@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "types/parameter_se3_offset.h"
+#include "dualgraph/types/parameter_se3_offset.h"
 
 #include <string>
 

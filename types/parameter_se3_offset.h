@@ -4,8 +4,8 @@
 
 #include <Eigen/Geometry>
 
-#include "core/parameter.h"
-#include "types/g2o_text.h"
+#include "dualgraph/core/parameter.h"
+#include "dualgraph/types/g2o_text.h"
 
 namespace dualgraph {
 

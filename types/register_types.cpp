@@ -1,16 +1,16 @@
 // SPDX-License-Identifier: MIT
-#include "types/register_types.h"
+#include "dualgraph/types/register_types.h"
 
-#include "types/edge_point_xyz_prior.h"
-#include "types/edge_se2.h"
-#include "types/edge_se3.h"
-#include "types/edge_se3_corner_projection.h"
-#include "types/edge_se3_point_xyz.h"
-#include "types/edge_se3_prior.h"
-#include "types/parameter_se3_offset.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se2.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/types/edge_point_xyz_prior.h"
+#include "dualgraph/types/edge_se2.h"
+#include "dualgraph/types/edge_se3.h"
+#include "dualgraph/types/edge_se3_corner_projection.h"
+#include "dualgraph/types/edge_se3_point_xyz.h"
+#include "dualgraph/types/edge_se3_prior.h"
+#include "dualgraph/types/parameter_se3_offset.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se2.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 

@@ -2,8 +2,8 @@
 // registerBuiltinTypes: adds the library's vertex, edge and parameter types to a TypeRegistry.
 #pragma once
 
-#include "core/status.h"
-#include "core/type_registry.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/core/type_registry.h"
 
 namespace dualgraph {
 

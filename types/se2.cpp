@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "types/se2.h"
+#include "dualgraph/types/se2.h"
 
 #include <cmath>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "types/se3_covariance.h"
+#include "dualgraph/types/se3_covariance.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -8,7 +8,7 @@
 #include <sstream>
 #include <utility>
 
-#include "core/small_cholesky.h"
+#include "dualgraph/core/small_cholesky.h"
 
 namespace dualgraph {
 

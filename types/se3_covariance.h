@@ -4,8 +4,8 @@
 
 #include <Eigen/Geometry>
 
-#include "core/status.h"
-#include "types/se3_math.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "types/se3_math.h"
+#include "dualgraph/types/se3_math.h"
 
 #include <cmath>
 

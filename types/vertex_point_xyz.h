@@ -4,7 +4,7 @@
 
 #include <Eigen/Core>
 
-#include "core/vertex.h"
+#include "dualgraph/core/vertex.h"
 
 namespace dualgraph {
 

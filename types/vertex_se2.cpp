@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-#include "types/vertex_se2.h"
+#include "dualgraph/types/vertex_se2.h"
 
-#include "types/g2o_text.h"
+#include "dualgraph/types/g2o_text.h"
 
 namespace dualgraph {
 

@@ -2,8 +2,8 @@
 // VertexSE2 (VERTEX_SE2): a planar pose, g2o's additive increment with the angle wrapped.
 #pragma once
 
-#include "core/vertex.h"
-#include "types/se2.h"
+#include "dualgraph/core/vertex.h"
+#include "dualgraph/types/se2.h"
 
 namespace dualgraph {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "types/vertex_se3.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 

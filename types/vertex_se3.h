@@ -4,9 +4,9 @@
 
 #include <Eigen/Geometry>
 
-#include "core/vertex.h"
-#include "types/g2o_text.h"
-#include "types/se3_math.h"
+#include "dualgraph/core/vertex.h"
+#include "dualgraph/types/g2o_text.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/calibration/calibration_problem.h"
+#include "dualgraph/frontend/calibration/calibration_problem.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "types/se3_math.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {

@@ -6,7 +6,7 @@
 #include <map>
 #include <vector>
 
-#include "frontend/calibration/calibration_solver.h"
+#include "dualgraph/frontend/calibration/calibration_solver.h"
 
 namespace dualgraph {
 

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/calibration/calibration_solver.h"
+#include "dualgraph/frontend/calibration/calibration_solver.h"
 
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 
-#include "frontend/calibration/calibration_problem.h"
+#include "dualgraph/frontend/calibration/calibration_problem.h"
 
 namespace dualgraph {
 namespace {

@@ -5,10 +5,10 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/calibration/gate_corner_matching.h"
-#include "frontend/calibration/vio_drift_track.h"
-#include "frontend/gates/camera_model.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/calibration/gate_corner_matching.h"
+#include "dualgraph/frontend/calibration/vio_drift_track.h"
+#include "dualgraph/frontend/gates/camera_model.h"
 
 namespace dualgraph {
 

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/calibration/camera_calibration.h"
+#include "dualgraph/frontend/calibration/camera_calibration.h"
 
 #include <cmath>
 
-#include "types/se3_math.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {

@@ -6,11 +6,11 @@
 #include <functional>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/calibration/calibration_solver.h"
-#include "frontend/io/run_config.h"
-#include "frontend/io/sequence_folder.h"
-#include "frontend/sequence_run.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/calibration/calibration_solver.h"
+#include "dualgraph/frontend/io/run_config.h"
+#include "dualgraph/frontend/io/sequence_folder.h"
+#include "dualgraph/frontend/sequence_run.h"
 
 namespace dualgraph {
 

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/calibration/gate_corner_matching.h"
+#include "dualgraph/frontend/calibration/gate_corner_matching.h"
 
 #include <cmath>
 #include <limits>
 
-#include "frontend/gates/gate_pnp.h"
+#include "dualgraph/frontend/gates/gate_pnp.h"
 
 namespace dualgraph {
 namespace {

@@ -6,11 +6,11 @@
 #include <array>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/calibration/vio_drift_track.h"
-#include "frontend/gates/camera_model.h"
-#include "frontend/gates/corner_detection.h"
-#include "frontend/gates/track.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/calibration/vio_drift_track.h"
+#include "dualgraph/frontend/gates/camera_model.h"
+#include "dualgraph/frontend/gates/corner_detection.h"
+#include "dualgraph/frontend/gates/track.h"
 
 namespace dualgraph {
 

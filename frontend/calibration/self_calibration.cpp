@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/calibration/self_calibration.h"
+#include "dualgraph/frontend/calibration/self_calibration.h"
 
 #include <cmath>
 

@@ -4,11 +4,11 @@
 
 #include <string>
 
-#include "core/status.h"
-#include "frontend/calibration/camera_calibration.h"
-#include "frontend/io/run_config.h"
-#include "frontend/io/sequence_folder.h"
-#include "frontend/sequence_run.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/calibration/camera_calibration.h"
+#include "dualgraph/frontend/io/run_config.h"
+#include "dualgraph/frontend/io/sequence_folder.h"
+#include "dualgraph/frontend/sequence_run.h"
 
 namespace dualgraph {
 

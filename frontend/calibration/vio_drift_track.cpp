@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/calibration/vio_drift_track.h"
+#include "dualgraph/frontend/calibration/vio_drift_track.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "dual_graph/odometry_history.h"
+#include "dualgraph/dual_graph/odometry_history.h"
 
 namespace dualgraph {
 double yawOf(const Eigen::Matrix3d& rotation) { return std::atan2(rotation(1, 0), rotation(0, 0)); }

@@ -6,9 +6,9 @@
 #include <Eigen/Geometry>
 #include <vector>
 
-#include "core/status.h"
-#include "dual_graph/localizer.h"
-#include "dual_graph/measurements.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/dual_graph/localizer.h"
+#include "dualgraph/dual_graph/measurements.h"
 
 namespace dualgraph {
 

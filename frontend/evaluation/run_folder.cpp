@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The run folder: written by writeRunFolder, read back by loadRunReport with the frontend's strict readers
 // (metrics.json through yaml-cpp, JSON being YAML's flow style, so errors carry file:line).
-#include "frontend/evaluation/run_folder.h"
+#include "dualgraph/frontend/evaluation/run_folder.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,12 +9,12 @@
 #include <limits>
 #include <sstream>
 
-#include "frontend/io/odometry_io.h"
-#include "core/atomic_file.h"
-#include "frontend/io/json_writer.h"
-#include "frontend/io/delimited_text.h"
-#include "frontend/io/track_io.h"
-#include "frontend/io/yaml_fields.h"
+#include "dualgraph/frontend/io/odometry_io.h"
+#include "dualgraph/core/atomic_file.h"
+#include "dualgraph/frontend/io/json_writer.h"
+#include "dualgraph/frontend/io/delimited_text.h"
+#include "dualgraph/frontend/io/track_io.h"
+#include "dualgraph/frontend/io/yaml_fields.h"
 
 namespace dualgraph {
 namespace {

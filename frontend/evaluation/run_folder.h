@@ -7,13 +7,13 @@
 #include <utility>
 #include <vector>
 
-#include "core/status.h"
-#include "dual_graph/localizer_params.h"
-#include "frontend/calibration/self_calibration.h"
-#include "frontend/evaluation/run_metrics.h"
-#include "frontend/evaluation/trajectory_metrics.h"
-#include "frontend/gates/track.h"
-#include "frontend/sequence_run.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/dual_graph/localizer_params.h"
+#include "dualgraph/frontend/calibration/self_calibration.h"
+#include "dualgraph/frontend/evaluation/run_metrics.h"
+#include "dualgraph/frontend/evaluation/trajectory_metrics.h"
+#include "dualgraph/frontend/gates/track.h"
+#include "dualgraph/frontend/sequence_run.h"
 
 namespace dualgraph {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/evaluation/run_metrics.h"
+#include "dualgraph/frontend/evaluation/run_metrics.h"
 
 #include <algorithm>
 #include <cmath>

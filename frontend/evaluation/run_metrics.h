@@ -4,10 +4,10 @@
 
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/io/sequence_folder.h"
-#include "frontend/sequence_run.h"
-#include "frontend/evaluation/trajectory_metrics.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/io/sequence_folder.h"
+#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/evaluation/trajectory_metrics.h"
 
 namespace dualgraph {
 

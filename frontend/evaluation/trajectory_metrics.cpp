@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/evaluation/trajectory_metrics.h"
+#include "dualgraph/frontend/evaluation/trajectory_metrics.h"
 
 #include <Eigen/SVD>
 #include <algorithm>
@@ -8,8 +8,8 @@
 #include <limits>
 #include <tuple>
 
-#include "types/se3_math.h"
-#include "types/se3_covariance.h"
+#include "dualgraph/types/se3_math.h"
+#include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
 namespace {

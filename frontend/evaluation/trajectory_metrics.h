@@ -9,9 +9,9 @@
 #include <utility>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/io/trajectory_io.h"
-#include "dual_graph/measurements.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/io/trajectory_io.h"
+#include "dualgraph/dual_graph/measurements.h"
 
 namespace dualgraph {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/gates/camera_model.h"
+#include "dualgraph/frontend/gates/camera_model.h"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "dual_graph/measurements.h"
-#include "types/se3_covariance.h"
+#include "dualgraph/dual_graph/measurements.h"
+#include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
 namespace {

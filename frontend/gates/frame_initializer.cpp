@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/gates/frame_initializer.h"
+#include "dualgraph/frontend/gates/frame_initializer.h"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
-#include "types/se2.h"
+#include "dualgraph/types/se2.h"
 
 namespace dualgraph {
 namespace {

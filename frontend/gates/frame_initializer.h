@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "dual_graph/gate_map.h"
-#include "dual_graph/measurements.h"
+#include "dualgraph/dual_graph/gate_map.h"
+#include "dualgraph/dual_graph/measurements.h"
 
 namespace dualgraph {
 

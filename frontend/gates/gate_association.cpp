@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/gates/gate_association.h"
+#include "dualgraph/frontend/gates/gate_association.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
-#include "frontend/gates/hungarian.h"
-#include "types/se3_covariance.h"
+#include "dualgraph/frontend/gates/hungarian.h"
+#include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
 namespace {

@@ -5,9 +5,9 @@
 #include <Eigen/Geometry>
 #include <vector>
 
-#include "core/status.h"
-#include "dual_graph/gate_map.h"
-#include "dual_graph/measurements.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/dual_graph/gate_map.h"
+#include "dualgraph/dual_graph/measurements.h"
 
 namespace dualgraph {
 

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/gates/gate_frontend.h"
+#include "dualgraph/frontend/gates/gate_frontend.h"
 
 #include <cmath>
 
-#include "frontend/gates/partial_gate.h"
-#include "types/se3_math.h"
+#include "dualgraph/frontend/gates/partial_gate.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {

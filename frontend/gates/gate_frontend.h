@@ -5,13 +5,13 @@
 #include <optional>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/gates/camera_model.h"
-#include "frontend/gates/corner_detection.h"
-#include "frontend/gates/gate_association.h"
-#include "frontend/gates/gate_pnp.h"
-#include "frontend/gates/pixel_noise.h"
-#include "frontend/gates/track.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/gates/camera_model.h"
+#include "dualgraph/frontend/gates/corner_detection.h"
+#include "dualgraph/frontend/gates/gate_association.h"
+#include "dualgraph/frontend/gates/gate_pnp.h"
+#include "dualgraph/frontend/gates/pixel_noise.h"
+#include "dualgraph/frontend/gates/track.h"
 
 namespace dualgraph {
 

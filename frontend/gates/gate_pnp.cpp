@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/gates/gate_pnp.h"
+#include "dualgraph/frontend/gates/gate_pnp.h"
 
-#include "frontend/gates/gate_pnp_posterior.h"
+#include "dualgraph/frontend/gates/gate_pnp_posterior.h"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>

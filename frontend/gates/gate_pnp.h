@@ -6,10 +6,10 @@
 #include <Eigen/Geometry>
 #include <string>
 
-#include "dual_graph/measurements.h"
-#include "frontend/gates/camera_model.h"
-#include "frontend/gates/corner_detection.h"
-#include "types/se3_math.h"
+#include "dualgraph/dual_graph/measurements.h"
+#include "dualgraph/frontend/gates/camera_model.h"
+#include "dualgraph/frontend/gates/corner_detection.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 

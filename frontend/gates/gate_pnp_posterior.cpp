@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/gates/gate_pnp_posterior.h"
+#include "dualgraph/frontend/gates/gate_pnp_posterior.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>

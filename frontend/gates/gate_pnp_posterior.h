@@ -7,9 +7,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "frontend/gates/camera_model.h"
-#include "frontend/gates/corner_detection.h"
-#include "types/se3_math.h"
+#include "dualgraph/frontend/gates/camera_model.h"
+#include "dualgraph/frontend/gates/corner_detection.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph::pnp_detail {
 

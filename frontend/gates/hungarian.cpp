@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/gates/hungarian.h"
+#include "dualgraph/frontend/gates/hungarian.h"
 
 #include <cmath>
 #include <cstdint>

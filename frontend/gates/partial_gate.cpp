@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/gates/partial_gate.h"
+#include "dualgraph/frontend/gates/partial_gate.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "frontend/gates/gate_pnp.h"
+#include "dualgraph/frontend/gates/gate_pnp.h"
 
 namespace dualgraph {
 

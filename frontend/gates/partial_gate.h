@@ -5,11 +5,11 @@
 #include <array>
 #include <optional>
 
-#include "core/status.h"
-#include "dual_graph/gate_map.h"
-#include "dual_graph/measurements.h"
-#include "frontend/gates/camera_model.h"
-#include "frontend/gates/corner_detection.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/dual_graph/gate_map.h"
+#include "dualgraph/dual_graph/measurements.h"
+#include "dualgraph/frontend/gates/camera_model.h"
+#include "dualgraph/frontend/gates/corner_detection.h"
 
 namespace dualgraph {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/gates/pixel_noise.h"
+#include "dualgraph/frontend/gates/pixel_noise.h"
 
 #include <algorithm>
 #include <cmath>

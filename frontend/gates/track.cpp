@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/gates/track.h"
+#include "dualgraph/frontend/gates/track.h"
 
 #include <string>
 
-#include "core/status.h"
+#include "dualgraph/core/status.h"
 
 namespace dualgraph {
 

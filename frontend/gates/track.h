@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "core/status.h"
-#include "dual_graph/gate_map.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/dual_graph/gate_map.h"
 
 namespace dualgraph {
 

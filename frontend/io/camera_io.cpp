@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/camera_io.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -8,9 +8,9 @@
 #include <sstream>
 #include <vector>
 
-#include "core/atomic_file.h"
-#include "core/token_reader.h"
-#include "frontend/io/yaml_fields.h"
+#include "dualgraph/core/atomic_file.h"
+#include "dualgraph/core/token_reader.h"
+#include "dualgraph/frontend/io/yaml_fields.h"
 
 namespace dualgraph {
 namespace {

@@ -4,8 +4,8 @@
 
 #include <string>
 
-#include "core/status.h"
-#include "frontend/gates/camera_model.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/gates/camera_model.h"
 
 namespace dualgraph {
 

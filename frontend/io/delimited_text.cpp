@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/io/delimited_text.h"
+#include "dualgraph/frontend/io/delimited_text.h"
 
 #include <charconv>
 #include <cmath>
@@ -8,9 +8,9 @@
 #include <iterator>
 #include <limits>
 
-#include "core/token_reader.h"
-#include "dual_graph/measurements.h"
-#include "types/se3_covariance.h"
+#include "dualgraph/core/token_reader.h"
+#include "dualgraph/dual_graph/measurements.h"
+#include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
 namespace {

@@ -8,8 +8,8 @@
 #include <string_view>
 #include <vector>
 
-#include "core/status.h"
-#include "types/se3_math.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 

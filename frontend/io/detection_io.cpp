@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/io/detection_io.h"
+#include "dualgraph/frontend/io/detection_io.h"
 
 #include <cmath>
 #include <limits>
 
-#include "core/atomic_file.h"
-#include "frontend/io/delimited_text.h"
-#include "types/se3_covariance.h"
+#include "dualgraph/core/atomic_file.h"
+#include "dualgraph/frontend/io/delimited_text.h"
+#include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
 namespace {

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "core/status.h"
-#include "dual_graph/measurements.h"
-#include "frontend/gates/corner_detection.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/dual_graph/measurements.h"
+#include "dualgraph/frontend/gates/corner_detection.h"
 
 namespace dualgraph {
 

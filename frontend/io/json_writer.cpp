@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/io/json_writer.h"
+#include "dualgraph/frontend/io/json_writer.h"
 
 #include <cmath>
 #include <cstdio>
@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/atomic_file.h"
+#include "dualgraph/core/atomic_file.h"
 
 namespace dualgraph {
 

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/io/localizer_params_yaml.h"
+#include "dualgraph/frontend/io/localizer_params_yaml.h"
 
 #include <algorithm>
 #include <map>
 #include <vector>
 
-#include "core/token_reader.h"
-#include "frontend/io/localizer_params_node.h"
-#include "frontend/io/yaml_fields.h"
+#include "dualgraph/core/token_reader.h"
+#include "dualgraph/frontend/io/localizer_params_node.h"
+#include "dualgraph/frontend/io/yaml_fields.h"
 
 namespace dualgraph {
 namespace {

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "core/status.h"
-#include "dual_graph/localizer_params.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/dual_graph/localizer_params.h"
 
 namespace dualgraph {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/io/odometry_io.h"
+#include "dualgraph/frontend/io/odometry_io.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -9,8 +9,8 @@
 #include <map>
 #include <string>
 
-#include "types/se3_covariance.h"
-#include "frontend/io/delimited_text.h"
+#include "dualgraph/types/se3_covariance.h"
+#include "dualgraph/frontend/io/delimited_text.h"
 
 namespace dualgraph {
 namespace {

@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "core/status.h"
-#include "dual_graph/measurements.h"
-#include "dual_graph/odometry_history.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/dual_graph/measurements.h"
+#include "dualgraph/dual_graph/odometry_history.h"
 
 namespace dualgraph {
 

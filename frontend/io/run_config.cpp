@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/io/run_config.h"
+#include "dualgraph/frontend/io/run_config.h"
 
 #include <cmath>
 #include <map>
 
-#include "frontend/io/localizer_params_node.h"
-#include "frontend/io/yaml_fields.h"
+#include "dualgraph/frontend/io/localizer_params_node.h"
+#include "dualgraph/frontend/io/yaml_fields.h"
 
 namespace dualgraph {
 namespace {

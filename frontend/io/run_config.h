@@ -5,11 +5,11 @@
 #include <optional>
 #include <string>
 
-#include "core/status.h"
-#include "dual_graph/localizer_params.h"
-#include "frontend/gates/frame_initializer.h"
-#include "frontend/gates/gate_frontend.h"
-#include "types/se3_math.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/dual_graph/localizer_params.h"
+#include "dualgraph/frontend/gates/frame_initializer.h"
+#include "dualgraph/frontend/gates/gate_frontend.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 

@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/io/sequence_folder.h"
+#include "dualgraph/frontend/io/sequence_folder.h"
 
 #include <algorithm>
 #include <filesystem>
 #include <set>
 
-#include "core/atomic_file.h"
-#include "frontend/io/camera_io.h"
-#include "frontend/io/track_io.h"
-#include "frontend/io/trajectory_io.h"
+#include "dualgraph/core/atomic_file.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/track_io.h"
+#include "dualgraph/frontend/io/trajectory_io.h"
 
 namespace dualgraph {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/io/track_io.h"
+#include "dualgraph/frontend/io/track_io.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -14,9 +14,9 @@
 #include <utility>
 #include <vector>
 
-#include "core/atomic_file.h"
-#include "core/token_reader.h"
-#include "frontend/io/yaml_fields.h"
+#include "dualgraph/core/atomic_file.h"
+#include "dualgraph/core/token_reader.h"
+#include "dualgraph/frontend/io/yaml_fields.h"
 
 namespace dualgraph {
 namespace {

@@ -4,8 +4,8 @@
 
 #include <string>
 
-#include "core/status.h"
-#include "frontend/gates/track.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/gates/track.h"
 
 namespace dualgraph {
 

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/io/trajectory_io.h"
+#include "dualgraph/frontend/io/trajectory_io.h"
 
 #include <cmath>
 #include <limits>
 
-#include "core/atomic_file.h"
-#include "dual_graph/measurements.h"
-#include "types/se3_covariance.h"
+#include "dualgraph/core/atomic_file.h"
+#include "dualgraph/dual_graph/measurements.h"
+#include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
 namespace {

@@ -7,8 +7,8 @@
 #include <utility>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/io/odometry_io.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/io/odometry_io.h"
 
 namespace dualgraph {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/io/yaml_fields.h"
+#include "dualgraph/frontend/io/yaml_fields.h"
 
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/parser.h>
@@ -11,8 +11,8 @@
 #include <sstream>
 #include <system_error>
 
-#include "core/token_reader.h"
-#include "types/se3_math.h"
+#include "dualgraph/core/token_reader.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph::yaml_fields {
 namespace {

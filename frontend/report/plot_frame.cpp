@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/report/plot_frame.h"
+#include "dualgraph/frontend/report/plot_frame.h"
 
 #include <algorithm>
 #include <cmath>

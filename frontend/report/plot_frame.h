@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/report/xy_plot.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/report/xy_plot.h"
 
 namespace dualgraph {
 

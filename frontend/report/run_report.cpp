@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/report/run_report.h"
+#include "dualgraph/frontend/report/run_report.h"
 
 #include <algorithm>
 #include <cctype>
@@ -9,9 +9,9 @@
 #include <set>
 #include <sstream>
 
-#include "core/atomic_file.h"
-#include "frontend/report/plot_frame.h"
-#include "frontend/report/svg_plot.h"
+#include "dualgraph/core/atomic_file.h"
+#include "dualgraph/frontend/report/plot_frame.h"
+#include "dualgraph/frontend/report/svg_plot.h"
 
 namespace dualgraph {
 namespace {

@@ -8,9 +8,9 @@
 #include <utility>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/evaluation/run_folder.h"
-#include "frontend/report/xy_plot.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/evaluation/run_folder.h"
+#include "dualgraph/frontend/report/xy_plot.h"
 
 namespace dualgraph {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/report/svg_plot.h"
+#include "dualgraph/frontend/report/svg_plot.h"
 
 #include <array>
 #include <cmath>

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/report/plot_frame.h"
-#include "frontend/report/xy_plot.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/report/plot_frame.h"
+#include "dualgraph/frontend/report/xy_plot.h"
 
 namespace dualgraph {
 

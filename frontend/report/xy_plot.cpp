@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/report/xy_plot.h"
+#include "dualgraph/frontend/report/xy_plot.h"
 
 #include <cmath>
 #include <cstdio>
@@ -7,7 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "frontend/report/plot_frame.h"
+#include "dualgraph/frontend/report/plot_frame.h"
 
 namespace dualgraph {
 namespace {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/simulation/closed_curve.h"
+#include "dualgraph/frontend/simulation/closed_curve.h"
 
 #include <Eigen/Dense>
 #include <algorithm>

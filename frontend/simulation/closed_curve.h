@@ -6,8 +6,8 @@
 #include <memory>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/gates/track.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/gates/track.h"
 
 namespace dualgraph {
 

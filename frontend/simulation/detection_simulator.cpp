@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/simulation/detection_simulator.h"
+#include "dualgraph/frontend/simulation/detection_simulator.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,8 +8,8 @@
 #include <random>
 #include <string>
 
-#include "frontend/gates/gate_pnp.h"
-#include "types/se3_math.h"
+#include "dualgraph/frontend/gates/gate_pnp.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {

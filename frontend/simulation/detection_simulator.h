@@ -5,11 +5,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/gates/camera_model.h"
-#include "frontend/io/detection_io.h"
-#include "frontend/simulation/flight.h"
-#include "frontend/gates/track.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/gates/camera_model.h"
+#include "dualgraph/frontend/io/detection_io.h"
+#include "dualgraph/frontend/simulation/flight.h"
+#include "dualgraph/frontend/gates/track.h"
 
 namespace dualgraph {
 

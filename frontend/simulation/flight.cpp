@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/simulation/flight.h"
+#include "dualgraph/frontend/simulation/flight.h"
 
 #include <algorithm>
 #include <cmath>

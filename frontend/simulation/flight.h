@@ -8,9 +8,9 @@
 #include <memory>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/simulation/closed_curve.h"
-#include "frontend/gates/track.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/simulation/closed_curve.h"
+#include "dualgraph/frontend/gates/track.h"
 
 namespace dualgraph {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/simulation/race_profiles.h"
+#include "dualgraph/frontend/simulation/race_profiles.h"
 
 #include <cmath>
 

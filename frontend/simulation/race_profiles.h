@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/simulation/race_simulator.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/simulation/race_simulator.h"
 
 namespace dualgraph {
 

@@ -2,9 +2,9 @@
 #include <limits>
 #include <sstream>
 
-#include "frontend/simulation/race_sequence.h"
+#include "dualgraph/frontend/simulation/race_sequence.h"
 
-#include "frontend/io/track_io.h"
+#include "dualgraph/frontend/io/track_io.h"
 
 namespace dualgraph {
 

@@ -4,9 +4,9 @@
 
 #include <string>
 
-#include "core/status.h"
-#include "frontend/io/sequence_folder.h"
-#include "frontend/simulation/race_simulator.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/io/sequence_folder.h"
+#include "dualgraph/frontend/simulation/race_simulator.h"
 
 namespace dualgraph {
 

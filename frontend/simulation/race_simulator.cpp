@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/simulation/race_simulator.h"
+#include "dualgraph/frontend/simulation/race_simulator.h"
 
 #include <cmath>
 #include <random>
 
-#include "frontend/gates/gate_pnp.h"
-#include "types/se3_math.h"
+#include "dualgraph/frontend/gates/gate_pnp.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {

@@ -6,13 +6,13 @@
 #include <string>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/gates/camera_model.h"
-#include "frontend/simulation/detection_simulator.h"
-#include "frontend/simulation/flight.h"
-#include "frontend/io/odometry_io.h"
-#include "frontend/gates/track.h"
-#include "frontend/simulation/vio_drift.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/gates/camera_model.h"
+#include "dualgraph/frontend/simulation/detection_simulator.h"
+#include "dualgraph/frontend/simulation/flight.h"
+#include "dualgraph/frontend/io/odometry_io.h"
+#include "dualgraph/frontend/gates/track.h"
+#include "dualgraph/frontend/simulation/vio_drift.h"
 
 namespace dualgraph {
 

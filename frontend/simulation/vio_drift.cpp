@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
-#include "frontend/simulation/vio_drift.h"
+#include "dualgraph/frontend/simulation/vio_drift.h"
 
 #include <cmath>
 #include <random>
 #include <string>
 
-#include "types/se3_math.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/status.h"
-#include "frontend/io/odometry_io.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/io/odometry_io.h"
 
 namespace dualgraph {
 

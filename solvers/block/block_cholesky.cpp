@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-#include "solvers/block/block_cholesky.h"
+#include "dualgraph/solvers/block/block_cholesky.h"
 
-#include "core/small_cholesky.h"
-#include "solvers/block/block_kernels.h"
-#include "solvers/block/block_kernels_avx2.h"
+#include "dualgraph/core/small_cholesky.h"
+#include "dualgraph/solvers/block/block_kernels.h"
+#include "dualgraph/solvers/block/block_kernels_avx2.h"
 
 #include <algorithm>
 #include <atomic>

@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/status.h"
+#include "dualgraph/core/status.h"
 
 namespace dualgraph {
 

@@ -4,11 +4,11 @@
 // nothing but the include-free core/small_cholesky.h and block_product_avx2.h (internal linkage): see
 // the header. Its functions are only called after the baseline code has checked the CPU
 // (block_cholesky.cpp, `enabled`).
-#include "solvers/block/block_kernels_avx2.h"
+#include "dualgraph/solvers/block/block_kernels_avx2.h"
 
 #if defined(__AVX2__) && defined(__FMA__)
-#include "core/small_cholesky.h"
-#include "solvers/block/block_product_avx2.h"
+#include "dualgraph/core/small_cholesky.h"
+#include "dualgraph/solvers/block/block_product_avx2.h"
 
 namespace dualgraph::block_kernels_avx2 {
 

@@ -3,10 +3,10 @@
 // products and eᵀΩe. Compiled with -mavx2 -mfma (solvers/CMakeLists.txt), like block_kernels_avx2.cpp and
 // under the same rule: nothing included but block_product_avx2.h. Called only after the baseline code has
 // checked the CPU (`enabled`).
-#include "solvers/block/block_kernels_avx2.h"
+#include "dualgraph/solvers/block/block_kernels_avx2.h"
 
 #if defined(__AVX2__) && defined(__FMA__)
-#include "solvers/block/block_product_avx2.h"
+#include "dualgraph/solvers/block/block_product_avx2.h"
 
 namespace dualgraph::block_kernels_avx2 {
 

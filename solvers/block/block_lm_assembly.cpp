@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // BlockLmSolver's assembly: one edge's Jᵀ W J blocks and Jᵀ W e straight into the 6×6 block storage.
-#include "solvers/block/block_lm_solver.h"
-#include "solvers/block/block_kernels_avx2.h"
+#include "dualgraph/solvers/block/block_lm_solver.h"
+#include "dualgraph/solvers/block/block_kernels_avx2.h"
 
 namespace dualgraph {
 namespace {

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-#include "solvers/block/block_lm_solver.h"
+#include "dualgraph/solvers/block/block_lm_solver.h"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 
-#include "core/wall_clock.h"
-#include "solvers/block/block_kernels_avx2.h"
+#include "dualgraph/core/wall_clock.h"
+#include "dualgraph/solvers/block/block_kernels_avx2.h"
 
 namespace dualgraph {
 Status BlockLmSolver::setGraph(Graph& graph) {

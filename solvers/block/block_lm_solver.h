@@ -5,9 +5,9 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "core/graph.h"
-#include "core/optimizer.h"
-#include "solvers/block/block_cholesky.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/solvers/block/block_cholesky.h"
 
 namespace dualgraph {
 

@@ -2,8 +2,8 @@
 // BlockLmSolver's side of the Levenberg–Marquardt loop it shares with Optimizer (core/lm_loop.h).
 #include <algorithm>
 
-#include "core/lm_loop.h"
-#include "solvers/block/block_lm_solver.h"
+#include "dualgraph/core/lm_loop.h"
+#include "dualgraph/solvers/block/block_lm_solver.h"
 
 namespace dualgraph {
 

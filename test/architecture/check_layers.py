@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Fails when an #include points up a layer or across rooms the wrong way (the layering of README.md), or
-when a library source file exceeds MAX_LINES (the style guide's limit).
+when a library source file exceeds MAX_LINES (the style guide's limit), or when a library header is included
+without its "dualgraph/" prefix (the installed layout: #include "dualgraph/core/graph.h").
 
 Layers, lowest first: core < types < solvers < dual_graph < frontend < tools (bench, python, examples and
 test sit above all of them). Inside frontend, rooms lowest first: gates < io < simulation < (root:
@@ -45,7 +46,11 @@ def main() -> int:
             if layer != "tools" and lines > MAX_LINES:
                 violations.append(f"{path}: {lines} lines, over the {MAX_LINES}-line limit")
             for included in INCLUDE.findall(text):
-                target = rank(included)
+                if rank(included) is not None and rank(included)[0] < LAYERS.index("tools"):
+                    violations.append(f"{path}: includes \"{included}\": library headers are included as "
+                                      f"\"dualgraph/{included}\" (as once installed)")
+                    continue
+                target = rank(included[len("dualgraph/"):]) if included.startswith("dualgraph/") else None
                 if target is not None and target > own:
                     violations.append(f"{path}: includes {included}, which is above it")
     for line in violations:

@@ -11,7 +11,7 @@
 #include <sstream>
 #include <string>
 
-#include "core/atomic_file.h"
+#include "dualgraph/core/atomic_file.h"
 
 namespace dualgraph {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <Eigen/Dense>
 
-#include "core/linear_solver.h"
+#include "dualgraph/core/linear_solver.h"
 
 namespace dualgraph::testing {
 

@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "core/edge.h"
+#include "dualgraph/core/edge.h"
 #include "test/core/test_fixtures.h"
 #include "test/testing/jacobian_check.h"
 

@@ -17,7 +17,7 @@
 #include <system_error>
 #include <vector>
 
-#include "core/g2o_io.h"
+#include "dualgraph/core/g2o_io.h"
 #include "test/core/test_fixtures.h"
 
 namespace dualgraph::testing {

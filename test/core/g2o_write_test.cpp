@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "core/g2o_io.h"
+#include "dualgraph/core/g2o_io.h"
 #include "test/core/g2o_io_fixtures.h"
 
 namespace dualgraph {

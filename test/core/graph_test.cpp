@@ -4,7 +4,7 @@
 
 #include <memory>
 
-#include "core/graph.h"
+#include "dualgraph/core/graph.h"
 #include "test/core/test_fixtures.h"
 
 namespace dualgraph {

@@ -13,10 +13,10 @@
 #include <random>
 #include <vector>
 
-#include "core/graph.h"
+#include "dualgraph/core/graph.h"
 #include "test/core/user_types.h"
-#include "types/edge_se3.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/types/edge_se3.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph::testing {
 

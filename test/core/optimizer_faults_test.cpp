@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "core/optimizer.h"
-#include "solvers/linear_solver_factory.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
 #include "test/core/optimizer_faults_fixtures.h"
 #include "test/core/optimizer_fixtures.h"
 

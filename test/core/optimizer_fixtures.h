@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/optimizer.h"
+#include "dualgraph/core/optimizer.h"
 #include "test/core/test_fixtures.h"
 
 namespace dualgraph::testing {

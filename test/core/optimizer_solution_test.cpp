@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "core/optimizer.h"
+#include "dualgraph/core/optimizer.h"
 #include "test/core/optimizer_fixtures.h"
 
 namespace dualgraph {

@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "core/robust_kernel.h"
+#include "dualgraph/core/robust_kernel.h"
 #include "test/core/test_fixtures.h"
 
 namespace dualgraph {

@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/sparse_system.h"
+#include "dualgraph/core/sparse_system.h"
 #include "test/core/test_fixtures.h"
 
 namespace dualgraph {

@@ -6,7 +6,7 @@
 #include <set>
 #include <string>
 
-#include "core/status.h"
+#include "dualgraph/core/status.h"
 
 namespace dualgraph {
 namespace {

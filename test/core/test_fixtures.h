@@ -18,9 +18,9 @@
 #include <utility>
 #include <vector>
 
-#include "core/graph.h"
-#include "core/robust_kernel.h"
-#include "core/type_registry.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/core/robust_kernel.h"
+#include "dualgraph/core/type_registry.h"
 #include "test/core/dense_solver.h"
 #include "test/core/user_types.h"
 

@@ -5,7 +5,7 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "core/token_reader.h"
+#include "dualgraph/core/token_reader.h"
 #include "test/core/test_fixtures.h"
 
 namespace dualgraph {

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "core/type_registry.h"
+#include "dualgraph/core/type_registry.h"
 #include "test/core/test_fixtures.h"
 
 namespace dualgraph {

@@ -9,8 +9,8 @@
 #include <iomanip>
 #include <ostream>
 
-#include "core/edge.h"
-#include "core/vertex.h"
+#include "dualgraph/core/edge.h"
+#include "dualgraph/core/vertex.h"
 
 namespace dualgraph::testing {
 

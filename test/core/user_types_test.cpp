@@ -7,8 +7,8 @@
 #include <sstream>
 #include <string>
 
-#include "core/g2o_io.h"
-#include "core/optimizer.h"
+#include "dualgraph/core/g2o_io.h"
+#include "dualgraph/core/optimizer.h"
 #include "test/core/test_fixtures.h"
 
 namespace dualgraph {

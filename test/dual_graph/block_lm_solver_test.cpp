@@ -11,16 +11,16 @@
 #include <random>
 #include <vector>
 
-#include "core/optimizer.h"
-#include "dual_graph/edge_factories.h"
-#include "dual_graph/temporary_graph.h"
-#include "solvers/block/block_lm_solver.h"
-#include "solvers/block/block_kernels_avx2.h"
-#include "solvers/eigen_solver.h"
-#include "solvers/marginal_covariance.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/dual_graph/edge_factories.h"
+#include "dualgraph/dual_graph/temporary_graph.h"
+#include "dualgraph/solvers/block/block_lm_solver.h"
+#include "dualgraph/solvers/block/block_kernels_avx2.h"
+#include "dualgraph/solvers/eigen_solver.h"
+#include "dualgraph/solvers/marginal_covariance.h"
 #include "test/dual_graph/distillation_fixtures.h"
-#include "types/edge_se3.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/types/edge_se3.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 namespace {

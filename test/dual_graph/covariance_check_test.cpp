@@ -11,8 +11,8 @@
 #include <cmath>
 #include <random>
 
-#include "dual_graph/measurements.h"
-#include "types/se3_covariance.h"
+#include "dualgraph/dual_graph/measurements.h"
+#include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
 namespace {

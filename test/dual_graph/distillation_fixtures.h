@@ -8,10 +8,10 @@
 #include <random>
 #include <vector>
 
-#include "dual_graph/odometry_history.h"
-#include "dual_graph/localizer_params.h"
-#include "core/graph.h"
-#include "types/se3_math.h"
+#include "dualgraph/dual_graph/odometry_history.h"
+#include "dualgraph/dual_graph/localizer_params.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph::testing {
 

@@ -4,12 +4,12 @@
 // observations out of time order.
 #include <gtest/gtest.h>
 
-#include "dual_graph/gate_edge.h"
-#include "dual_graph/edge_factories.h"
-#include "dual_graph/temporary_graph.h"
+#include "dualgraph/dual_graph/gate_edge.h"
+#include "dualgraph/dual_graph/edge_factories.h"
+#include "dualgraph/dual_graph/temporary_graph.h"
 #include "test/dual_graph/distillation_fixtures.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 namespace {

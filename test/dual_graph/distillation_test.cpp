@@ -6,11 +6,11 @@
 #include <Eigen/Dense>
 #include <random>
 
-#include "dual_graph/edge_factories.h"
+#include "dualgraph/dual_graph/edge_factories.h"
 #include "test/dual_graph/distillation_fixtures.h"
-#include "dual_graph/temporary_graph.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/dual_graph/temporary_graph.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "dual_graph/localizer.h"
+#include "dualgraph/dual_graph/localizer.h"
 #include "test/testing/synthetic_race.h"
 
 namespace dualgraph::testing {

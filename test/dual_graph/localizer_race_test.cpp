@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "test/dual_graph/localizer_fixtures.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 namespace {

@@ -4,7 +4,7 @@
 // with full batch to a few millimetres, and single mode and mapping mode work with a window too.
 #include <gtest/gtest.h>
 
-#include "dual_graph/marginal_prior.h"
+#include "dualgraph/dual_graph/marginal_prior.h"
 #include "test/dual_graph/localizer_fixtures.h"
 
 namespace dualgraph {

@@ -5,16 +5,16 @@
 // unchanged.
 #include <gtest/gtest.h>
 
-#include "core/optimizer.h"
-#include "dual_graph/edge_factories.h"
-#include "dual_graph/marginal_prior.h"
-#include "solvers/linear_solver_factory.h"
-#include "solvers/marginal_covariance.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/dual_graph/edge_factories.h"
+#include "dualgraph/dual_graph/marginal_prior.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
+#include "dualgraph/solvers/marginal_covariance.h"
 #include "test/dual_graph/distillation_fixtures.h"
 #include "test/testing/jacobian_check.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se2.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se2.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 namespace {

@@ -4,13 +4,13 @@
 // or outside the dual graph's SE(3) gates, are counted, never silently used or dropped.
 #include <gtest/gtest.h>
 
-#include "dual_graph/edge_factories.h"
-#include "dual_graph/gate_edge.h"
-#include "dual_graph/localizer.h"
-#include "dual_graph/temporary_graph.h"
+#include "dualgraph/dual_graph/edge_factories.h"
+#include "dualgraph/dual_graph/gate_edge.h"
+#include "dualgraph/dual_graph/localizer.h"
+#include "dualgraph/dual_graph/temporary_graph.h"
 #include "test/dual_graph/distillation_fixtures.h"
-#include "types/edge_se3_corner_projection.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/types/edge_se3_corner_projection.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 namespace {

@@ -2,14 +2,14 @@
 // TemporaryPool (the temporary graph's reusable vertices and edges): its copy as a Graph is the same
 // graph, reused objects start as new ones would, and a TemporaryGraph that distils one interval after
 // another gives, bit for bit, what a fresh one gives for the later interval.
-#include "dual_graph/temporary_pool.h"
+#include "dualgraph/dual_graph/temporary_pool.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
 #include <vector>
 
-#include "dual_graph/temporary_graph.h"
+#include "dualgraph/dual_graph/temporary_graph.h"
 #include "test/dual_graph/distillation_fixtures.h"
 
 namespace dualgraph {

@@ -3,7 +3,7 @@
 // initialising until relocalize, the states its poses carry, relocalize's bookkeeping.
 #include <gtest/gtest.h>
 
-#include "dual_graph/tracking_monitor.h"
+#include "dualgraph/dual_graph/tracking_monitor.h"
 #include "test/dual_graph/localizer_fixtures.h"
 
 namespace dualgraph {

@@ -10,12 +10,12 @@
 #include <cstdint>
 #include <string>
 
-#include "frontend/io/camera_io.h"
-#include "frontend/io/track_io.h"
-#include "frontend/simulation/race_profiles.h"
-#include "frontend/simulation/race_sequence.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/track_io.h"
+#include "dualgraph/frontend/simulation/race_profiles.h"
+#include "dualgraph/frontend/simulation/race_sequence.h"
 #include "test/testing/shared_data.h"
-#include "types/se3_math.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph::caltest {
 

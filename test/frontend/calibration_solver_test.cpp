@@ -7,10 +7,10 @@
 
 #include <random>
 
-#include "frontend/calibration/calibration_problem.h"
-#include "frontend/calibration/calibration_solver.h"
-#include "frontend/calibration/gate_corner_matching.h"
-#include "frontend/gates/gate_pnp.h"
+#include "dualgraph/frontend/calibration/calibration_problem.h"
+#include "dualgraph/frontend/calibration/calibration_solver.h"
+#include "dualgraph/frontend/calibration/gate_corner_matching.h"
+#include "dualgraph/frontend/gates/gate_pnp.h"
 #include "test/frontend/calibration_fixtures.h"
 #include "test/frontend/simulator_fixtures.h"
 

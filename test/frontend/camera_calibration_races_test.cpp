@@ -6,7 +6,7 @@
 
 #include <cstdio>
 
-#include "frontend/calibration/camera_calibration.h"
+#include "dualgraph/frontend/calibration/camera_calibration.h"
 #include "test/frontend/calibration_fixtures.h"
 
 namespace dualgraph {

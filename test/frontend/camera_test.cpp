@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "frontend/io/camera_io.h"
-#include "frontend/gates/camera_model.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/gates/camera_model.h"
 #include "test/testing/shared_data.h"
-#include "types/se3_math.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {

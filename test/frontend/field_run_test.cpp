@@ -10,13 +10,13 @@
 #include <cstdio>
 #include <functional>
 
-#include "frontend/calibration/self_calibration.h"
-#include "frontend/evaluation/run_metrics.h"
-#include "frontend/io/camera_io.h"
-#include "frontend/io/track_io.h"
-#include "frontend/sequence_run.h"
-#include "frontend/simulation/race_profiles.h"
-#include "frontend/simulation/race_sequence.h"
+#include "dualgraph/frontend/calibration/self_calibration.h"
+#include "dualgraph/frontend/evaluation/run_metrics.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/track_io.h"
+#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/simulation/race_profiles.h"
+#include "dualgraph/frontend/simulation/race_sequence.h"
 #include "test/testing/shared_data.h"
 
 namespace dualgraph {

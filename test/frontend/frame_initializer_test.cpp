@@ -8,8 +8,8 @@
 #include <random>
 #include <set>
 
-#include "frontend/gates/frame_initializer.h"
-#include "types/se3_math.h"
+#include "dualgraph/frontend/gates/frame_initializer.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <random>
 
-#include "frontend/gates/gate_association.h"
+#include "dualgraph/frontend/gates/gate_association.h"
 
 namespace dualgraph {
 namespace {

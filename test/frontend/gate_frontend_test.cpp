@@ -8,12 +8,12 @@
 #include <cmath>
 #include <random>
 
-#include "frontend/io/camera_io.h"
-#include "frontend/simulation/detection_simulator.h"
-#include "frontend/gates/gate_frontend.h"
-#include "frontend/evaluation/run_metrics.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/simulation/detection_simulator.h"
+#include "dualgraph/frontend/gates/gate_frontend.h"
+#include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "test/testing/shared_data.h"
-#include "types/se3_math.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {

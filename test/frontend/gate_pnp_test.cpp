@@ -7,10 +7,10 @@
 #include <limits>
 #include <random>
 
-#include "dual_graph/measurements.h"
-#include "frontend/gates/camera_model.h"
-#include "frontend/gates/gate_pnp.h"
-#include "types/se3_math.h"
+#include "dualgraph/dual_graph/measurements.h"
+#include "dualgraph/frontend/gates/camera_model.h"
+#include "dualgraph/frontend/gates/gate_pnp.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <string>
 
-#include "frontend/io/json_writer.h"
+#include "dualgraph/frontend/io/json_writer.h"
 
 namespace dualgraph {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "dual_graph/localizer_params.h"
+#include "dualgraph/dual_graph/localizer_params.h"
 
 namespace dualgraph {
 

@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "frontend/io/localizer_params_yaml.h"
+#include "dualgraph/frontend/io/localizer_params_yaml.h"
 
 namespace dualgraph {
 namespace {

@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "dual_graph/localizer_params.h"
-#include "frontend/io/localizer_params_yaml.h"
+#include "dualgraph/dual_graph/localizer_params.h"
+#include "dualgraph/frontend/io/localizer_params_yaml.h"
 #include "test/frontend/localizer_params_fixtures.h"
 #include "test/testing/shared_data.h"
-#include "types/se3_math.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {

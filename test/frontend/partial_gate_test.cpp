@@ -8,13 +8,13 @@
 #include <cmath>
 #include <cstdio>
 
-#include "frontend/gates/gate_frontend.h"
-#include "frontend/gates/partial_gate.h"
-#include "frontend/io/camera_io.h"
-#include "frontend/io/detection_io.h"
+#include "dualgraph/frontend/gates/gate_frontend.h"
+#include "dualgraph/frontend/gates/partial_gate.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/detection_io.h"
 #include "test/frontend/readers_fixtures.h"
 #include "test/testing/shared_data.h"
-#include "types/se3_math.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {

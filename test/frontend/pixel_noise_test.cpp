@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "frontend/gates/pixel_noise.h"
+#include "dualgraph/frontend/gates/pixel_noise.h"
 
 namespace dualgraph {
 namespace {

@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "frontend/simulation/detection_simulator.h"
-#include "frontend/gates/gate_pnp.h"
+#include "dualgraph/frontend/simulation/detection_simulator.h"
+#include "dualgraph/frontend/gates/gate_pnp.h"
 #include "test/frontend/simulator_fixtures.h"
 
 namespace dualgraph::simtest::nees {

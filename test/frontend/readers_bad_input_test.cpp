@@ -3,8 +3,8 @@
 // line and (where there is one) the field.
 #include <gtest/gtest.h>
 
-#include "frontend/io/detection_io.h"
-#include "frontend/io/odometry_io.h"
+#include "dualgraph/frontend/io/detection_io.h"
+#include "dualgraph/frontend/io/odometry_io.h"
 #include "test/frontend/readers_fixtures.h"
 
 namespace dualgraph {

@@ -2,8 +2,8 @@
 // Corner and pose detection CSVs on well-formed input, and the strict field parser underneath.
 #include <gtest/gtest.h>
 
-#include "frontend/io/detection_io.h"
-#include "frontend/io/delimited_text.h"
+#include "dualgraph/frontend/io/detection_io.h"
+#include "dualgraph/frontend/io/delimited_text.h"
 #include "test/frontend/readers_fixtures.h"
 
 namespace dualgraph {

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "core/status.h"
+#include "dualgraph/core/status.h"
 
 namespace dualgraph::testing {
 

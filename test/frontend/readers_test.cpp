@@ -9,10 +9,10 @@
 #include <random>
 #include <sstream>
 
-#include "types/se3_covariance.h"
-#include "frontend/io/detection_io.h"
-#include "frontend/io/odometry_io.h"
-#include "frontend/io/trajectory_io.h"
+#include "dualgraph/types/se3_covariance.h"
+#include "dualgraph/frontend/io/detection_io.h"
+#include "dualgraph/frontend/io/odometry_io.h"
+#include "dualgraph/frontend/io/trajectory_io.h"
 #include "test/frontend/readers_fixtures.h"
 
 namespace dualgraph {

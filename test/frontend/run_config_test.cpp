@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "frontend/io/run_config.h"
-#include "frontend/sequence_run.h"
+#include "dualgraph/frontend/io/run_config.h"
+#include "dualgraph/frontend/sequence_run.h"
 #include "test/frontend/localizer_params_fixtures.h"
 #include "test/testing/shared_data.h"
 

@@ -3,7 +3,7 @@
 // simplified within tolerance and broken at non-finite points, the HTML is well formed enough
 // (balanced svg/table/polyline tags, no NaN/inf text) with the gates and the three series; a run
 // folder written here reads back, and a missing or malformed file is named in the error.
-#include "frontend/report/run_report.h"
+#include "dualgraph/frontend/report/run_report.h"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 #include <fstream>
 #include <regex>
 
-#include "frontend/report/svg_plot.h"
+#include "dualgraph/frontend/report/svg_plot.h"
 #include "test/testing/command_line.h"
 
 namespace dualgraph {

@@ -8,8 +8,8 @@
 #include <cstdio>
 #include <string>
 
-#include "frontend/calibration/self_calibration.h"
-#include "frontend/evaluation/run_metrics.h"
+#include "dualgraph/frontend/calibration/self_calibration.h"
+#include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "test/frontend/calibration_fixtures.h"
 
 namespace dualgraph {

@@ -11,12 +11,12 @@
 #include <sstream>
 #include <string>
 
-#include "frontend/io/camera_io.h"
-#include "frontend/simulation/race_sequence.h"
-#include "frontend/evaluation/run_metrics.h"
-#include "frontend/io/sequence_folder.h"
-#include "frontend/sequence_run.h"
-#include "frontend/io/track_io.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/simulation/race_sequence.h"
+#include "dualgraph/frontend/evaluation/run_metrics.h"
+#include "dualgraph/frontend/io/sequence_folder.h"
+#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/io/track_io.h"
 #include "test/testing/command_line.h"
 #include "test/testing/shared_data.h"
 

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "frontend/simulation/detection_simulator.h"
-#include "frontend/simulation/race_profiles.h"
-#include "frontend/simulation/race_sequence.h"
+#include "dualgraph/frontend/simulation/detection_simulator.h"
+#include "dualgraph/frontend/simulation/race_profiles.h"
+#include "dualgraph/frontend/simulation/race_sequence.h"
 #include "test/frontend/simulator_fixtures.h"
 
 namespace dualgraph {

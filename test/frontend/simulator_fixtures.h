@@ -16,12 +16,12 @@
 #include <string>
 #include <vector>
 
-#include "frontend/io/camera_io.h"
-#include "frontend/simulation/flight.h"
-#include "frontend/gates/track.h"
-#include "frontend/io/track_io.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/simulation/flight.h"
+#include "dualgraph/frontend/gates/track.h"
+#include "dualgraph/frontend/io/track_io.h"
 #include "test/testing/shared_data.h"
-#include "types/se3_math.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph::simtest {
 

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "frontend/simulation/flight.h"
-#include "frontend/simulation/race_profiles.h"
+#include "dualgraph/frontend/simulation/flight.h"
+#include "dualgraph/frontend/simulation/race_profiles.h"
 #include "test/frontend/simulator_fixtures.h"
 
 namespace dualgraph {

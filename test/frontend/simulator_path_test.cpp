@@ -10,8 +10,8 @@
 #include <numeric>
 #include <vector>
 
-#include "frontend/simulation/closed_curve.h"
-#include "frontend/simulation/flight.h"
+#include "dualgraph/frontend/simulation/closed_curve.h"
+#include "dualgraph/frontend/simulation/flight.h"
 #include "test/frontend/simulator_fixtures.h"
 
 namespace dualgraph {

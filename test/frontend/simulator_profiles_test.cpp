@@ -5,9 +5,9 @@
 
 #include <cmath>
 
-#include "frontend/simulation/race_profiles.h"
+#include "dualgraph/frontend/simulation/race_profiles.h"
 #include "test/frontend/simulator_fixtures.h"
-#include "types/se3_math.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {

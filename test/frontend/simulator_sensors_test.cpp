@@ -10,10 +10,10 @@
 #include <set>
 #include <vector>
 
-#include "frontend/simulation/detection_simulator.h"
-#include "frontend/simulation/flight.h"
-#include "frontend/gates/gate_pnp.h"
-#include "frontend/simulation/vio_drift.h"
+#include "dualgraph/frontend/simulation/detection_simulator.h"
+#include "dualgraph/frontend/simulation/flight.h"
+#include "dualgraph/frontend/gates/gate_pnp.h"
+#include "dualgraph/frontend/simulation/vio_drift.h"
 #include "test/frontend/pnp_nees_fixtures.h"
 #include "test/frontend/simulator_fixtures.h"
 

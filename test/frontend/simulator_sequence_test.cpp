@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "frontend/io/camera_io.h"
-#include "frontend/io/detection_io.h"
-#include "frontend/io/odometry_io.h"
-#include "frontend/simulation/race_sequence.h"
-#include "frontend/io/track_io.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/detection_io.h"
+#include "dualgraph/frontend/io/odometry_io.h"
+#include "dualgraph/frontend/simulation/race_sequence.h"
+#include "dualgraph/frontend/io/track_io.h"
 #include "test/frontend/simulator_fixtures.h"
 
 namespace dualgraph {

@@ -8,7 +8,7 @@
 #include <random>
 #include <string>
 
-#include "frontend/io/track_io.h"
+#include "dualgraph/frontend/io/track_io.h"
 #include "test/testing/shared_data.h"
 
 namespace dualgraph {

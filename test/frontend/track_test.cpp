@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "frontend/gates/track.h"
-#include "frontend/io/track_io.h"
+#include "dualgraph/frontend/gates/track.h"
+#include "dualgraph/frontend/io/track_io.h"
 #include "test/testing/shared_data.h"
 
 namespace dualgraph {

@@ -2,7 +2,7 @@
 // Trajectory metrics: alignment recovers known transforms (SE(3); 4-DoF yaw but not roll), noise of
 // known σ gives ATE ≈ σ√3, a scale error gives RPE = s·Δ, interpolation and the association
 // counters, and every error path.
-#include "frontend/evaluation/trajectory_metrics.h"
+#include "dualgraph/frontend/evaluation/trajectory_metrics.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <limits>
 #include <random>
 
-#include "types/se3_math.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/camera_io.h"
 #include "test/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -8,11 +8,11 @@
 #include <sstream>
 #include <string>
 
-#include "core/g2o_io.h"
-#include "core/graph.h"
-#include "core/type_registry.h"
+#include "dualgraph/core/g2o_io.h"
+#include "dualgraph/core/graph.h"
+#include "dualgraph/core/type_registry.h"
 #include "test/fuzz/fuzz_input.h"
-#include "types/register_types.h"
+#include "dualgraph/types/register_types.h"
 
 namespace {
 

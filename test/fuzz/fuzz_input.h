@@ -16,7 +16,7 @@
 #include <fstream>
 #include <string>
 
-#include "core/status.h"
+#include "dualgraph/core/status.h"
 
 namespace dualgraph::fuzz {
 

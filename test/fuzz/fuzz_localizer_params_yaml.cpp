@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string>
 
-#include "frontend/io/localizer_params_yaml.h"
+#include "dualgraph/frontend/io/localizer_params_yaml.h"
 #include "test/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "frontend/io/detection_io.h"
+#include "dualgraph/frontend/io/detection_io.h"
 #include "test/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

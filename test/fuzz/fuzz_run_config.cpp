@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string>
 
-#include "frontend/io/run_config.h"
+#include "dualgraph/frontend/io/run_config.h"
 #include "test/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // BlockCholesky against dense Eigen (LLT, inverse) on seeded random SPD block-sparse matrices, once with the
 // baseline (SSE2) kernels and once with the AVX2 + FMA ones (skipped, saying so, on a CPU without them).
-#include "solvers/block/block_cholesky.h"
-#include "solvers/block/block_kernels_avx2.h"
+#include "dualgraph/solvers/block/block_cholesky.h"
+#include "dualgraph/solvers/block/block_kernels_avx2.h"
 
 #include <gtest/gtest.h>
 

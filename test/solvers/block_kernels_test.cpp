@@ -2,8 +2,8 @@
 // The 6×6 block kernels (solvers/block/block_kernels.h) against Eigen's plain products on seeded random blocks,
 // including aliasing (in-place) use and the parts of C each kernel must leave alone; the AVX2 + FMA
 // assembly kernels (solvers/block/block_kernels_avx2.h) the same way.
-#include "solvers/block/block_kernels.h"
-#include "solvers/block/block_kernels_avx2.h"
+#include "dualgraph/solvers/block/block_kernels.h"
+#include "dualgraph/solvers/block/block_kernels_avx2.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "solvers/linear_solver_factory.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
 
 #include <gtest/gtest.h>
 

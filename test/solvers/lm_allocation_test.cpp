@@ -17,14 +17,14 @@
 #include <cstdlib>
 #include <random>
 
-#include "core/optimizer.h"
-#include "core/linear_solver.h"
-#include "solvers/block/block_lm_solver.h"
-#include "solvers/block/block_kernels_avx2.h"
-#include "solvers/linear_solver_factory.h"
-#include "types/edge_se3.h"
-#include "types/se3_math.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/core/linear_solver.h"
+#include "dualgraph/solvers/block/block_lm_solver.h"
+#include "dualgraph/solvers/block/block_kernels_avx2.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
+#include "dualgraph/types/edge_se3.h"
+#include "dualgraph/types/se3_math.h"
+#include "dualgraph/types/vertex_se3.h"
 
 #if defined(__SANITIZE_ADDRESS__) || DUALGRAPH_TEST_LINKS_SANITIZERS  // (test files may be uninstrumented)
 #define DUALGRAPH_COUNT_MALLOC 0

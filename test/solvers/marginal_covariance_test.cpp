@@ -13,13 +13,13 @@
 #include <utility>
 #include <vector>
 
-#include "solvers/marginal_covariance.h"
+#include "dualgraph/solvers/marginal_covariance.h"
 #include "test/types/test_states.h"
-#include "types/edge_point_xyz_prior.h"
-#include "types/edge_se3.h"
-#include "types/edge_se3_point_xyz.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/types/edge_point_xyz_prior.h"
+#include "dualgraph/types/edge_se3.h"
+#include "dualgraph/types/edge_se3_point_xyz.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 

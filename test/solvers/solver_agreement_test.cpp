@@ -5,8 +5,8 @@
 
 #include <random>
 
-#include "solvers/cholmod_solver.h"
-#include "solvers/eigen_solver.h"
+#include "dualgraph/solvers/cholmod_solver.h"
+#include "dualgraph/solvers/eigen_solver.h"
 #include "test/solvers/spd_test_matrices.h"
 
 namespace dualgraph {

@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "core/linear_solver.h"
-#include "core/status.h"
-#include "solvers/cholmod_solver.h"
-#include "solvers/eigen_solver.h"
+#include "dualgraph/core/linear_solver.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/solvers/cholmod_solver.h"
+#include "dualgraph/solvers/eigen_solver.h"
 
 namespace dualgraph {
 

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/edge.h"
+#include "dualgraph/core/edge.h"
 
 namespace dualgraph::testing {
 

@@ -10,9 +10,9 @@
 #include <random>
 #include <vector>
 
-#include "dual_graph/gate_map.h"
-#include "dual_graph/measurements.h"
-#include "types/se3_math.h"
+#include "dualgraph/dual_graph/gate_map.h"
+#include "dualgraph/dual_graph/measurements.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph::testing {
 

@@ -9,16 +9,16 @@
 #include <fstream>
 #include <string>
 
-#include "core/g2o_io.h"
-#include "core/status.h"
-#include "frontend/io/localizer_params_yaml.h"
-#include "frontend/io/camera_io.h"
-#include "frontend/io/detection_io.h"
-#include "frontend/io/odometry_io.h"
-#include "frontend/io/run_config.h"
-#include "frontend/io/sequence_folder.h"
-#include "frontend/io/track_io.h"
-#include "types/register_types.h"
+#include "dualgraph/core/g2o_io.h"
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/io/localizer_params_yaml.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/detection_io.h"
+#include "dualgraph/frontend/io/odometry_io.h"
+#include "dualgraph/frontend/io/run_config.h"
+#include "dualgraph/frontend/io/sequence_folder.h"
+#include "dualgraph/frontend/io/track_io.h"
+#include "dualgraph/types/register_types.h"
 
 namespace dualgraph::testing {
 

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <string>
 
-#include "dual_graph/localizer.h"
+#include "dualgraph/dual_graph/localizer.h"
 #include "test/frontend/readers_fixtures.h"
 #include "test/tools/bad_input_catalogue.h"
 

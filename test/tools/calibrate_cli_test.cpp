@@ -12,7 +12,7 @@
 #include <fstream>
 #include <string>
 
-#include "frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/camera_io.h"
 #include "test/testing/command_line.h"
 #include "test/testing/shared_data.h"
 

@@ -8,18 +8,18 @@
 #include <random>
 #include <sstream>
 
-#include "core/g2o_io.h"
-#include "core/optimizer.h"
-#include "solvers/linear_solver_factory.h"
-#include "types/edge_point_xyz_prior.h"
-#include "types/edge_se3.h"
-#include "types/edge_se3_point_xyz.h"
-#include "types/edge_se3_prior.h"
-#include "types/parameter_se3_offset.h"
-#include "types/register_types.h"
-#include "types/se3_math.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/core/g2o_io.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
+#include "dualgraph/types/edge_point_xyz_prior.h"
+#include "dualgraph/types/edge_se3.h"
+#include "dualgraph/types/edge_se3_point_xyz.h"
+#include "dualgraph/types/edge_se3_prior.h"
+#include "dualgraph/types/parameter_se3_offset.h"
+#include "dualgraph/types/register_types.h"
+#include "dualgraph/types/se3_math.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 namespace {

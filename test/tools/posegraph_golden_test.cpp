@@ -8,11 +8,11 @@
 #include <sstream>
 #include <string>
 
-#include "core/g2o_io.h"
-#include "core/optimizer.h"
-#include "solvers/linear_solver_factory.h"
+#include "dualgraph/core/g2o_io.h"
+#include "dualgraph/core/optimizer.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
 #include "test/testing/shared_data.h"
-#include "types/register_types.h"
+#include "dualgraph/types/register_types.h"
 
 namespace dualgraph {
 namespace {

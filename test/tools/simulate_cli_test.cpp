@@ -9,10 +9,10 @@
 #include <sstream>
 #include <string>
 
-#include "frontend/io/camera_io.h"
-#include "frontend/io/detection_io.h"
-#include "frontend/io/odometry_io.h"
-#include "frontend/io/track_io.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/detection_io.h"
+#include "dualgraph/frontend/io/odometry_io.h"
+#include "dualgraph/frontend/io/track_io.h"
 #include "test/testing/command_line.h"
 #include "test/testing/shared_data.h"
 

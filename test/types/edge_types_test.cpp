@@ -13,14 +13,14 @@
 
 #include "test/testing/jacobian_check.h"
 #include "test/types/test_states.h"
-#include "types/edge_point_xyz_prior.h"
-#include "types/edge_se2.h"
-#include "types/edge_se3.h"
-#include "types/edge_se3_corner_projection.h"
-#include "types/edge_se3_point_xyz.h"
-#include "types/edge_se3_prior.h"
-#include "types/parameter_se3_offset.h"
-#include "types/se3_math.h"
+#include "dualgraph/types/edge_point_xyz_prior.h"
+#include "dualgraph/types/edge_se2.h"
+#include "dualgraph/types/edge_se3.h"
+#include "dualgraph/types/edge_se3_corner_projection.h"
+#include "dualgraph/types/edge_se3_point_xyz.h"
+#include "dualgraph/types/edge_se3_prior.h"
+#include "dualgraph/types/parameter_se3_offset.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {

@@ -7,9 +7,9 @@
 
 #include <string>
 
-#include "core/g2o_io.h"
+#include "dualgraph/core/g2o_io.h"
 #include "test/testing/shared_data.h"
-#include "types/register_types.h"
+#include "dualgraph/types/register_types.h"
 
 namespace dualgraph {
 namespace {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // registerBuiltinTypes and a graph with every type through the g2o reader and writer.
-#include "types/register_types.h"
+#include "dualgraph/types/register_types.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/g2o_io.h"
+#include "dualgraph/core/g2o_io.h"
 
 namespace dualgraph {
 namespace {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // SO(3)/SE(3) exponential maps, Jacobians, adjoint, quaternion helpers, g2o's chart and the
 // θ/2 unit conversion (types/se3_math.h).
-#include "types/se3_math.h"
+#include "dualgraph/types/se3_math.h"
 
 #include <gtest/gtest.h>
 

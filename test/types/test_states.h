@@ -7,8 +7,8 @@
 #include <cmath>
 #include <random>
 
-#include "types/se2.h"
-#include "types/se3_math.h"
+#include "dualgraph/types/se2.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph::testing {
 

@@ -9,10 +9,10 @@
 #include <string>
 
 #include "test/types/test_states.h"
-#include "types/se3_math.h"
-#include "types/vertex_point_xyz.h"
-#include "types/vertex_se2.h"
-#include "types/vertex_se3.h"
+#include "dualgraph/types/se3_math.h"
+#include "dualgraph/types/vertex_point_xyz.h"
+#include "dualgraph/types/vertex_se2.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph {
 namespace {

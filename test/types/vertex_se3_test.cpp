@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // VertexSE3 behaviours beyond the manifold laws: right increments, periodic
 // re-orthonormalisation.
-#include "types/vertex_se3.h"
+#include "dualgraph/types/vertex_se3.h"
 
 #include <gtest/gtest.h>
 
