@@ -120,15 +120,22 @@ CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& o) {
 
 CLI::App* addEvalCommand(CLI::App& app, EvalOptions& o) {
   CLI::App* cmd = app.add_subcommand("eval", "Trajectory accuracy of an estimate against ground truth (ATE, RPE)");
-  cmd->add_option("--gt", o.gt, "Ground truth: TUM (t x y z qx qy qz qw, s) or EuRoC CSV (#timestamp [ns],p_RS_R_x,...)")
+  cmd->add_option("--gt", o.gt, "Ground truth: TUM (t x y z qx qy qz qw, s), OpenVINS traj_estimate or EuRoC CSV "
+                                "(#timestamp [ns],p_RS_R_x,...), recognised from its content")
       ->required();
-  cmd->add_option("--est", o.est, "Estimate, TUM (covariance columns allowed and ignored) or EuRoC CSV")->required();
-  cmd->add_option("--align", o.align, "Alignment for the rotation ATE: se3 (Umeyama, no scale), 4dof (x y z yaw), none")
-      ->check(CLI::IsMember({"se3", "4dof", "none"}));
+  cmd->add_option("--est", o.est, "Estimate, in the same formats (covariance columns ignored)")->required();
+  cmd->add_option("--align", o.align,
+                  "Alignment of every figure: se3 (Umeyama, no scale; evo -a), sim3 (with scale; evo -as), 4dof (x y z "
+                  "yaw), origin (first poses made equal; evo --align_origin), none (evo's default)")
+      ->check(CLI::IsMember({"se3", "sim3", "4dof", "origin", "none"}));
   cmd->add_option("--json", o.json, "Also write the metrics as one JSON object to this file (atomically)");
-  cmd->add_option("--max-gap", o.max_gap_s, "Estimate poses without ground truth within this many seconds are "
-                                            "not associated (counted)")
+  cmd->add_option("--max-gap", o.max_gap_s, "Ground truth is interpolated at each estimate stamp; estimate poses "
+                                            "without a ground-truth sample within this many seconds are not associated "
+                                            "(counted) [s]")
       ->check(positive());
+  cmd->add_option("--max-dt", o.max_dt_s, "Instead of interpolating, pair each estimate pose with the ground truth of "
+                                          "the nearest stamp within this many seconds, as evo (--t_max_diff, 0.01 there) [s]")
+      ->check(positive())->default_str("off");
   cmd->add_option("--min-associated", o.min_associated,
                   "Fewer estimate poses with ground truth than this share is an error naming both time spans")
       ->check(CLI::Range(0.0, 1.0));
@@ -198,6 +205,9 @@ CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
   cmd->add_option("--sequence", o.sequence, "Sequence folder (vio.tum, corners.csv or detections.csv, gates.yaml, ...)")
       ->required();
   cmd->add_option("--out", o.out, "Output folder (created)")->required();
+  cmd->add_option("--vio", o.vio,
+                  "Odometry file read instead of the sequence's vio.tum: TUM, TUM + 21 covariance columns, OpenVINS "
+                  "traj_estimate.txt or EuRoC CSV, recognised from its content (default: SEQUENCE/vio.tum)");
   cmd->add_option("--config", o.config, "Configuration YAML (default: the bundled data/config/default.yaml)");
   cmd->add_option("--mode", o.mode, "dual or single (default: the config's)")->check(CLI::IsMember({"dual", "single"}));
   cmd->add_option("--d-main", o.d_main, "Main-graph keyframe distance [m] (default: the config's)")

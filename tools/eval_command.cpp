@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <Eigen/Geometry>
 #include <iostream>
 
 #include "dualgraph/core/atomic_file.h"
@@ -40,47 +41,59 @@ std::string spanOf(const StampedPoses& poses) {
   return buffer;
 }
 
-void printTable(const TrajectoryMetrics& m) {
-  const std::string selected = trajectoryAlignmentName(m.alignment);
+/// How the poses were paired, for the table and the JSON.
+std::string associationText(const EvalOptions& o) {
+  char buffer[128];
+  if (o.max_dt_s > 0.0) {
+    std::snprintf(buffer, sizeof(buffer), "nearest ground-truth stamp within %g s (--max-dt, as evo)", o.max_dt_s);
+  } else {
+    std::snprintf(buffer, sizeof(buffer), "ground truth interpolated at each estimate stamp, samples within %g s (--max-gap)",
+                  o.max_gap_s);
+  }
+  return buffer;
+}
+
+/// Every figure below is with the one alignment asked for (--align).
+void printTable(const EvalOptions& o, const TrajectoryMetrics& m) {
+  const std::string alignment = trajectoryAlignmentName(m.alignment);
+  std::printf("%-14s %s\n", "association", associationText(o).c_str());
   std::printf("%-14s %ld of %ld estimate poses (before the ground truth %ld, after it %ld, beyond the gap %ld)\n",
               "associated", m.associated, m.estimate_poses, m.before_span, m.after_span, m.beyond_gap);
-  const struct {
-    const char* label;
-    const char* alignment;
-    double value;
-  } ates[] = {{"ATE se3", "se3", m.ate_se3_m}, {"ATE 4dof", "4dof", m.ate_4dof_m}, {"ATE unaligned", "none", m.ate_unaligned_m}};
-  for (const auto& ate : ates) {
-    std::printf("%-14s %s%s\n", ate.label, formatMetric(ate.value, "m").c_str(),
-                selected == ate.alignment ? "  (--align)" : "");
-  }
+  const Eigen::Vector3d t = m.world_T_estimate.translation();
+  const double angle = Eigen::AngleAxisd(m.world_T_estimate.linear()).angle() * 180.0 / M_PI;
+  std::printf("%-14s %s: rotation %.4f deg, translation [%.4f, %.4f, %.4f] m, scale %.6f\n", "alignment",
+              alignment.c_str(), angle, t.x(), t.y(), t.z(), m.scale);
   const ErrorStatistics& s = m.ate_stats;
-  std::printf("%-14s rmse %.4f  mean %.4f  median %.4f  std %.4f  min %.4f  max %.4f m (%s)\n", "ATE stats", s.rmse,
-              s.mean, s.median, s.std, s.min, s.max, selected == "none" ? "no alignment" : (selected + " alignment").c_str());
-  std::printf("%-14s %s (%s)\n", "ATE rotation", formatMetric(m.ate_rot_deg, "deg").c_str(),
-              selected == "none" ? "no alignment" : (selected + " alignment").c_str());
+  std::printf("%-14s rmse %.4f  mean %.4f  median %.4f  std %.4f  min %.4f  max %.4f m\n", "ATE", s.rmse, s.mean,
+              s.median, s.std, s.min, s.max);
+  std::printf("%-14s %s\n", "ATE rotation", formatMetric(m.ate_rot_deg, "deg").c_str());
   for (const RelativePoseError& rpe : m.rpe) {
     char label[32];
     std::snprintf(label, sizeof(label), "RPE %g m", rpe.distance_m);
-    std::printf("%-14s %s  %s  (%ld pairs)\n", label, formatMetric(rpe.translation_rmse_m, "m").c_str(),
-                formatMetric(rpe.rotation_rmse_deg, "deg").c_str(), rpe.pairs);
+    std::printf("%-14s %s  %s  (%ld pairs%s)\n", label, formatMetric(rpe.translation_rmse_m, "m").c_str(),
+                formatMetric(rpe.rotation_rmse_deg, "deg").c_str(), rpe.pairs, m.scale != 1.0 ? ", scale applied" : "");
   }
 }
 
-JsonObject toJson(const EvalOptions& o, const TrajectoryMetrics& m) {
+JsonObject toJson(const EvalOptions& o, const TrajectoryMetrics& m, TrajectoryFormat gt_format, TrajectoryFormat est_format) {
   JsonObject json;
   json.add("gt", o.gt)
+      .add("gt_format", trajectoryFormatName(gt_format))
       .add("est", o.est)
+      .add("est_format", trajectoryFormatName(est_format))
       .add("alignment", trajectoryAlignmentName(m.alignment))
-      .add("ate_m", m.ate_se3_m)
-      .add("ate_4dof_m", m.ate_4dof_m)
-      .add("ate_unaligned_m", m.ate_unaligned_m)
-      .add("ate_rot_deg", m.ate_rot_deg)
-      .add("ate_rmse_m", m.ate_stats.rmse)  // these six with the alignment asked for (evo's statistics)
+      .add("association", o.max_dt_s > 0.0 ? "nearest" : "interpolated")
+      .add("max_gap_s", o.max_gap_s)
+      .add("max_dt_s", o.max_dt_s)
+      .add("scale", m.scale)
+      .add("ate_m", m.ate_stats.rmse)  // every figure with the alignment asked for
+      .add("ate_rmse_m", m.ate_stats.rmse)
       .add("ate_mean_m", m.ate_stats.mean)
       .add("ate_median_m", m.ate_stats.median)
       .add("ate_std_m", m.ate_stats.std)
       .add("ate_min_m", m.ate_stats.min)
-      .add("ate_max_m", m.ate_stats.max);
+      .add("ate_max_m", m.ate_stats.max)
+      .add("ate_rot_deg", m.ate_rot_deg);
   for (const RelativePoseError& rpe : m.rpe) {
     const std::string key = rpeKey(rpe.distance_m);
     json.add(key + "_m", rpe.translation_rmse_m).add(key + "_deg", rpe.rotation_rmse_deg).add(key + "_pairs", rpe.pairs);
@@ -90,8 +103,7 @@ JsonObject toJson(const EvalOptions& o, const TrajectoryMetrics& m) {
       .add("unassociated", m.unassociated())
       .add("before_span", m.before_span)
       .add("after_span", m.after_span)
-      .add("beyond_gap", m.beyond_gap)
-      .add("max_gap_s", o.max_gap_s);
+      .add("beyond_gap", m.beyond_gap);
   return json;
 }
 
@@ -113,15 +125,16 @@ int runEvalCommand(const EvalOptions& o) {
 
   // Too few estimate poses with ground truth: the two files do not describe the same stretch of time (another
   // clock, nanoseconds read as seconds, another flight) and any figure would be a plausible wrong answer.
-  const auto association = associateByTime(gt_poses, est_poses, o.max_gap_s);
+  const auto association = o.max_dt_s > 0.0 ? associateByNearestStamp(gt_poses, est_poses, o.max_dt_s)
+                                             : associateByTime(gt_poses, est_poses, o.max_gap_s);
   if (!association.ok()) return fail(o.est + " against " + o.gt + ": " + association.status().message());
   const long associated = static_cast<long>(association->size());
   if (static_cast<double>(associated) < o.min_associated * static_cast<double>(est_poses.size())) {
     char share[32];
     std::snprintf(share, sizeof(share), "%.1f %%", 100.0 * static_cast<double>(associated) / static_cast<double>(est_poses.size()));
     return fail("only " + std::to_string(associated) + " of " + std::to_string(est_poses.size()) + " estimate poses (" +
-                share + ", below --min-associated " + std::to_string(o.min_associated) + ") have ground truth within " +
-                std::to_string(o.max_gap_s) + " s: " + o.est + " (" + trajectoryFormatName(est_format) + ") spans " +
+                share + ", below --min-associated " + std::to_string(o.min_associated) + ") have ground truth (" +
+                associationText(o) + "): " + o.est + " (" + trajectoryFormatName(est_format) + ") spans " +
                 spanOf(est_poses) + ", " + o.gt + " (" + trajectoryFormatName(gt_format) + ") spans " + spanOf(gt_poses) +
                 " (another clock, or nanoseconds read as seconds?)");
   }
@@ -129,15 +142,16 @@ int runEvalCommand(const EvalOptions& o) {
   TrajectoryMetricsParams params;
   params.alignment = *alignment;
   params.max_gap_s = o.max_gap_s;
+  params.max_dt_s = o.max_dt_s;
   const auto metrics = evaluateTrajectory(gt_poses, est_poses, params);
   if (!metrics.ok()) return fail(o.est + " against " + o.gt + ": " + metrics.status().message());
   std::printf("%-14s %s: %s, %zu poses, %s\n", "ground truth", o.gt.c_str(), trajectoryFormatName(gt_format),
               gt_poses.size(), spanOf(gt_poses).c_str());
   std::printf("%-14s %s: %s, %zu poses, %s\n", "estimate", o.est.c_str(), trajectoryFormatName(est_format),
               est_poses.size(), spanOf(est_poses).c_str());
-  printTable(*metrics);
+  printTable(o, *metrics);
   if (!o.json.empty()) {
-    const Status written = writeJsonFile(o.json, toJson(o, *metrics));
+    const Status written = writeJsonFile(o.json, toJson(o, *metrics, gt_format, est_format));
     if (!written.ok()) return fail(written.message());
   }
   return 0;

@@ -7,13 +7,15 @@
 namespace dualgraph::tools {
 
 /// Options of `dualgraph eval`: an estimate (estimate_T_body) against ground truth (world_T_body), each a TUM
-/// file (t in s) or a EuRoC/ASL CSV (t in ns, recognised from its header, frontend/io/odometry_io.h); m.
+/// file (t in s, covariance columns ignored), an OpenVINS traj_estimate or a EuRoC/ASL CSV (t in ns), recognised
+/// from its content (readTrajectory, frontend/io/odometry_io.h); m. Every figure uses the one alignment asked for.
 struct EvalOptions {
-  std::string gt;           ///< ground-truth TUM file
-  std::string est;          ///< estimate TUM file (covariance columns allowed, ignored)
-  std::string align = "se3";  ///< se3, 4dof or none: the alignment of the rotation ATE
+  std::string gt;           ///< ground-truth file
+  std::string est;          ///< estimate file
+  std::string align = "se3";  ///< se3, sim3, 4dof, origin or none: the alignment of every figure
   std::string json;         ///< write the metrics here as one JSON object (atomically) when set
-  double max_gap_s = 0.1;   ///< association gap [s]
+  double max_gap_s = 0.1;   ///< association gap [s] (interpolated ground truth)
+  double max_dt_s = 0.0;    ///< > 0: nearest-stamp association within this many seconds instead (evo's)
   /// Below this share of the estimate's poses with ground truth: an error naming both files' time spans.
   double min_associated = 0.5;
 };

@@ -63,7 +63,7 @@ int runRunCommand(const RunOptions& o) {
   if (o.d_single > 0) params->localizer.d_single = o.d_single;
   const Status valid = validateLocalizerParams(params->localizer);
   if (!valid.ok()) return fail(valid.message());
-  auto sequence = loadSequence(o.sequence, params->defaultPoseDetectionCovariance());
+  auto sequence = loadSequence(o.sequence, params->defaultPoseDetectionCovariance(), o.vio);
   if (!sequence.ok()) return fail(sequence.status().message());
   int unknown_gates_skipped = 0;
   if (!params->localizer.mapping) {  // a mapping run's detector may name gates the map does not hold yet
@@ -95,7 +95,7 @@ int runRunCommand(const RunOptions& o) {
   auto staged = StagedFolder::create(o.out);
   if (!staged.ok()) return fail(staged.status().message());
   const Status written = writeRunFolder(staged->path(), o.sequence, params->localizer, *run, *metrics,
-                                        params->self_calibration_after_s > 0.0 ? &self_calibration : nullptr);
+                                        params->self_calibration_after_s > 0.0 ? &self_calibration : nullptr, o.vio);
   if (!written.ok()) return fail(staged->unstaged(written).message());
   const Status committed = staged->commit();
   if (!committed.ok()) return fail(committed.message());
@@ -136,7 +136,10 @@ int runRunCommand(const RunOptions& o) {
             << metrics->opt_ms_p95 << " ms; detections used " << metrics->detections_used << " of "
             << metrics->detections;
   if (sequence->has_corners) std::cout << " (corner noise " << run->frontend_counters.pixel_sigma << " px)";
-  std::cout << "\n";
+  std::cout << "\n  odometry " << sequence->vio_path << " (" << trajectoryFormatName(sequence->vio_format) << ", "
+            << sequence->odometry.samples.size() << " samples, "
+            << (sequence->odometry.absolute_covariances.empty() ? "no covariance" : "with covariances")
+            << ")\n";
   if (run->initialization) {
     const Eigen::Isometry3d& frame = run->initialization->world_T_odom;
     std::cout << "  VIO frame found at t=" << run->initialization->locked_at << " s from " << run->initialization->inliers

@@ -9,6 +9,7 @@ namespace dualgraph::tools {
 /// Options of `dualgraph run`.
 struct RunOptions {
   std::string sequence;
+  std::string vio;     ///< empty: SEQUENCE/vio.tum; otherwise the odometry file read instead (any readTrajectory format)
   std::string config;  ///< empty: the bundled data/config/default.yaml
   std::string out;
   std::string mode;    ///< empty: the config's; dual | single

@@ -37,7 +37,7 @@ Result<YAML::Node> loadMappingFile(const fs::path& path) {
 
 Result<StampedPoses> readPoses(const fs::path& path) {
   DG_RETURN_IF_ERROR(requireFile(path));
-  auto log = readTumOdometry(path.string());
+  auto log = readTrajectory(path.string());
   if (!log.ok()) return log.status();
   return stampedPosesFromSamples(log->samples);
 }
@@ -51,7 +51,7 @@ Status readNumberOrNull(const std::string& source, const std::string& field, con
   return yf::readNumber(source, field, node, out);
 }
 
-// run.yaml (written by `dualgraph run`): sequence, mode, d_main, d_temp, d_single. Other keys are ignored.
+// run.yaml (written by `dualgraph run`): sequence, vio (optional), mode, d_main, d_temp, d_single. Other keys are ignored.
 Status readRunYaml(const fs::path& path, RunReport& run) {
   const std::string source = path.string();
   auto root = loadMappingFile(path);
@@ -63,6 +63,10 @@ Status readRunYaml(const fs::path& path, RunReport& run) {
     }
     const fs::path folder(sequence.as<std::string>());
     run.sequence_dir = (folder.is_absolute() ? folder : path.parent_path() / folder).string();
+    if (const YAML::Node vio = (*root)["vio"]; vio && vio.IsScalar()) {
+      const fs::path file(vio.as<std::string>());
+      run.vio_path = (file.is_absolute() ? file : path.parent_path() / file).string();
+    }
     if (const YAML::Node mode = (*root)["mode"]; mode && mode.IsScalar()) run.mode = mode.as<std::string>();
     std::ostringstream thresholds;
     for (const char* key : {"d_main", "d_temp", "d_single"}) {
@@ -85,7 +89,7 @@ Status readStats(const fs::path& path, RunReport& run) {
   const std::string source = path.string();
   auto lines = readTextLines(source, FieldSeparator::kComma);
   if (!lines.ok()) return lines.status();
-  size_t t_column = 0, ms_column = 0;
+  size_t t_column = 0, ms_column = 0, temp_column = 0;
   bool header = false;
   for (const TextLine& line : *lines) {
     if (line.comment) continue;
@@ -97,6 +101,7 @@ Status readStats(const fs::path& path, RunReport& run) {
       };
       t_column = find("t");
       ms_column = find("optimization_ms");
+      temp_column = find("temp_ms");  // absent from older run folders
       if (t_column == line.fields.size() || ms_column == line.fields.size()) {
         return row.lineError("expected a header with columns 't' and 'optimization_ms'");
       }
@@ -107,6 +112,11 @@ Status readStats(const fs::path& path, RunReport& run) {
     DG_RETURN_IF_ERROR(row.readDouble(t_column, "t", t));
     DG_RETURN_IF_ERROR(row.readDouble(ms_column, "optimization_ms", ms));
     run.opt_ms.emplace_back(t, ms);
+    if (temp_column < line.fields.size()) {
+      double temp_ms = 0.0;
+      DG_RETURN_IF_ERROR(row.readDouble(temp_column, "temp_ms", temp_ms));
+      run.temp_ms.emplace_back(t, temp_ms);
+    }
   }
   if (!header) return Status(StatusCode::kParseError, source + ": no header line");
   return Status();
@@ -185,10 +195,14 @@ Status writeTrackingStates(const std::string& path, const std::vector<CorrectedP
 }
 
 // run.yaml: the sequence (absolute) and the graph settings of the run, for `dualgraph report`.
-Status writeRunYaml(const std::string& path, const std::string& sequence, const LocalizerParams& p) {
+Status writeRunYaml(const std::string& path, const std::string& sequence, const std::string& vio_path,
+                    const LocalizerParams& p) {
   return writeFileAtomically(path, [&](std::ostream& out) {
-    out << "sequence: \"" << jsonEscape(std::filesystem::absolute(sequence).lexically_normal().string())
-        << "\"\nmode: " << localizerModeName(p.mode) << "\n";
+    out << "sequence: \"" << jsonEscape(std::filesystem::absolute(sequence).lexically_normal().string()) << "\"\n";
+    if (!vio_path.empty()) {
+      out << "vio: \"" << jsonEscape(std::filesystem::absolute(vio_path).lexically_normal().string()) << "\"\n";
+    }
+    out << "mode: " << localizerModeName(p.mode) << "\n";
     if (p.mode == LocalizerMode::kDual) out << "d_main: " << p.d_main << "\nd_temp: " << p.d_temp << "\n";
     if (p.mode == LocalizerMode::kSingle) out << "d_single: " << p.d_single << "\n";
     return Status();
@@ -197,7 +211,8 @@ Status writeRunYaml(const std::string& path, const std::string& sequence, const 
 
 JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const SelfCalibrationReport* self) {
   JsonObject json;
-  json.add("ate_m", m.estimate.ate_se3_m)
+  json.add("has_ground_truth", m.has_ground_truth ? 1L : 0L)
+      .add("ate_m", m.estimate.ate_se3_m)
       .add("ate_unaligned_m", m.estimate.ate_unaligned_m)
       .add("ate_4dof_m", m.estimate.ate_4dof_m)
       .add("ate_rot_deg", m.estimate.ate_rot_deg)
@@ -213,7 +228,8 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
     json.add("rpe_" + suffix + "_m", rpe.translation_rmse_m).add("rpe_" + suffix + "_deg", rpe.rotation_rmse_deg);
   }
   json.add("keyframes", m.keyframes).add("nodes", m.nodes).add("edges", m.edges)
-      .add("opt_ms_p50", m.opt_ms_p50).add("opt_ms_p95", m.opt_ms_p95).add("opt_ms_max", m.opt_ms_max);
+      .add("opt_ms_p50", m.opt_ms_p50).add("opt_ms_p95", m.opt_ms_p95).add("opt_ms_max", m.opt_ms_max)
+      .add("temp_ms_p50", m.temp_ms_p50).add("temp_ms_p95", m.temp_ms_p95).add("temp_ms_max", m.temp_ms_max);
   std::vector<JsonObject> laps;
   for (const LapCorrection& lap : m.gate_corrections) {
     JsonObject row;
@@ -277,14 +293,13 @@ std::string folderName(const std::string& dir) {
 
 Status writeRunFolder(const std::string& dir, const std::string& sequence_dir, const LocalizerParams& params,
                       const SequenceRunResult& run, const RunMetrics& metrics,
-                      const SelfCalibrationReport* self_calibration) {
+                      const SelfCalibrationReport* self_calibration, const std::string& vio_path) {
   const fs::path folder(dir);
   DG_RETURN_IF_ERROR(writeTum((folder / "estimate.tum").string(), stampedPoses(mapPoses(run.estimate))));
   DG_RETURN_IF_ERROR(writeTrackingStates((folder / "tracking_state.csv").string(), run.estimate));
   DG_RETURN_IF_ERROR(writeTum((folder / "keyframes.tum").string(), stampedPoses(run.keyframes)));
   DG_RETURN_IF_ERROR(writeStats((folder / "stats.csv").string(), run.stats, run.keyframes, params));
-  DG_RETURN_IF_ERROR(writeRunYaml((folder / "run.yaml").string(), sequence_dir, params));
-  if (!metrics.has_ground_truth) return Status();
+  DG_RETURN_IF_ERROR(writeRunYaml((folder / "run.yaml").string(), sequence_dir, vio_path, params));
   return writeJsonFile((folder / "metrics.json").string(), metricsJson(metrics, run, self_calibration));
 }
 
@@ -305,7 +320,7 @@ Result<RunReport> loadRunReport(const std::string& run_dir, const std::string& s
   if (!estimate.ok()) return estimate.status();
   run.estimate = std::move(*estimate);
   DG_RETURN_IF_ERROR(readStats(run_path / "stats.csv", run));
-  auto vio = readPoses(sequence / "vio.tum");
+  auto vio = readPoses(run.vio_path.empty() ? sequence / "vio.tum" : fs::path(run.vio_path));
   if (!vio.ok()) return vio.status();
   run.vio = std::move(*vio);
   if (fs::exists(sequence / "gt.tum")) {

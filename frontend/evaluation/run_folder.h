@@ -25,21 +25,24 @@ namespace dualgraph {
 ///   stats.csv      one row per keyframe: `t,keyframe,nodes,edges,iterations,optimization_ms,distilled_edges,
 ///                  rejected_edges,skipped_gates,observations,temp_nodes,temp_edges,temp_iterations,temp_ms,
 ///                  termination` (row 0: the first keyframe, not optimised)
-///   run.yaml       `sequence:` (absolute), `mode:` and the keyframe thresholds (`d_main`, `d_temp` or `d_single`)
-///   metrics.json   RunMetrics' figures (only when `metrics.has_ground_truth`; non-finite values as null)
+///   run.yaml       `sequence:` (absolute), `vio:` (absolute; only when `vio_path` is given: the odometry file read
+///                  instead of SEQUENCE/vio.tum), `mode:` and the keyframe thresholds (`d_main`, `d_temp` or `d_single`)
+///   metrics.json   RunMetrics' figures, always: `has_ground_truth` 1/0, the ATE figures null without ground truth
+///                  (non-finite values as null); frontend/evaluation/OUTPUTS.md lists every key
 /// kIoError naming the file that could not be written.
 /// With `self_calibration` (a self-calibrating run), metrics.json also holds `self_calibration_applied` (1/0,
 /// −1 not attempted), `self_calibration_at_s`, `_time_offset_before_s`, `_time_offset_s`, `_time_offset_sigma_s`,
 /// `_mount_change_deg`, `_iterations` and `_why_not` (a string, empty when applied).
 Status writeRunFolder(const std::string& dir, const std::string& sequence_dir, const LocalizerParams& params,
                       const SequenceRunResult& run, const RunMetrics& metrics,
-                      const SelfCalibrationReport* self_calibration = nullptr);
+                      const SelfCalibrationReport* self_calibration = nullptr, const std::string& vio_path = "");
 
 /// What `dualgraph report` shows of one run folder, read by loadRunReport.
 struct RunReport {
   std::string name;          ///< the run folder's name (unique and file-name safe after writeRunReport)
   std::string run_dir;       ///< as given
   std::string sequence_dir;  ///< from run.yaml, or the override
+  std::string vio_path;      ///< run.yaml's `vio:` (a run given --vio), or empty: SEQUENCE/vio.tum
   std::string mode;          ///< "dual", "single", or empty when unknown (no run.yaml)
   std::string thresholds;    ///< e.g. "d_main 2 m, d_temp 0.1 m" (run.yaml), or empty
   StampedPoses ground_truth;  ///< world_T_body [s, m]; empty when the sequence has no gt.tum
@@ -47,13 +50,15 @@ struct RunReport {
   StampedPoses estimate;      ///< world_T_body [s, m] at every odometry sample (estimate.tum)
   std::vector<TrackGate> gates;                     ///< from the sequence's gates.yaml [m, rad]
   std::vector<std::pair<double, double>> opt_ms;    ///< (t [s], main-graph optimisation [ms]) per stats.csv row
+  std::vector<std::pair<double, double>> temp_ms;   ///< (t [s], temporary graph [ms]) per row (empty: no column)
   std::vector<std::pair<std::string, double>> metrics;  ///< metrics.json numbers in file order (null: NaN)
   std::vector<LapCorrection> gate_corrections;      ///< metrics.json `gate_corrections` [m]
 };
 
 /// Reads run folder `run_dir` — estimate.tum, stats.csv, metrics.json (required when the sequence has
 /// gt.tum) and run.yaml (`sequence:` folder, absolute or relative to the run folder; `mode:`; the
-/// keyframe thresholds) — and from the sequence folder gates.yaml, vio.tum and gt.tum (optional).
+/// keyframe thresholds; `vio:` when the run read another odometry file) — and from the sequence folder gates.yaml,
+/// vio.tum (or run.yaml's `vio:`) and gt.tum (optional), each in any format readTrajectory recognises.
 /// A non-empty `sequence_dir` replaces run.yaml's (which may then be absent). Errors: kNotFound
 /// naming a missing folder or file; the readers' own errors (file:line) for malformed ones.
 Result<RunReport> loadRunReport(const std::string& run_dir, const std::string& sequence_dir = "");

@@ -130,6 +130,11 @@ Result<RunMetrics> computeRunMetrics(const Sequence& sequence, const SequenceRun
   m.opt_ms_p50 = percentile(optimize_ms, 50);
   m.opt_ms_p95 = percentile(optimize_ms, 95);
   m.opt_ms_max = optimize_ms.empty() ? kNoValue : *std::max_element(optimize_ms.begin(), optimize_ms.end());
+  std::vector<double> temp_ms;
+  for (const KeyframeStats& row : run.stats) temp_ms.push_back(row.temp_ms);
+  m.temp_ms_p50 = percentile(temp_ms, 50);
+  m.temp_ms_p95 = percentile(temp_ms, 95);
+  m.temp_ms_max = temp_ms.empty() ? kNoValue : *std::max_element(temp_ms.begin(), temp_ms.end());
 
   // Table III: lap k holds the k-th pass of every gate.
   if (!estimate.empty()) {

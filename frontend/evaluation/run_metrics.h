@@ -34,6 +34,7 @@ struct RunMetrics {
   int nodes = 0;       ///< main-graph vertices at the end
   int edges = 0;       ///< main-graph edges at the end
   double opt_ms_p50 = 0.0, opt_ms_p95 = 0.0, opt_ms_max = 0.0;  ///< main-graph optimisation per row [ms]
+  double temp_ms_p50 = 0.0, temp_ms_p95 = 0.0, temp_ms_max = 0.0;  ///< temporary graph per row (KeyframeStats::temp_ms) [ms]
   std::vector<LapCorrection> gate_corrections;
   int laps = 0;
   int detections = 0;           ///< rows of the detection file

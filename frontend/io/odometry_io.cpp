@@ -92,8 +92,8 @@ Result<OdometryLog> readTumOdometry(const std::string& path) {
     if (line.comment) continue;
     const RowReader row(path, line);
     if (row.size() == 20) {
-      return row.lineError("20 fields: OpenVINS' covariance layout (Pr11..Pr33 Pt11..Pt33) is not supported; "
-                           "expected 8 (TUM) or 29 (TUM + 21 covariance entries)");
+      return row.lineError("20 fields: OpenVINS' traj_estimate layout (Pr11..Pr33 Pt11..Pt33), not TUM; "
+                           "expected 8 (TUM) or 29 (TUM + 21 covariance entries) — readTrajectory reads both");
     }
     DG_RETURN_IF_ERROR(row.expectFieldCount({8, 29}));
     if (form == 0) {
@@ -121,20 +121,90 @@ Result<OdometryLog> readTumOdometry(const std::string& path) {
 }
 
 const char* trajectoryFormatName(TrajectoryFormat format) {
-  return format == TrajectoryFormat::kEuroc ? "EuRoC CSV" : "TUM";
+  switch (format) {
+    case TrajectoryFormat::kTum: return "TUM";
+    case TrajectoryFormat::kTumCovariance: return "TUM + covariance";
+    case TrajectoryFormat::kOpenVins: return "OpenVINS traj_estimate";
+    case TrajectoryFormat::kEuroc: return "EuRoC CSV";
+  }
+  return "unknown";
+}
+
+Result<OdometryLog> readOpenVinsOdometry(const std::string& path) {
+  Result<std::vector<TextLine>> lines = readTextLines(path, FieldSeparator::kCommaOrWhitespace);
+  if (!lines.ok()) return lines.status();
+  static const std::vector<std::string> kRotation = {"Pr11", "Pr12", "Pr13", "Pr22", "Pr23", "Pr33"};
+  static const std::vector<std::string> kPosition = {"Pt11", "Pt12", "Pt13", "Pt22", "Pt23", "Pt33"};
+  auto readUpper = [](const RowReader& row, size_t first, const std::vector<std::string>& names, Eigen::Matrix3d& out) {
+    for (int r = 0, k = 0; r < 3; ++r) {
+      for (int c = r; c < 3; ++c, ++k) {
+        DG_RETURN_IF_ERROR(row.readDouble(first + static_cast<size_t>(k), names[static_cast<size_t>(k)], out(r, c)));
+        out(c, r) = out(r, c);
+      }
+    }
+    return Status();
+  };
+  OdometryLog log;
+  for (const TextLine& line : *lines) {
+    if (line.comment) continue;
+    const RowReader row(path, line);
+    DG_RETURN_IF_ERROR(row.expectFieldCount({20}));
+    double t = 0.0;
+    Eigen::Vector3d p;
+    Eigen::Quaterniond q;
+    DG_RETURN_IF_ERROR(row.readDouble(0, "timestamp", t));
+    for (int k = 0; k < 3; ++k) DG_RETURN_IF_ERROR(row.readDouble(1 + k, tumNames()[1 + k], p[k]));
+    DG_RETURN_IF_ERROR(readQuaternion(row, 4, QuaternionOrder::kXyzw, {"qx", "qy", "qz", "qw"}, q));
+    Eigen::Matrix3d rotation_cov, position_cov;
+    DG_RETURN_IF_ERROR(readUpper(row, 8, kRotation, rotation_cov));
+    DG_RETURN_IF_ERROR(readUpper(row, 14, kPosition, position_cov));
+    // OpenVINS: position error in the global frame, orientation error in the body frame. Ours: both in the body frame.
+    const Eigen::Matrix3d R = q.toRotationMatrix();
+    Matrix6d covariance = Matrix6d::Zero();
+    covariance.topLeftCorner<3, 3>() = R.transpose() * position_cov * R;
+    covariance.bottomRightCorner<3, 3>() = rotation_cov;
+    covariance = (0.5 * (covariance + covariance.transpose())).eval();
+    const Status valid = checkCovariance(covariance, "covariance (fields Pr11..Pr33, Pt11..Pt33)");
+    if (!valid.ok()) return Status(valid.code(), row.location() + ": " + valid.message());
+    DG_RETURN_IF_ERROR(appendSample(row, "timestamp", t, p, q, log));
+    log.absolute_covariances.push_back(covariance);
+  }
+  if (log.samples.empty()) return noDataRows(path, *lines);
+  return log;
 }
 
 Result<OdometryLog> readTrajectory(const std::string& path, TrajectoryFormat* format) {
   std::ifstream in(path);
   if (!in) return readTumOdometry(path);  // its own message (missing, a folder, unreadable)
-  std::string first;
-  while (std::getline(in, first) && first.find_first_not_of(" \t\r") == std::string::npos) {
+  // The first non-blank line, and the field count of the first data line (comments skipped).
+  std::string first, line;
+  size_t data_fields = 0;
+  bool openvins_header = false;
+  while (std::getline(in, line)) {
+    const size_t start = line.find_first_not_of(" \t\r");
+    if (start == std::string::npos) continue;
+    if (first.empty()) first = line.substr(start);
+    if (line[start] == '#') {
+      openvins_header = openvins_header || line.find("Pr11") != std::string::npos;
+      continue;
+    }
+    data_fields = splitFields(line, FieldSeparator::kCommaOrWhitespace).size();
+    break;
   }
-  const size_t start = first.find_first_not_of(" \t");
-  const bool euroc = start != std::string::npos &&
-                     (first.compare(start, 10, "#timestamp") == 0 || first.find("p_RS_R_x") != std::string::npos);
-  if (format != nullptr) *format = euroc ? TrajectoryFormat::kEuroc : TrajectoryFormat::kTum;
-  return euroc ? readEurocOdometry(path) : readTumOdometry(path);
+  TrajectoryFormat found = TrajectoryFormat::kTum;
+  if (first.compare(0, 10, "#timestamp") == 0 || first.find("p_RS_R_x") != std::string::npos) {
+    found = TrajectoryFormat::kEuroc;
+  } else if (openvins_header || data_fields == 20) {
+    found = TrajectoryFormat::kOpenVins;
+  } else if (data_fields == 29) {
+    found = TrajectoryFormat::kTumCovariance;
+  }
+  if (format != nullptr) *format = found;
+  switch (found) {
+    case TrajectoryFormat::kEuroc: return readEurocOdometry(path);
+    case TrajectoryFormat::kOpenVins: return readOpenVinsOdometry(path);
+    default: return readTumOdometry(path);
+  }
 }
 
 Result<OdometryLog> readEurocOdometry(const std::string& path) {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Odometry files (TUM with optional covariances, EuRoC CSV), relative covariances and increments.
+// Odometry files (TUM with optional covariances, OpenVINS traj_estimate, EuRoC CSV), relative covariances and increments.
 #pragma once
 
 #include <string>
@@ -26,8 +26,19 @@ struct OdometryLog {
 /// odom_T_body), optionally followed by the 21 upper-triangular entries (row by row) of the absolute
 /// covariance described at OdometryLog. Space- or comma-separated, `#` comments, blank lines
 /// skipped. Every row must have the same form (8 or 29 fields). Also reads OpenVINS' TUM-like
-/// trajectories without covariance; OpenVINS' 20-column `Pr.. Pt..` covariance layout is rejected.
+/// trajectories without covariance; its 20-column layout is refused here (readOpenVinsOdometry reads it,
+/// readTrajectory recognises it).
 Result<OdometryLog> readTumOdometry(const std::string& path);
+
+/// OpenVINS' `traj_estimate.txt` (ov_eval's format): `t tx ty tz qx qy qz qw Pr11 Pr12 Pr13 Pr22 Pr23 Pr33
+/// Pt11 Pt12 Pt13 Pt22 Pt23 Pt33` — t [s], odom_T_body as TUM (the IMU in OpenVINS' global frame), then the
+/// upper triangles of the orientation covariance Pr [rad²] and the position covariance Pt [m²]. OpenVINS'
+/// orientation error is a rotation in the body (IMU) frame — its JPL error on q_GtoI is a right perturbation of
+/// odom_R_body — and its position error is additive in the odometry (global) frame. Converted explicitly to
+/// OdometryLog's convention (metric [t; θ], right perturbation in the body frame): Σ_tt = Rᵀ·Pt·R with R =
+/// odom_R_body of that row, Σ_θθ = Pr, Σ_tθ = 0 (the file holds no cross terms). Every row has 20 fields;
+/// a covariance that is not finite, symmetric and positive definite is an error naming the line.
+Result<OdometryLog> readOpenVinsOdometry(const std::string& path);
 
 /// EuRoC/ASL CSV (e.g. `state_groundtruth_estimate0/data.csv`): the first non-blank line must be the
 /// header, such as
@@ -39,12 +50,20 @@ Result<OdometryLog> readTumOdometry(const std::string& path);
 Result<OdometryLog> readEurocOdometry(const std::string& path);
 
 /// A trajectory file's format, as readTrajectory recognised it.
-enum class TrajectoryFormat { kTum, kEuroc };
-const char* trajectoryFormatName(TrajectoryFormat format);  ///< "TUM", "EuRoC CSV"
+enum class TrajectoryFormat {
+  kTum,            ///< 8 columns, no covariance
+  kTumCovariance,  ///< 8 + the 21 absolute-covariance columns (this project's own)
+  kOpenVins,       ///< OpenVINS traj_estimate.txt, 20 columns
+  kEuroc,          ///< EuRoC/ASL CSV with its header
+};
+/// "TUM", "TUM + covariance", "OpenVINS traj_estimate", "EuRoC CSV".
+const char* trajectoryFormatName(TrajectoryFormat format);
 
-/// A trajectory in either format, recognised from its first non-blank line: a EuRoC/ASL header (starting
-/// `#timestamp` or naming `p_RS_R_x`) is readEurocOdometry (nanoseconds, w first), anything else
-/// readTumOdometry (seconds, w last). `format` (optional) says which. The readers' own errors.
+/// A trajectory or odometry file in any of the four formats, recognised from its content: a EuRoC/ASL header
+/// (first non-blank line starting `#timestamp` or naming `p_RS_R_x`) is readEurocOdometry (nanoseconds, w
+/// first); OpenVINS' header (a comment naming `Pr11`) or a first data row of 20 fields is readOpenVinsOdometry;
+/// otherwise readTumOdometry (8 fields: kTum, 29: kTumCovariance). `format` (optional) says which. The
+/// readers' own errors (file:line: field).
 Result<OdometryLog> readTrajectory(const std::string& path, TrajectoryFormat* format = nullptr);
 
 /// How many eigenvalues `toRelativeCovariances` had to raise to its floor (a sign that the absolute

@@ -12,7 +12,8 @@
 
 namespace dualgraph {
 
-Result<Sequence> loadSequence(const std::string& dir, const Matrix6d& default_detection_covariance) {
+Result<Sequence> loadSequence(const std::string& dir, const Matrix6d& default_detection_covariance,
+                              const std::string& vio_path) {
   namespace fs = std::filesystem;
   std::error_code error;
   if (!fs::is_directory(dir, error)) return Status(StatusCode::kNotFound, dir + ": not a sequence folder");
@@ -22,13 +23,16 @@ Result<Sequence> loadSequence(const std::string& dir, const Matrix6d& default_de
 
   Sequence sequence;
   sequence.dir = dir;
-  if (!exists("vio.tum")) return Status(StatusCode::kNotFound, file("vio.tum") + ": missing (the odometry is required)");
-  auto odometry = readTumOdometry(file("vio.tum"));
+  sequence.vio_path = vio_path.empty() ? file("vio.tum") : vio_path;
+  if (!fs::exists(sequence.vio_path, error)) {
+    return Status(StatusCode::kNotFound, sequence.vio_path + ": missing (the odometry is required)");
+  }
+  auto odometry = readTrajectory(sequence.vio_path, &sequence.vio_format);
   if (!odometry.ok()) return odometry.status();
   sequence.odometry = std::move(odometry).value();
   if (!sequence.odometry.absolute_covariances.empty()) {
     auto report = toRelativeCovariances(sequence.odometry);
-    if (!report.ok()) return Status(report.status().code(), file("vio.tum") + ": " + report.status().message());
+    if (!report.ok()) return Status(report.status().code(), sequence.vio_path + ": " + report.status().message());
     sequence.covariance_clamped = report->clamped;
   }
 
@@ -63,7 +67,7 @@ Result<Sequence> loadSequence(const std::string& dir, const Matrix6d& default_de
     return Status(StatusCode::kNotFound, file("camera.yaml") + ": missing (corner detections need the camera)");
   }
   if (exists("gt.tum")) {
-    auto truth = readTumOdometry(file("gt.tum"));
+    auto truth = readTrajectory(file("gt.tum"));
     if (!truth.ok()) return truth.status();
     sequence.ground_truth = std::move(truth).value();
   }

@@ -16,14 +16,17 @@ namespace dualgraph {
 
 /// A sequence: what `dualgraph run` localises, read from a folder (loadSequence), or made in memory by the
 /// simulator (raceSequence) and written as a folder (writeSequence). The folder (frontend/io/FORMATS.md):
-///   vio.tum        odometry odom_T_body, TUM, optionally with the 21 absolute-covariance columns (required)
+///   vio.tum        odometry odom_T_body (required unless loadSequence is given another file): TUM, TUM with
+///                  the 21 absolute-covariance columns, OpenVINS traj_estimate or EuRoC CSV (readTrajectory)
 ///   corners.csv    gate corner pixels (needs camera.yaml)        } exactly one of the two
 ///   detections.csv gate poses body_T_gate, optional covariances   }
 ///   gates.yaml     the gate map (track YAML; a path in it is ignored) (required)
 ///   camera.yaml    the camera (required with corners.csv)
-///   gt.tum         ground truth world_T_body (optional; enables metrics)
+///   gt.tum         ground truth world_T_body (optional; enables metrics): TUM, EuRoC CSV or OpenVINS
 struct Sequence {
   std::string dir;       ///< the folder it was read from, or a name for messages when made in memory
+  std::string vio_path;  ///< the odometry file read (DIR/vio.tum or the one given); empty when made in memory
+  TrajectoryFormat vio_format = TrajectoryFormat::kTum;  ///< its format, as recognised
   OdometryLog odometry;  ///< relative covariances filled from the absolute ones when the file has them
   int covariance_clamped = 0;  ///< eigenvalues toRelativeCovariances raised to its floor
   bool has_corners = false;
@@ -40,8 +43,10 @@ struct Sequence {
 /// Reads a sequence folder. `default_detection_covariance` is used for detections.csv rows without
 /// covariance (metric [t; θ], m², rad²). Every reader's error is passed on unchanged (file, line, field);
 /// missing required files, both or neither detection file, or corners without a camera are
-/// kNotFound / kInvalidArgument naming the folder and the file.
-Result<Sequence> loadSequence(const std::string& dir, const Matrix6d& default_detection_covariance);
+/// kNotFound / kInvalidArgument naming the folder and the file. A non-empty `vio_path` is read instead of
+/// DIR/vio.tum (which may then be absent), e.g. OpenVINS' traj_estimate.txt where it was written.
+Result<Sequence> loadSequence(const std::string& dir, const Matrix6d& default_detection_covariance,
+                              const std::string& vio_path = "");
 
 /// Checks that every detection's gate id is −1 (unknown: the association decides) or a gate of `sequence.map`.
 /// A detection naming another gate is kNotFound "DIR/corners.csv:LINE: field 'gate_id': gate 7 is not in the

@@ -6,10 +6,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <sstream>
 
 #include "dualgraph/core/atomic_file.h"
+#include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "dualgraph/frontend/report/plot_frame.h"
 #include "dualgraph/frontend/report/svg_plot.h"
 
@@ -24,27 +26,6 @@ std::vector<Eigen::Vector2d> xyOf(const StampedPoses& poses) {
   std::vector<Eigen::Vector2d> out;
   out.reserve(poses.size());
   for (const auto& [t, pose] : poses) out.push_back(pose.translation().head<2>());
-  return out;
-}
-
-// Time axes show the stamps themselves when they are small (simulation starts at 0), else seconds
-// since the first estimate pose (recorded data carry Unix times).
-double timeOrigin(const RunReport& run) {
-  const double first = run.estimate.empty() ? 0.0 : run.estimate.front().first;
-  return std::abs(first) >= 1000.0 ? first : 0.0;
-}
-
-// |p_gt(t) − p(t)| [m] at the estimate's stamps (GT interpolated), no alignment.
-Result<std::vector<Eigen::Vector2d>> errorOverTime(const StampedPoses& gt, const StampedPoses& estimate, double t0) {
-  auto association = associateByTime(gt, estimate);
-  if (!association.ok()) return association.status();
-  std::vector<Eigen::Vector2d> out;
-  out.reserve(association->size());
-  for (size_t i = 0; i < association->size(); ++i) {
-    const Eigen::Vector3d difference = association->world_T_body_gt[i].second.translation() -
-                                       association->estimate_T_body[i].second.translation();
-    out.emplace_back(association->estimate_T_body[i].first - t0, difference.norm());
-  }
   return out;
 }
 
@@ -124,9 +105,32 @@ void writeFigure(std::ostream& html, const XyPlot& plot, const std::string& capt
   html << "<figure>\n" << (svg.ok() ? *svg : "") << "\n<figcaption>" << escapeXml(caption) << "</figcaption>\n</figure>\n";
 }
 
+void writeErrorStatistics(std::ostream& html, const RunPlots& plots) {
+  html << "<h3>Position error, unaligned [m]</h3>\n<table class=\"error-stats\">\n<tr><th></th><th>rmse</th><th>mean</th>"
+          "<th>median</th><th>std</th><th>min</th><th>max</th></tr>\n";
+  for (const auto& [name, s] : {std::make_pair("corrected", plots.corrected_stats), std::make_pair("VIO", plots.vio_stats)}) {
+    html << "<tr><td>" << name << "</td><td>" << cell(s.rmse) << "</td><td>" << cell(s.mean) << "</td><td>" << cell(s.median)
+         << "</td><td>" << cell(s.std) << "</td><td>" << cell(s.min) << "</td><td>" << cell(s.max) << "</td></tr>\n";
+  }
+  html << "</table>\n";
+}
+
+void writeLatencyTable(std::ostream& html, const RunReport& run) {
+  html << "<h3>Time per keyframe [ms]</h3>\n<table class=\"latency\">\n<tr><th>graph</th><th>keyframes</th><th>P50</th>"
+          "<th>P95</th><th>P99</th><th>max</th></tr>\n";
+  for (const auto& [name, series] : {std::make_pair("main graph", &run.opt_ms), std::make_pair("temporary graph", &run.temp_ms)}) {
+    const std::vector<double> values = valuesOf(*series);
+    if (values.empty()) continue;
+    html << "<tr><td>" << name << "</td><td>" << values.size() << "</td><td>" << cell(percentile(values, 50)) << "</td><td>"
+         << cell(percentile(values, 95)) << "</td><td>" << cell(percentile(values, 99)) << "</td><td>"
+         << cell(*std::max_element(values.begin(), values.end())) << "</td></tr>\n";
+  }
+  html << "</table>\n";
+}
+
 void writeTables(std::ostream& html, const RunReport& run) {
   if (run.metrics.empty()) {
-    html << "<p class=\"note\">No metrics.json (the sequence has no ground truth).</p>\n";
+    html << "<p class=\"note\">No metrics.json in the run folder.</p>\n";
   } else {
     html << "<h3>Metrics</h3>\n<table class=\"metrics\">\n<tr><th>metrics.json key</th><th>value</th><th>unit</th></tr>\n";
     for (const auto& [key, value] : run.metrics) {
@@ -144,7 +148,7 @@ void writeTables(std::ostream& html, const RunReport& run) {
   html << "</table>\n";
 }
 
-std::string page(const std::vector<RunReport>& runs, const std::vector<RunPlots>& plots) {
+std::string page(const std::vector<RunReport>& runs, const std::vector<RunPlots>& plots, const OverlayPlots* overlay) {
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>dualgraph report</title>\n"
           "<style>\nbody{font-family:sans-serif;color:#222;max-width:1200px;margin:1.5em auto;padding:0 1em}\n"
@@ -155,6 +159,14 @@ std::string page(const std::vector<RunReport>& runs, const std::vector<RunPlots>
           "figcaption,.note{color:#555;font-size:90%}\nsection{border-top:2px solid #ddd;margin-top:2em}\n"
           "</style>\n</head>\n<body>\n<h1>dualgraph report</h1>\n";
   if (runs.size() > 1) writeComparison(html, runs);
+  if (overlay != nullptr) {
+    html << "<h2>Overlay</h2>\n";
+    writeFigure(html, overlay->xy, "Top view: every run's corrected estimate, the first run's ground truth (dashed) and gates.", "");
+    writeFigure(html, overlay->error, "Position error of every run's corrected estimate, unaligned.",
+                "No ground truth: no error overlay.");
+    writeFigure(html, overlay->latency, "Distribution of every run's main-graph optimisation time per keyframe.",
+                "No stats.csv rows: no latency overlay.");
+  }
   for (size_t i = 0; i < runs.size(); ++i) {
     const RunReport& run = runs[i];
     html << "<section id=\"run-" << escapeXml(run.name) << "\">\n<h2>" << escapeXml(runTitle(run)) << "</h2>\n"
@@ -166,8 +178,17 @@ std::string page(const std::vector<RunReport>& runs, const std::vector<RunPlots>
     writeFigure(html, plots[i].error,
                 "Position error against ground truth (interpolated at the estimate's stamps), no alignment.",
                 "No ground truth (gt.tum) in the sequence: no error plot.");
+    if (plots[i].has_errors) {
+      writeFigure(html, plots[i].error_corrected, "The corrected estimate's error alone, on its own axis.", "");
+      writeErrorStatistics(html, plots[i]);
+      writeFigure(html, plots[i].error_map, "Top view of the corrected estimate coloured by its position error.", "");
+    }
     writeFigure(html, plots[i].opt_ms, "Main-graph optimisation time at each keyframe (stats.csv).",
                 "stats.csv has no rows: no optimisation-time plot.");
+    writeFigure(html, plots[i].latency,
+                "Distribution of the time per keyframe: main-graph optimisation and temporary graph (stats.csv).",
+                "stats.csv has no rows: no latency distribution.");
+    writeLatencyTable(html, run);
     writeTables(html, run);
     html << "</section>\n";
   }
@@ -199,32 +220,42 @@ Result<RunPlots> makeRunPlots(const RunReport& run) {
   plots.xy.height = xyHeight(plots.xy);
   plots.xy.legend_above = true;
 
-  const double t0 = timeOrigin(run);
+  const double t0 = reportTimeOrigin(run);
   char t_label[64] = "t [s]";
   if (t0 != 0.0) std::snprintf(t_label, sizeof t_label, "t [s] since %.3f s", t0);
-  for (XyPlot* plot : {&plots.error, &plots.opt_ms}) {
+  for (XyPlot* plot : {&plots.error, &plots.error_corrected, &plots.opt_ms}) {
     plot->equal_aspect = false;
     plot->x_label = t_label;
     plot->height = 450;
     plot->legend_above = true;
   }
   plots.error.title = runTitle(run) + ": position error, unaligned";
-  plots.error.y_label = "[m]";
+  plots.error_corrected.title = runTitle(run) + ": position error of the corrected estimate, unaligned";
+  plots.error.y_label = plots.error_corrected.y_label = "[m]";
   if (!run.ground_truth.empty()) {
     const std::string gt = (fs::path(run.sequence_dir) / "gt.tum").string();
-    auto vio = errorOverTime(run.ground_truth, run.vio, t0);
+    auto vio = positionErrors(run.ground_truth, run.vio, t0);
     if (!vio.ok()) {
-      const std::string file = (fs::path(run.sequence_dir) / "vio.tum").string();
+      const std::string file = run.vio_path.empty() ? (fs::path(run.sequence_dir) / "vio.tum").string() : run.vio_path;
       return Status(vio.status().code(), file + " against " + gt + ": " + vio.status().message());
     }
-    auto corrected = errorOverTime(run.ground_truth, run.estimate, t0);
+    auto corrected = positionErrors(run.ground_truth, run.estimate, t0);
     if (!corrected.ok()) {
       const std::string file = (fs::path(run.run_dir) / "estimate.tum").string();
       return Status(corrected.status().code(), file + " against " + gt + ": " + corrected.status().message());
     }
-    plots.error.series.push_back({"VIO", std::move(*vio), kOrange, false});
-    plots.error.series.push_back({"corrected", std::move(*corrected), kBlue, false});
+    plots.has_errors = true;
+    plots.corrected_stats = corrected->stats;
+    plots.vio_stats = vio->stats;
+    plots.error_map = errorColouredTopView(runTitle(run) + ": top view coloured by position error", *corrected,
+                                           run.ground_truth, run.gates);
+    plots.error_map.height = plots.xy.height;
+    plots.error.series.push_back({"VIO", std::move(vio->over_time), kOrange, false});
+    plots.error.series.push_back({"corrected", corrected->over_time, kBlue, false});
+    plots.error_corrected.series.push_back({"corrected", std::move(corrected->over_time), kBlue, false});
   }
+  plots.latency = latencyDistribution(runTitle(run) + ": time per keyframe",
+                                      {{"main graph", valuesOf(run.opt_ms)}, {"temporary graph", valuesOf(run.temp_ms)}});
   plots.opt_ms.title = runTitle(run) + ": main-graph optimisation per keyframe";
   plots.opt_ms.y_label = "[ms]";
   PlotSeries ms{"optimisation", {}, kBlue, false};
@@ -236,7 +267,10 @@ Result<RunPlots> makeRunPlots(const RunReport& run) {
 Result<std::string> renderRunReportHtml(const std::vector<RunReport>& runs) {
   auto plots = allPlots(runs);
   if (!plots.ok()) return plots.status();
-  return page(runs, *plots);
+  if (runs.size() < 2) return page(runs, *plots, nullptr);
+  auto overlay = makeOverlayPlots(runs);
+  if (!overlay.ok()) return overlay.status();
+  return page(runs, *plots, &*overlay);
 }
 
 Status writeRunReport(std::vector<RunReport> runs, const std::string& html_path, std::vector<std::string>* written) {
@@ -251,18 +285,33 @@ Status writeRunReport(std::vector<RunReport> runs, const std::string& html_path,
   }
   auto plots = allPlots(runs);
   if (!plots.ok()) return plots.status();
+  std::optional<OverlayPlots> overlay;
+  if (runs.size() > 1) {
+    auto made = makeOverlayPlots(runs);
+    if (!made.ok()) return made.status();
+    overlay = std::move(*made);
+  }
   const fs::path folder = fs::path(html_path).parent_path();
+  auto writePng = [&](const std::string& name, const XyPlot& plot) {
+    if (!hasData(plot)) return Status();
+    const std::string path = (folder / name).string();
+    DG_RETURN_IF_ERROR(writeXyPlotPng(path, plot));
+    if (written != nullptr) written->push_back(path);
+    return Status();
+  };
   for (size_t i = 0; i < runs.size(); ++i) {
     const RunPlots& p = (*plots)[i];
-    const std::pair<const char*, const XyPlot*> files[] = {{"_xy.png", &p.xy}, {"_error.png", &p.error}, {"_opt_ms.png", &p.opt_ms}};
-    for (const auto& [suffix, plot] : files) {
-      if (!hasData(*plot)) continue;
-      const std::string path = (folder / (runs[i].name + suffix)).string();
-      DG_RETURN_IF_ERROR(writeXyPlotPng(path, *plot));
-      if (written != nullptr) written->push_back(path);
-    }
+    const std::pair<const char*, const XyPlot*> files[] = {
+        {"_xy.png", &p.xy},         {"_error.png", &p.error},   {"_error_corrected.png", &p.error_corrected},
+        {"_error_map.png", &p.error_map}, {"_opt_ms.png", &p.opt_ms}, {"_latency.png", &p.latency}};
+    for (const auto& [suffix, plot] : files) DG_RETURN_IF_ERROR(writePng(runs[i].name + suffix, *plot));
   }
-  const std::string html = page(runs, *plots);
+  if (overlay) {
+    DG_RETURN_IF_ERROR(writePng("overlay_xy.png", overlay->xy));
+    DG_RETURN_IF_ERROR(writePng("overlay_error.png", overlay->error));
+    DG_RETURN_IF_ERROR(writePng("overlay_latency.png", overlay->latency));
+  }
+  const std::string html = page(runs, *plots, overlay ? &*overlay : nullptr);
   DG_RETURN_IF_ERROR(writeFileAtomically(html_path, [&](std::ostream& out) {
     out << html;
     return Status();

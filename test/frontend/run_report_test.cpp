@@ -149,14 +149,17 @@ TEST(SvgPlot, BreaksSeriesAtNonFinitePointsAndEscapesText) {
 TEST(RunReport, HtmlIsBalancedFiniteAndHasTheGatesAndThreeSeries) {
   auto html = renderRunReportHtml({tinyRun("tiny")});
   ASSERT_TRUE(html.ok()) << html.status().message();
-  EXPECT_EQ(count(*html, "<svg"), 3u);
-  EXPECT_EQ(count(*html, "</svg>"), 3u);
+  // xy, error, corrected error alone, error-coloured top view, optimisation time, latency distribution
+  EXPECT_EQ(count(*html, "<svg"), 6u);
+  EXPECT_EQ(count(*html, "</svg>"), 6u);
   EXPECT_EQ(count(*html, "<table"), count(*html, "</table>"));
-  EXPECT_EQ(count(*html, "<table"), 2u);  // metrics and gate corrections; no comparison for one run
+  EXPECT_EQ(count(*html, "<table"), 4u);  // error statistics, latency, metrics, gate corrections; no comparison
+  EXPECT_EQ(count(*html, "class=\"gate\""), 4u);  // the top view and the error-coloured one
+  EXPECT_NE(html->find("<tr><td>corrected</td><td>0.01</td><td>0.01</td><td>0.01</td>"), std::string::npos);
+  EXPECT_NE(html->find("<tr><td>main graph</td><td>3</td><td>1.25</td>"), std::string::npos);  // P50 of 0.75, 1.25, 2.5
   EXPECT_EQ(count(*html, "<section"), count(*html, "</section>"));
   EXPECT_TRUE(polylinesSelfClosed(*html));
   EXPECT_FALSE(mentionsNonFinite(*html));
-  EXPECT_EQ(count(*html, "class=\"gate\""), 2u);
   const std::string xy = html->substr(0, html->find("</svg>"));
   for (const char* label : {"data-label=\"ground truth\"", "data-label=\"VIO\"", "data-label=\"corrected\""}) {
     EXPECT_EQ(count(xy, label), 1u) << label;
@@ -178,7 +181,8 @@ TEST(RunReport, SeveralRunsGetAComparisonTable) {
   EXPECT_EQ(count(*html, "<table class=\"comparison\""), 1u);
   EXPECT_LT(html->find("class=\"comparison\""), html->find("<section"));
   EXPECT_NE(html->find("href=\"#run-b\""), std::string::npos);
-  EXPECT_EQ(count(*html, "<svg"), 6u);
+  EXPECT_EQ(count(*html, "<svg"), 15u);  // 2 × 6 and the overlay's three
+  EXPECT_LT(html->find("<h2>Overlay</h2>"), html->find("<section"));
   EXPECT_EQ(renderRunReportHtml({}).status().code(), StatusCode::kInvalidArgument);
 }
 
@@ -257,8 +261,10 @@ TEST(RunReport, LoadsARunFolderAndItsSequence) {
   const std::string html = testing::tempDir() + "/load_ok/out/report.html";
   fs::create_directories(fs::path(html).parent_path());
   ASSERT_TRUE(writeRunReport({*run, *run}, html, &written).ok());
-  EXPECT_EQ(written.size(), 7u);  // 2 × 3 PNGs, the second run renamed run_2, and the page
-  for (const char* file : {"run_xy.png", "run_error.png", "run_opt_ms.png", "run_2_xy.png", "report.html"}) {
+  EXPECT_EQ(written.size(), 16u);  // 2 × 6 PNGs, the second run renamed run_2, 3 overlay PNGs and the page
+  for (const char* file : {"run_xy.png", "run_error.png", "run_error_corrected.png", "run_error_map.png", "run_opt_ms.png",
+                           "run_latency.png", "run_2_xy.png", "overlay_xy.png", "overlay_error.png", "overlay_latency.png",
+                           "report.html"}) {
     EXPECT_TRUE(fs::exists(fs::path(html).parent_path() / file)) << file;
   }
   EXPECT_FALSE(fs::exists(html + ".tmp"));

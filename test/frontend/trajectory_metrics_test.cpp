@@ -219,20 +219,21 @@ TEST(TrajectoryMetrics, Se3AlignmentIsAProperRotationEvenForAMirroredEstimate) {
   ASSERT_TRUE(association.ok());
   const auto world_T_estimate = alignTrajectory(*association, TrajectoryAlignment::kSE3);
   ASSERT_TRUE(world_T_estimate.ok());
-  const Eigen::Matrix3d rotation = world_T_estimate->linear();
+  const Eigen::Matrix3d rotation = world_T_estimate->world_T_estimate.linear();
   EXPECT_NEAR(rotation.determinant(), 1.0, 1e-12);
   EXPECT_TRUE((rotation.transpose() * rotation).isApprox(Eigen::Matrix3d::Identity(), 1e-12));
 }
 
 TEST(TrajectoryMetrics, AlignmentNamesRoundTrip) {
-  for (const auto alignment : {TrajectoryAlignment::kSE3, TrajectoryAlignment::kFourDof, TrajectoryAlignment::kNone}) {
+  for (const auto alignment : {TrajectoryAlignment::kSE3, TrajectoryAlignment::kFourDof, TrajectoryAlignment::kNone,
+                               TrajectoryAlignment::kSim3, TrajectoryAlignment::kOrigin}) {
     const auto parsed = parseTrajectoryAlignment(trajectoryAlignmentName(alignment));
     ASSERT_TRUE(parsed.ok());
     EXPECT_EQ(*parsed, alignment);
   }
-  const auto bad = parseTrajectoryAlignment("sim3");
+  const auto bad = parseTrajectoryAlignment("se(3)");
   ASSERT_FALSE(bad.ok());
-  EXPECT_NE(bad.status().message().find("'sim3'"), std::string::npos);
+  EXPECT_NE(bad.status().message().find("'se(3)'"), std::string::npos);
 }
 
 /// Asserts an error with `code` whose message contains `fragment`.

@@ -25,7 +25,7 @@ TEST(CliUsage, EveryHelpShowsTheDefaults) {
   };
   for (const Expected& e : {Expected{"optimize", "-i,--iterations INT:NONNEGATIVE=100"},
                             Expected{"optimize", "--gauge TEXT:{highest,lowest,none}=highest"},
-                            Expected{"eval", "--align TEXT:{se3,4dof,none}=se3"},
+                            Expected{"eval", "--align TEXT:{se3,sim3,4dof,origin,none}=se3"},
                             Expected{"simulate", "--seed UINT=1"},
                             Expected{"simulate", "--profile TEXT:{clean,realistic,harsh}=realistic"},
                             Expected{"run", "--max-lost-share"},

@@ -56,15 +56,17 @@ TEST(EvalCli, ShiftedEstimateHasZeroAlignedAteAndItsOffsetUnaligned) {
   const CommandRun run = runDualgraph("eval --gt " + gt + " --est " + est + " --json " + json_path);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_TRUE(run.err.empty()) << run.err;
-  for (const char* row : {"associated     600 of 600", "ATE se3", "ATE 4dof", "ATE unaligned  1.3000 m", "ATE rotation",
-                          "RPE 1 m", "RPE 10 m"}) {
+  for (const char* row : {"associated     600 of 600", "association    ground truth interpolated", "alignment      se3:",
+                          "scale 1.000000", "ATE            rmse 0.0000", "ATE rotation", "RPE 1 m", "RPE 10 m"}) {
     EXPECT_NE(run.out.find(row), std::string::npos) << row << "\n" << run.out;
   }
   const std::string json = readFile(json_path);
   EXPECT_EQ(json.front(), '{');
   EXPECT_LT(jsonNumber(json, "ate_m"), 1e-9) << json;
-  EXPECT_LT(jsonNumber(json, "ate_4dof_m"), 1e-9) << json;
-  EXPECT_NEAR(jsonNumber(json, "ate_unaligned_m"), 1.3, 1e-9) << json;
+  EXPECT_EQ(json.find("ate_unaligned_m"), std::string::npos) << "only the alignment asked for\n" << json;
+  EXPECT_NE(json.find("\"gt_format\": \"TUM\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"est_format\": \"TUM + covariance\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"association\": \"interpolated\""), std::string::npos) << json;
   EXPECT_LT(jsonNumber(json, "ate_rot_deg"), 1e-6) << json;
   EXPECT_LT(jsonNumber(json, "rpe_1m_m"), 1e-9) << json;
   EXPECT_GT(jsonNumber(json, "rpe_10m_pairs"), 100) << json;
@@ -80,7 +82,9 @@ TEST(EvalCli, AlignNoneAndUnassociatedPosesAreReported) {
   const CommandRun run = runDualgraph("eval --gt " + gt + " --est " + est + " --align none --json " + json_path);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("(before the ground truth 100, after it 100, beyond the gap 0)"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("ATE unaligned  1.3000 m  (--align)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("ATE            rmse 1.3000  mean 1.3000"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("alignment      none: rotation 0.0000 deg, translation [0.0000, 0.0000, 0.0000] m"),
+            std::string::npos) << run.out;
   const std::string json = readFile(json_path);
   EXPECT_NE(json.find("\"alignment\": \"none\""), std::string::npos) << json;
   EXPECT_EQ(jsonNumber(json, "associated"), 400) << json;
@@ -136,13 +140,13 @@ TEST(EvalCli, AEurocGroundTruthIsRecognisedFromItsHeader) {
   const std::string gt = writeFile("gt_euroc.csv", loopEuroc(600, 0));
   // One pose fewer: 0.05·599 in double lies a hair after the ground truth's last stamp, 29950000000 ns.
   const std::string est = writeFile("est_for_euroc.tum", loopTum(599, 0.0, kOffset, false));
-  const CommandRun run = runDualgraph("eval --gt " + gt + " --est " + est);
+  const CommandRun run = runDualgraph("eval --gt " + gt + " --est " + est + " --align none");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("ground truth   " + gt + ": EuRoC CSV, 600 poses, [0.000000, 29.950000] s"), std::string::npos)
       << run.out;
   EXPECT_NE(run.out.find("estimate       " + est + ": TUM, 599 poses"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("associated     599 of 599"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("ATE unaligned  1.3000 m"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("ATE            rmse 1.3000"), std::string::npos) << run.out;
 }
 
 // Files that do not describe the same stretch of time (another clock; nanoseconds read as seconds) give an
@@ -179,8 +183,8 @@ TEST(EvalCli, ErrorStatisticsAsEvoGivesThem) {
   const std::string json_path = tempDir() + "/stats.json";
   const CommandRun run = runDualgraph("eval --gt " + gt + " --est " + est + " --align none --json " + json_path);
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_NE(run.out.find("ATE stats      rmse 0.1871  mean 0.1500  median 0.1500  std 0.1118  min 0.0000  max 0.3000 m "
-                         "(no alignment)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("ATE            rmse 0.1871  mean 0.1500  median 0.1500  std 0.1118  min 0.0000  max 0.3000 m\n"),
+            std::string::npos) << run.out;
   const std::string json = readFile(json_path);
   EXPECT_NEAR(jsonNumber(json, "ate_rmse_m"), std::sqrt(0.035), 1e-12) << json;
   EXPECT_NEAR(jsonNumber(json, "ate_mean_m"), 0.15, 1e-12);
@@ -190,13 +194,59 @@ TEST(EvalCli, ErrorStatisticsAsEvoGivesThem) {
   EXPECT_NEAR(jsonNumber(json, "ate_max_m"), 0.3, 1e-12);
 }
 
+/// `loopTum`'s rows with every position multiplied by `scale`, written in OpenVINS' 20 columns when `openvins`.
+std::string rewritten(const std::string& tum, double scale, bool openvins) {
+  std::istringstream in(tum);
+  std::ostringstream out;
+  out.precision(17);
+  for (std::string line; std::getline(in, line);) {
+    if (line[0] == '#') continue;
+    std::istringstream fields(line);
+    double v[8];
+    for (double& x : v) fields >> x;
+    out << v[0] << ' ' << scale * v[1] << ' ' << scale * v[2] << ' ' << scale * v[3] << ' ' << v[4] << ' ' << v[5] << ' '
+        << v[6] << ' ' << v[7] << (openvins ? " 1e-6 0 0 1e-6 0 1e-6 1e-4 0 0 1e-4 0 1e-4\n" : "\n");
+  }
+  return out.str();
+}
+
+// evo's -as, --t_max_diff and an OpenVINS ground truth: a half-size estimate is exact after sim3 and the scale is
+// printed; se3 cannot remove it; nearest-stamp association is stated; every figure follows --align.
+TEST(EvalCli, Sim3NearestStampAndOpenVinsGroundTruth) {
+  const std::string tum = loopTum(600, 5.0, kNoOffset, false);
+  const std::string gt = writeFile("gt_openvins.txt", rewritten(tum, 1.0, true));
+  const std::string est = writeFile("est_half.tum", rewritten(tum, 0.5, false));
+  const std::string json_path = tempDir() + "/sim3.json";
+  const CommandRun sim3 = runDualgraph("eval --gt " + gt + " --est " + est + " --align sim3 --max-dt 0.01 --json " + json_path);
+  ASSERT_EQ(sim3.exit_code, 0) << sim3.err;
+  for (const char* row : {"OpenVINS traj_estimate, 600 poses", "association    nearest ground-truth stamp within 0.01 s",
+                          "alignment      sim3: ", "scale 2.000000", "ATE            rmse 0.0000", "scale applied"}) {
+    EXPECT_NE(sim3.out.find(row), std::string::npos) << row << "\n" << sim3.out;
+  }
+  const std::string json = readFile(json_path);
+  EXPECT_NEAR(jsonNumber(json, "scale"), 2.0, 1e-9) << json;
+  EXPECT_LT(jsonNumber(json, "ate_m"), 1e-9) << json;
+  EXPECT_LT(jsonNumber(json, "rpe_1m_m"), 1e-9) << json;
+  EXPECT_NE(json.find("\"association\": \"nearest\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"gt_format\": \"OpenVINS traj_estimate\""), std::string::npos) << json;
+  const CommandRun se3 = runDualgraph("eval --gt " + gt + " --est " + est + " --json " + json_path);
+  ASSERT_EQ(se3.exit_code, 0) << se3.err;
+  EXPECT_GT(jsonNumber(readFile(json_path), "ate_m"), 1.0);
+  EXPECT_EQ(jsonNumber(readFile(json_path), "scale"), 1.0);
+  // origin: the first poses equal, so the smallest error is 0 and it grows with the distance from the start.
+  const CommandRun origin = runDualgraph("eval --gt " + gt + " --est " + est + " --align origin");
+  ASSERT_EQ(origin.exit_code, 0) << origin.err;
+  EXPECT_NE(origin.out.find("min 0.0000"), std::string::npos) << origin.out;
+}
+
 TEST(EvalCli, MissingOrBadArgumentsAreUsageErrors) {
   const std::string gt = writeFile("gt_usage.tum", loopTum(50, 0.0, kNoOffset, false));
   EXPECT_EQ(runDualgraph("eval").exit_code, 2);
   EXPECT_EQ(runDualgraph("eval --gt " + gt).exit_code, 2);
   EXPECT_EQ(runDualgraph("eval --est " + gt).exit_code, 2);
-  EXPECT_EQ(runDualgraph("eval --gt " + gt + " --est " + gt + " --align sim3").exit_code, 2);
   EXPECT_EQ(runDualgraph("eval --gt " + gt + " --est " + gt + " --max-gap -1").exit_code, 2);
+  EXPECT_EQ(runDualgraph("eval --gt " + gt + " --est " + gt + " --max-dt 0").exit_code, 2);
+  EXPECT_EQ(runDualgraph("eval --gt " + gt + " --est " + gt + " --align scale").exit_code, 2);
   EXPECT_EQ(runDualgraph("eval --gt " + gt + " --est " + gt).exit_code, 0);
 }
 

@@ -44,14 +44,14 @@ std::string runFolder(const std::string& mode) {
   return out;
 }
 
-TEST(ReportCli, TwoRunsGiveOnePageAndThreePngsEach) {
+TEST(ReportCli, TwoRunsGiveOnePageSixPngsEachAndTheOverlay) {
   const std::string dual = runFolder("dual"), single = runFolder("single");
   const std::string html = tempDir() + "/report/lap.html";
   const CommandRun run = runDualgraph("report --run " + dual + " --run " + single + " --out " + html);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("2 runs"), std::string::npos) << run.out;
   for (const char* name : {"run_dual", "run_single"}) {
-    for (const char* plot : {"_xy.png", "_error.png", "_opt_ms.png"}) {
+    for (const char* plot : {"_xy.png", "_error.png", "_error_corrected.png", "_error_map.png", "_opt_ms.png", "_latency.png"}) {
       const fs::path png = fs::path(html).parent_path() / (std::string(name) + plot);
       ASSERT_TRUE(fs::exists(png)) << png;
       EXPECT_EQ(readFile(png.string()).substr(1, 3), "PNG") << png;
@@ -59,9 +59,13 @@ TEST(ReportCli, TwoRunsGiveOnePageAndThreePngsEach) {
   }
   const std::string page = readFile(html);
   EXPECT_EQ(page.rfind("<!DOCTYPE html>", 0), 0u);
-  EXPECT_EQ(count(page, "<svg"), 6u);
-  EXPECT_EQ(count(page, "</svg>"), 6u);
-  EXPECT_EQ(count(page, "class=\"gate\""), 8u);  // four gates in each XY plot
+  EXPECT_EQ(count(page, "<svg"), 15u);  // six per run, three in the overlay
+  EXPECT_EQ(count(page, "</svg>"), 15u);
+  EXPECT_EQ(count(page, "class=\"gate\""), 20u);  // four gates in each top view: two per run and the overlay's
+  for (const char* png : {"overlay_xy.png", "overlay_error.png", "overlay_latency.png"}) {
+    EXPECT_TRUE(fs::exists(fs::path(html).parent_path() / png)) << png;
+  }
+  EXPECT_NE(page.find("<tr><td>temporary graph</td>"), std::string::npos);
   EXPECT_EQ(count(page, "class=\"comparison\""), 1u);
   EXPECT_NE(page.find("<h2>run_dual (dual)</h2>"), std::string::npos);
   EXPECT_NE(page.find("<h2>run_single (single)</h2>"), std::string::npos);

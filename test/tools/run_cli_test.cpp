@@ -175,7 +175,9 @@ TEST(RunCli, SingleModeRuns) {
   EXPECT_EQ(jsonNumber(paper, "keyframes"), jsonNumber(json, "keyframes"));  // the same nodes
 }
 
-TEST(RunCli, WithoutGroundTruthWritesTrajectoriesButNoMetrics) {
+// Issue 23, item 6: a real flight has no ground truth; its counters and timings still land in metrics.json, the
+// ATE keys as null and has_ground_truth 0.
+TEST(RunCli, WithoutGroundTruthWritesMetricsWithoutAte) {
   const std::string copy = tempDir() + "/no_gt";
   fs::copy(sequenceDir(), copy, fs::copy_options::recursive);
   fs::remove(copy + "/gt.tum");
@@ -183,8 +185,20 @@ TEST(RunCli, WithoutGroundTruthWritesTrajectoriesButNoMetrics) {
   const CommandRun run = runDualgraph("run --sequence " + copy + " --out " + out);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   for (const char* file : {"estimate.tum", "keyframes.tum", "stats.csv"}) EXPECT_TRUE(fs::exists(out + "/" + file)) << file;
-  EXPECT_FALSE(fs::exists(out + "/metrics.json"));
+  const std::string json = readFile(out + "/metrics.json");
+  EXPECT_EQ(jsonNumber(json, "has_ground_truth"), 0) << json;
+  EXPECT_NE(json.find("\"ate_m\": null"), std::string::npos) << json;
+  EXPECT_GT(jsonNumber(json, "detections_used"), 0) << json;
+  EXPECT_GT(jsonNumber(json, "keyframes"), 0) << json;
+  EXPECT_GT(jsonNumber(json, "temp_ms_p95"), 0) << json;
+  EXPECT_GE(jsonNumber(json, "temp_ms_max"), jsonNumber(json, "temp_ms_p95")) << json;
   EXPECT_EQ(run.out.find("ATE"), std::string::npos) << run.out;
+  // report shows it: no error plot, but the latency distributions and the metrics.
+  const CommandRun report = runDualgraph("report --run " + out + " --out " + out + "/report.html");
+  ASSERT_EQ(report.exit_code, 0) << report.err;
+  const std::string html = readFile(out + "/report.html");
+  EXPECT_NE(html.find("has_ground_truth"), std::string::npos);
+  EXPECT_NE(html.find("temporary graph"), std::string::npos);
   EXPECT_FALSE(dataLines(out + "/estimate.tum").empty());
 }
 

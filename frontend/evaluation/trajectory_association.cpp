@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: MIT
+// Association of an estimate with ground truth by time stamp: interpolated (associateByTime) or nearest
+// stamp (associateByNearestStamp, evo's); declared in trajectory_metrics.h.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "dualgraph/frontend/evaluation/trajectory_metrics.h"
+#include "dualgraph/types/se3_covariance.h"
+#include "dualgraph/types/se3_math.h"
+
+namespace dualgraph {
+namespace {
+
+/// A value for messages, 6 significant digits.
+std::string formatValue(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
+  return buffer;
+}
+
+/// "[first, last] s" of a non-empty trajectory, for messages.
+std::string spanText(const StampedPoses& poses) {
+  return "[" + formatTimestamp(poses.front().first) + ", " + formatTimestamp(poses.back().first) + "] s";
+}
+
+/// Finite stamps in strictly increasing order and finite rigid poses; `what` names the trajectory.
+Status validateTrajectory(const StampedPoses& poses, const std::string& what) {
+  if (poses.empty()) return Status(StatusCode::kInvalidArgument, what + " is empty");
+  for (size_t i = 0; i < poses.size(); ++i) {
+    const std::string where = what + ": pose " + std::to_string(i);
+    const double t = poses[i].first;
+    if (!std::isfinite(t)) return Status(StatusCode::kInvalidArgument, where + ": time stamp is not finite");
+    DG_RETURN_IF_ERROR(checkRigidTransform(poses[i].second, where + " (t = " + formatTimestamp(t) + " s)"));
+    if (i > 0 && !(t > poses[i - 1].first)) {
+      return Status(StatusCode::kInvalidArgument, where + ": time stamp " + formatTimestamp(t) +
+                                                      " s does not increase (previous " +
+                                                      formatTimestamp(poses[i - 1].first) + " s)");
+    }
+  }
+  return Status();
+}
+
+/// Translation linear, rotation by slerp (shortest arc), alpha ∈ [0, 1].
+Eigen::Isometry3d interpolateLinearSlerp(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double alpha) {
+  const Eigen::Quaterniond q_a(a.linear());
+  const Eigen::Quaterniond q_b(b.linear());
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() = q_a.slerp(alpha, q_b).normalized().toRotationMatrix();
+  out.translation() = (1.0 - alpha) * a.translation() + alpha * b.translation();
+  return out;
+}
+
+}  // namespace
+
+Result<TrajectoryAssociation> associateByTime(const StampedPoses& world_T_body_gt,
+                                              const StampedPoses& estimate_T_body, double max_gap_s) {
+  DG_RETURN_IF_ERROR(validateTrajectory(world_T_body_gt, "ground truth"));
+  DG_RETURN_IF_ERROR(validateTrajectory(estimate_T_body, "estimate"));
+  if (!(std::isfinite(max_gap_s) && max_gap_s > 0.0)) {
+    return Status(StatusCode::kInvalidArgument, "maximum gap " + formatValue(max_gap_s) + " s must be positive and finite");
+  }
+  const double t_first = world_T_body_gt.front().first;
+  const double t_last = world_T_body_gt.back().first;
+  TrajectoryAssociation association;
+  for (size_t i = 0; i < estimate_T_body.size(); ++i) {
+    const double t = estimate_T_body[i].first;
+    if (t < t_first) {
+      ++association.before_span;
+      continue;
+    }
+    if (t > t_last) {
+      ++association.after_span;
+      continue;
+    }
+    // The GT samples k0 ≤ k1 around t: t(k0) ≤ t ≤ t(k1), k0 = k1 only at the last sample.
+    const auto after = std::upper_bound(world_T_body_gt.begin(), world_T_body_gt.end(), t,
+                                        [](double value, const auto& sample) { return value < sample.first; });
+    const size_t k1 = after == world_T_body_gt.end() ? world_T_body_gt.size() - 1 : after - world_T_body_gt.begin();
+    const size_t k0 = after == world_T_body_gt.end() ? k1 : k1 - 1;
+    const double t0 = world_T_body_gt[k0].first;
+    const double t1 = world_T_body_gt[k1].first;
+    if (std::min(t - t0, t1 - t) > max_gap_s) {
+      ++association.beyond_gap;
+      continue;
+    }
+    const double alpha = k1 == k0 ? 0.0 : (t - t0) / (t1 - t0);
+    association.estimate_index.push_back(i);
+    association.world_T_body_gt.emplace_back(
+        t, interpolateLinearSlerp(world_T_body_gt[k0].second, world_T_body_gt[k1].second, alpha));
+    association.estimate_T_body.push_back(estimate_T_body[i]);
+  }
+  if (association.before_span + association.after_span == static_cast<long>(estimate_T_body.size())) {
+    return Status(StatusCode::kFailedPrecondition, "the estimate " + spanText(estimate_T_body) +
+                                                       " does not overlap the ground truth " +
+                                                       spanText(world_T_body_gt) + " in time");
+  }
+  if (association.size() == 0) {
+    return Status(StatusCode::kFailedPrecondition,
+                  "no estimate pose has a ground-truth sample within the maximum gap of " +
+                      formatValue(max_gap_s) + " s (" + std::to_string(association.beyond_gap) +
+                      " inside the ground truth's span)");
+  }
+  return association;
+}
+
+Result<TrajectoryAssociation> associateByNearestStamp(const StampedPoses& world_T_body_gt,
+                                                      const StampedPoses& estimate_T_body, double max_dt_s) {
+  DG_RETURN_IF_ERROR(validateTrajectory(world_T_body_gt, "ground truth"));
+  DG_RETURN_IF_ERROR(validateTrajectory(estimate_T_body, "estimate"));
+  if (!(std::isfinite(max_dt_s) && max_dt_s > 0.0)) {
+    return Status(StatusCode::kInvalidArgument, "maximum time difference " + formatValue(max_dt_s) +
+                                                    " s must be positive and finite");
+  }
+  const double t_first = world_T_body_gt.front().first;
+  const double t_last = world_T_body_gt.back().first;
+  TrajectoryAssociation association;
+  for (size_t i = 0; i < estimate_T_body.size(); ++i) {
+    const double t = estimate_T_body[i].first;
+    if (t < t_first - max_dt_s) {
+      ++association.before_span;
+      continue;
+    }
+    if (t > t_last + max_dt_s) {
+      ++association.after_span;
+      continue;
+    }
+    const auto after = std::lower_bound(world_T_body_gt.begin(), world_T_body_gt.end(), t,
+                                        [](const auto& sample, double value) { return sample.first < value; });
+    size_t nearest = after == world_T_body_gt.end() ? world_T_body_gt.size() - 1 : after - world_T_body_gt.begin();
+    if (nearest > 0 && t - world_T_body_gt[nearest - 1].first <= std::abs(world_T_body_gt[nearest].first - t)) --nearest;
+    if (std::abs(world_T_body_gt[nearest].first - t) > max_dt_s) {
+      ++association.beyond_gap;
+      continue;
+    }
+    association.estimate_index.push_back(i);
+    association.world_T_body_gt.emplace_back(t, world_T_body_gt[nearest].second);
+    association.estimate_T_body.push_back(estimate_T_body[i]);
+  }
+  if (association.before_span + association.after_span == static_cast<long>(estimate_T_body.size())) {
+    return Status(StatusCode::kFailedPrecondition, "the estimate " + spanText(estimate_T_body) +
+                                                       " does not overlap the ground truth " +
+                                                       spanText(world_T_body_gt) + " in time");
+  }
+  if (association.size() == 0) {
+    return Status(StatusCode::kFailedPrecondition,
+                  "no estimate pose has a ground-truth stamp within " + formatValue(max_dt_s) + " s (" +
+                      std::to_string(association.beyond_gap) + " inside the ground truth's span)");
+  }
+  return association;
+}
+
+}  // namespace dualgraph

@@ -1,0 +1,178 @@
+// SPDX-License-Identifier: MIT
+// `dualgraph run --vio FILE`: the same odometry as TUM, EuRoC CSV (ns) and OpenVINS traj_estimate gives the same
+// run; run.yaml names the file, `report` reads it back without the sequence's vio.tum; a missing file exits 1.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test/testing/command_line.h"
+#include "test/testing/shared_data.h"
+
+namespace dualgraph {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::CommandRun;
+using testing::readFile;
+using testing::runDualgraph;
+using testing::tempDir;
+
+/// The rows of a TUM file as numbers (comments skipped).
+std::vector<std::vector<double>> tumRows(const std::string& path) {
+  std::vector<std::vector<double>> rows;
+  std::istringstream in(readFile(path));
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    std::vector<double> row;
+    for (double v; fields >> v;) row.push_back(v);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+/// A simulated lap copied to DIR (clean profile: the map frame is the VIO's), odometry rewritten by `write`.
+std::string sequenceWith(const std::string& name, const std::string& source,
+                         void (*write)(const std::vector<std::vector<double>>&, std::ostream&), bool keep_vio) {
+  const std::string dir = tempDir() + "/" + name;
+  fs::remove_all(dir);
+  fs::copy(source, dir, fs::copy_options::recursive);
+  const auto rows = tumRows(source + "/vio.tum");
+  fs::remove(dir + "/vio.tum");
+  std::ofstream out(keep_vio ? dir + "/vio.tum" : dir + "/odometry.txt");
+  out.precision(17);
+  write(rows, out);
+  return dir;
+}
+
+/// The covariance of row r as a 6×6 from its 21 upper entries (columns 8..28).
+Eigen::Matrix<double, 6, 6> covarianceOf(const std::vector<double>& r) {
+  Eigen::Matrix<double, 6, 6> sigma;
+  for (int i = 0, k = 8; i < 6; ++i) {
+    for (int j = i; j < 6; ++j, ++k) sigma(i, j) = sigma(j, i) = r[static_cast<size_t>(k)];
+  }
+  return sigma;
+}
+
+void writeTumWithoutCrossTerms(const std::vector<std::vector<double>>& rows, std::ostream& out) {
+  for (const auto& r : rows) {
+    for (int k = 0; k < 8; ++k) out << (k ? " " : "") << r[static_cast<size_t>(k)];
+    Eigen::Matrix<double, 6, 6> sigma = covarianceOf(r);
+    sigma.block<3, 3>(0, 3).setZero();
+    sigma.block<3, 3>(3, 0).setZero();
+    for (int i = 0; i < 6; ++i) {
+      for (int j = i; j < 6; ++j) out << ' ' << sigma(i, j);
+    }
+    out << '\n';
+  }
+}
+
+/// OpenVINS: Pr = Σ_θθ, Pt = R·Σ_tt·Rᵀ (the body-frame position error back into the global frame).
+void writeOpenVins(const std::vector<std::vector<double>>& rows, std::ostream& out) {
+  out << "# timestamp(s) tx ty tz qx qy qz qw Pr11 Pr12 Pr13 Pr22 Pr23 Pr33 Pt11 Pt12 Pt13 Pt22 Pt23 Pt33\n";
+  for (const auto& r : rows) {
+    for (int k = 0; k < 8; ++k) out << (k ? " " : "") << r[static_cast<size_t>(k)];
+    const Eigen::Matrix<double, 6, 6> sigma = covarianceOf(r);
+    const Eigen::Matrix3d R = Eigen::Quaterniond(r[7], r[4], r[5], r[6]).normalized().toRotationMatrix();
+    const Eigen::Matrix3d pr = sigma.block<3, 3>(3, 3), pt = R * sigma.block<3, 3>(0, 0) * R.transpose();
+    for (const Eigen::Matrix3d* m : {&pr, &pt}) {
+      for (int i = 0; i < 3; ++i) {
+        for (int j = i; j < 3; ++j) out << ' ' << (*m)(i, j);
+      }
+    }
+    out << '\n';
+  }
+}
+
+void writeEuroc(const std::vector<std::vector<double>>& rows, std::ostream& out) {
+  out << "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n";
+  for (const auto& r : rows) {
+    out << static_cast<long long>(std::llround(r[0] * 1e9)) << ',' << r[1] << ',' << r[2] << ',' << r[3] << ',' << r[7]
+        << ',' << r[4] << ',' << r[5] << ',' << r[6] << '\n';
+  }
+}
+
+void writeTumPlain(const std::vector<std::vector<double>>& rows, std::ostream& out) {
+  for (const auto& r : rows) {
+    for (int k = 0; k < 8; ++k) out << (k ? " " : "") << r[static_cast<size_t>(k)];
+    out << '\n';
+  }
+}
+
+const std::string& simulatedLap() {
+  static const std::string dir = [] {
+    const std::string out = tempDir() + "/vio_formats_lap";
+    const CommandRun run = runDualgraph("simulate --profile clean --track " +
+                                        testing::sourcePath("data/tracks/ratm_ellipse.yaml") + " --seed 3 --laps 1 --no-plot --out " + out);
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    return out;
+  }();
+  return dir;
+}
+
+/// The largest position difference between two estimate.tum files with the same stamps (to `stamp_tolerance`).
+double largestDifference(const std::string& a, const std::string& b, double stamp_tolerance) {
+  const auto rows_a = tumRows(a), rows_b = tumRows(b);
+  EXPECT_EQ(rows_a.size(), rows_b.size());
+  double largest = rows_a.size() == rows_b.size() && !rows_a.empty() ? 0.0 : INFINITY;
+  for (size_t i = 0; i < std::min(rows_a.size(), rows_b.size()); ++i) {
+    EXPECT_NEAR(rows_a[i][0], rows_b[i][0], stamp_tolerance) << i;
+    for (int k = 1; k < 4; ++k) largest = std::max(largest, std::abs(rows_a[i][static_cast<size_t>(k)] - rows_b[i][static_cast<size_t>(k)]));
+  }
+  return largest;
+}
+
+TEST(RunVioFormats, OpenVinsCovarianceGivesTheRunOfTheSameCovarianceInTum) {
+  const std::string tum = sequenceWith("vio_tum_cov", simulatedLap(), writeTumWithoutCrossTerms, true);
+  const std::string ov = sequenceWith("vio_openvins", simulatedLap(), writeOpenVins, false);
+  const CommandRun a = runDualgraph("run --quiet --sequence " + tum + " --out " + tum + "_run");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const CommandRun b = runDualgraph("run --sequence " + ov + " --vio " + ov + "/odometry.txt --out " + ov + "_run");
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_NE(b.out.find("(OpenVINS traj_estimate, "), std::string::npos) << b.out;
+  EXPECT_NE(b.out.find("with covariances)"), std::string::npos) << b.out;
+  EXPECT_LT(largestDifference(tum + "_run/estimate.tum", ov + "_run/estimate.tum", 0.0), 1e-6);
+  EXPECT_NE(readFile(ov + "_run/run.yaml").find("vio: \"" + ov + "/odometry.txt\""), std::string::npos)
+      << readFile(ov + "_run/run.yaml");
+}
+
+TEST(RunVioFormats, EurocOdometryGivesTheTumRunAndReportReadsItBack) {
+  const std::string tum = sequenceWith("vio_tum_plain", simulatedLap(), writeTumPlain, true);
+  const std::string euroc = sequenceWith("vio_euroc", simulatedLap(), writeEuroc, false);
+  const CommandRun a = runDualgraph("run --quiet --sequence " + tum + " --out " + tum + "_run");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const CommandRun b = runDualgraph("run --sequence " + euroc + " --vio " + euroc + "/odometry.txt --out " + euroc + "_run");
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_NE(b.out.find("(EuRoC CSV, "), std::string::npos) << b.out;
+  EXPECT_NE(b.out.find("no covariance)"), std::string::npos) << b.out;
+  // Integer nanoseconds round each stamp by < 1 ns; through the optimiser's stopping tests that moves the estimate
+  // by tens of micrometres (measured 3.2e-5 m), not more.
+  EXPECT_LT(largestDifference(tum + "_run/estimate.tum", euroc + "_run/estimate.tum", 1e-6), 1e-4);
+  // The sequence has no vio.tum: report must take run.yaml's file.
+  ASSERT_FALSE(fs::exists(euroc + "/vio.tum"));
+  const CommandRun report = runDualgraph("report --run " + euroc + "_run --out " + euroc + "_report.html");
+  EXPECT_EQ(report.exit_code, 0) << report.err;
+}
+
+TEST(RunVioFormats, AMissingOrMalformedVioFileExitsOneNamingIt) {
+  const std::string missing = tempDir() + "/no_such_odometry.txt";
+  const CommandRun run = runDualgraph("run --sequence " + simulatedLap() + " --vio " + missing + " --out " +
+                                      tempDir() + "/vio_missing_run");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find(missing), std::string::npos) << run.err;
+  const std::string bad = testing::writeFile("bad_openvins.txt", "1.0 1 2 3 0 0 0 1 1e-6 0 0 1e-6 0 1e-6 1e-4 0 0 1e-4 0\n");
+  const CommandRun malformed = runDualgraph("run --sequence " + simulatedLap() + " --vio " + bad + " --out " +
+                                            tempDir() + "/vio_bad_run");
+  EXPECT_EQ(malformed.exit_code, 1);
+  EXPECT_NE(malformed.err.find(bad + ":1:"), std::string::npos) << malformed.err;
+}
+
+}  // namespace
+}  // namespace dualgraph
