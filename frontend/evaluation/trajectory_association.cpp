@@ -52,6 +52,23 @@ Eigen::Isometry3d interpolateLinearSlerp(const Eigen::Isometry3d& a, const Eigen
   return out;
 }
 
+/// The association, or kFailedPrecondition when the two do not overlap in time or nothing was paired (`what`: the
+/// condition no estimate pose met, for the message).
+Result<TrajectoryAssociation> nonEmpty(TrajectoryAssociation association, const StampedPoses& world_T_body_gt,
+                                       const StampedPoses& estimate_T_body, const std::string& what) {
+  if (association.before_span + association.after_span == static_cast<long>(estimate_T_body.size())) {
+    return Status(StatusCode::kFailedPrecondition, "the estimate " + spanText(estimate_T_body) +
+                                                       " does not overlap the ground truth " +
+                                                       spanText(world_T_body_gt) + " in time");
+  }
+  if (association.size() == 0) {
+    return Status(StatusCode::kFailedPrecondition, "no estimate pose has " + what + " (" +
+                                                       std::to_string(association.beyond_gap) +
+                                                       " inside the ground truth's span)");
+  }
+  return association;
+}
+
 }  // namespace
 
 Result<TrajectoryAssociation> associateByTime(const StampedPoses& world_T_body_gt,
@@ -91,18 +108,8 @@ Result<TrajectoryAssociation> associateByTime(const StampedPoses& world_T_body_g
         t, interpolateLinearSlerp(world_T_body_gt[k0].second, world_T_body_gt[k1].second, alpha));
     association.estimate_T_body.push_back(estimate_T_body[i]);
   }
-  if (association.before_span + association.after_span == static_cast<long>(estimate_T_body.size())) {
-    return Status(StatusCode::kFailedPrecondition, "the estimate " + spanText(estimate_T_body) +
-                                                       " does not overlap the ground truth " +
-                                                       spanText(world_T_body_gt) + " in time");
-  }
-  if (association.size() == 0) {
-    return Status(StatusCode::kFailedPrecondition,
-                  "no estimate pose has a ground-truth sample within the maximum gap of " +
-                      formatValue(max_gap_s) + " s (" + std::to_string(association.beyond_gap) +
-                      " inside the ground truth's span)");
-  }
-  return association;
+  return nonEmpty(std::move(association), world_T_body_gt, estimate_T_body,
+                  "a ground-truth sample within the maximum gap of " + formatValue(max_gap_s) + " s");
 }
 
 Result<TrajectoryAssociation> associateByNearestStamp(const StampedPoses& world_T_body_gt,
@@ -138,17 +145,8 @@ Result<TrajectoryAssociation> associateByNearestStamp(const StampedPoses& world_
     association.world_T_body_gt.emplace_back(t, world_T_body_gt[nearest].second);
     association.estimate_T_body.push_back(estimate_T_body[i]);
   }
-  if (association.before_span + association.after_span == static_cast<long>(estimate_T_body.size())) {
-    return Status(StatusCode::kFailedPrecondition, "the estimate " + spanText(estimate_T_body) +
-                                                       " does not overlap the ground truth " +
-                                                       spanText(world_T_body_gt) + " in time");
-  }
-  if (association.size() == 0) {
-    return Status(StatusCode::kFailedPrecondition,
-                  "no estimate pose has a ground-truth stamp within " + formatValue(max_dt_s) + " s (" +
-                      std::to_string(association.beyond_gap) + " inside the ground truth's span)");
-  }
-  return association;
+  return nonEmpty(std::move(association), world_T_body_gt, estimate_T_body,
+                  "a ground-truth stamp within " + formatValue(max_dt_s) + " s");
 }
 
 }  // namespace dualgraph
