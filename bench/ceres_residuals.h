@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The Ceres peer's residuals and manifold, written here from the g2o error definitions our types
-// implement (DESIGN.md §2), so the Ceres cost is exactly ½ Σ ρ(eᵀΩe) = ½ χ² of the same graph:
+// implement (core/README.md), so the Ceres cost is exactly ½ Σ ρ(eᵀΩe) = ½ χ² of the same graph:
 // residual r = U e with Ω = UᵀU (U the upper Cholesky factor), e as in g2o:
 //   EDGE_SE3:QUAT   e = [t; q.vec] of Z⁻¹ · Xi⁻¹ · Xj, quaternion normalised, sign so that w ≥ 0
 //   EDGE_SE3_PRIOR  e = [t; q.vec] of Z⁻¹ · X · body_T_sensor

@@ -78,7 +78,7 @@ struct LocalizerCounters {
   std::string last_error;
 };
 
-/// Drift-corrected localisation with the dual pose graph (DESIGN.md §3), or the single-graph baseline.
+/// Drift-corrected localisation with the dual pose graph (dual_graph/README.md), or the single-graph baseline.
 /// Feed odometry samples and gate observations in time order (an observation newer than the newest
 /// odometry sample waits for the sample that covers it). Dual mode: a keyframe when the VIO increment
 /// since the last exceeds d_main/theta_main; the observations of the interval are collected in the

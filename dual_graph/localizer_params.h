@@ -49,7 +49,7 @@ struct LocalizerParams {
   double theta_single = 0.5;  ///< [rad]
   /// Single mode: which detections become edges. true (the default, issue 3): every detection, attached to
   /// the newest node with the VIO motion since the node's instant compensated (its covariance added), so
-  /// the single graph uses the same detections as the dual one. false (DESIGN.md §3's baseline and, by its
+  /// the single graph uses the same detections as the dual one. false (dual_graph/README.md's baseline and, by its
   /// edge counts, the paper's: ≈ 4.8 edges per node at every d_single): only the detections of a node's own
   /// instant; the others are counted (`LocalizerCounters::observations_between_nodes`), not used.
   bool single_all_detections = true;

@@ -36,7 +36,7 @@ struct GateEdgeOutcome {
   std::string message;
 };
 
-/// The long-lived graph (DESIGN.md §3), in the world frame: keyframe poses `world_T_body` (VertexSE3),
+/// The long-lived graph (dual_graph/README.md), in the world frame: keyframe poses `world_T_body` (VertexSE3),
 /// odometry edges between consecutive keyframes (VIO increment, metric covariance converted to g2o
 /// units), gate landmarks (VertexSE3 `world_T_gate` or VertexPointXYZ `p_world`) with the known map as
 /// priors (or fixed), and gate edges from keyframes. A persistent optimiser keeps warm starts.

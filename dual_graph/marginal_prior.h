@@ -13,7 +13,7 @@
 namespace dualgraph {
 
 /// A dense Gaussian prior on several vertices left behind when other vertices were marginalised out
-/// (the fixed-lag main graph, DESIGN.md §3): error e(x) = e₀ + J·[δ₁; …; δₙ] with information I, where
+/// (the fixed-lag main graph, dual_graph/README.md): error e(x) = e₀ + J·[δ₁; …; δₙ] with information I, where
 /// δᵢ are the vertices' local coordinates relative to their linearisation points x̄ᵢ:
 /// VertexSE3 (world_T_x): δ = g2oChart(x̄⁻¹·x) = [t; q.vec] (m, unit quaternion vector part, w ≥ 0);
 /// VertexPointXYZ (p, m): δ = p − p̄. So χ² = ‖e₀ + Jδ‖² = const + 2βᵀδ + δᵀΛδ reproduces the

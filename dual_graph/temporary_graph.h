@@ -30,7 +30,7 @@ struct DistillationResult {
   double optimize_ms = 0.0;    ///< LM + marginals
 };
 
-/// The short-lived graph of one keyframe interval (DESIGN.md §3). Between keyframes it only records:
+/// The short-lived graph of one keyframe interval (dual_graph/README.md). Between keyframes it only records:
 /// pose nodes at detection instants (a new one when the VIO increment since the last node exceeds
 /// `d_temp`/`theta_temp`), each detection re-expressed in its node's frame (motion-compensated).
 /// `distil` builds the graph in the odometry frame — nodes chained by VIO-increment edges ending at the

@@ -46,7 +46,7 @@ py::tuple odometryArrays(const OdometryLog& log) {
 }
 
 void bindSequence(py::module_& m) {
-  py::class_<Sequence>(m, "Sequence", "A sequence folder as `dualgraph simulate` writes it (DESIGN.md §6).")
+  py::class_<Sequence>(m, "Sequence", "A sequence folder as `dualgraph simulate` writes it (frontend/io/FORMATS.md).")
       .def_readonly("dir", &Sequence::dir, "the folder it was read from")
       .def_readonly("has_corners", &Sequence::has_corners,
                     "True: corners.csv (pixel corners, `corners`); False: detections.csv (gate poses, `pose_detections`)")

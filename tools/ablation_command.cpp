@@ -32,7 +32,7 @@ struct Variant {
   bool single_all_detections = false;
 };
 
-/// The paper's six rows — its single graph uses the detections of each node's instant only (DESIGN.md §3;
+/// The paper's six rows — its single graph uses the detections of each node's instant only (dual_graph/README.md;
 /// its Table I has ≈ 4.8 edges per node at every d_single) — and the single graph with every detection
 /// motion-compensated into its node ("all", the `dualgraph run` default), which uses the same detections
 /// as the dual graph.

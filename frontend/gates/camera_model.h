@@ -17,7 +17,7 @@ struct Projection {
   bool valid() const { return in_front && in_image; }
 };
 
-/// A calibrated camera, in OpenCV's conventions (DESIGN.md §4, §6).
+/// A calibrated camera, in OpenCV's conventions (frontend/gates/README.md, frontend/io/FORMATS.md).
 ///
 /// Camera frame: origin at the optical centre, x right, y down, z along the optical axis (RDF) [m].
 /// `body_T_camera` maps points from that frame to the body frame. A point p_camera = (x, y, z) goes to

@@ -9,11 +9,11 @@
 namespace dualgraph {
 
 /// The four inner corners of a gate as they appear in the image [px], columns in the order of
-/// DESIGN.md §6: top-left, top-right, bottom-right, bottom-left (a clockwise cycle in the image).
+/// frontend/io/FORMATS.md: top-left, top-right, bottom-right, bottom-left (a clockwise cycle in the image).
 using GateCornerPixels = Eigen::Matrix<double, 2, 4>;
 
 /// One gate seen in one image at time `t` [s]: the pixel coordinates [px] of its four inner corners
-/// as they appear in the image (DESIGN.md §6): top-left, top-right, bottom-right, bottom-left — a
+/// as they appear in the image (frontend/io/FORMATS.md): top-left, top-right, bottom-right, bottom-left — a
 /// clockwise cycle with v pointing down. `gate_id` is the map id, or -1 when unknown (the association
 /// decides). `line` is the 1-based line of the file it came from, for later messages.
 /// A gate partly out of the image is a partial detection: the corners the detector did not see hold NaN

@@ -11,7 +11,7 @@
 
 namespace dualgraph {
 
-/// Thresholds of `GateAssociator` (DESIGN.md §4).
+/// Thresholds of `GateAssociator` (frontend/gates/README.md).
 struct AssociationParams {
   double max_distance = 2.0;        ///< gate: detection centre within this of the map gate centre, world frame [m]
   double max_normal_angle = 0.7;    ///< orientation check: angle between the detection's and the map gate's normal [rad]

@@ -15,7 +15,7 @@
 
 namespace dualgraph {
 
-/// What the frontend does with one instant's gate detections (DESIGN.md §4).
+/// What the frontend does with one instant's gate detections (frontend/gates/README.md).
 struct GateFrontendParams {
   GatePnpParams pnp;                 ///< gate_size is replaced by the map gates' size
   AssociationParams association;
@@ -50,7 +50,7 @@ struct GateFrontendCounters {
 /// Turns raw gate detections into Localizer observations: corners → PnP (camera frame → body via
 /// body_T_camera) → association with the map at the current corrected pose world_T_body → the pose
 /// expressed in the map gate's own frame. The corner order fixes a square gate's frame only up to
-/// 90° turns about its normal and front/back (DESIGN.md §6): association settles front/back
+/// 90° turns about its normal and front/back (frontend/io/FORMATS.md): association settles front/back
 /// (GateAssociator, Rz(π)); the 90° turn whose orientation is closest to the map gate's is then picked
 /// and the covariance turned with it.
 class GateFrontend {

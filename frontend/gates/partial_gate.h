@@ -13,7 +13,7 @@
 
 namespace dualgraph {
 
-/// The DESIGN.md §6 labels of four pixels [px]: `order[i]` is the column shown at label i (top-left,
+/// The frontend/io/FORMATS.md labels of four pixels [px]: `order[i]` is the column shown at label i (top-left,
 /// top-right, bottom-right, bottom-left): the two upper ones (smaller v) left to right, then the two lower
 /// ones right to left. The simulator labels its detections with it and the frontend its predictions.
 std::array<int, 4> cornerLabelOrder(const GateCornerPixels& pixels);

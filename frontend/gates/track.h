@@ -48,7 +48,7 @@ struct TrackPath {
 };
 
 /// A race track: the known gate map, and for simulation the path, the number of laps and the top
-/// speed. Read from YAML by loadTrackYaml (frontend/io/track_io.h); DESIGN.md §6.
+/// speed. Read from YAML by loadTrackYaml (frontend/io/track_io.h); frontend/io/FORMATS.md.
 struct Track {
   std::string name;
   std::vector<TrackGate> gates;  ///< in file order

@@ -48,8 +48,8 @@ Result<CameraModel> loadRatmCalibrationJson(const std::string& path,
                                             CameraModel::Distortion model = CameraModel::Distortion::kRadTan,
                                             int width = 640, int height = 480);
 
-// Not provided: a reader for RATM's `drone_to_camera.json`. Its convention is ambiguous (see
-// ../shared/data/ratm/README.md): read as Hamilton w,x,y,z with R = body_R_camera, the official
+// Not provided: a reader for RATM's `drone_to_camera.json`. Its convention is ambiguous:
+// read as Hamilton w,x,y,z with R = body_R_camera, the official
 // rotations put the optical axis 40–60° up, the complement of the documented 30° mount, while the
 // CVAR-fork `piloted` value agrees with OpenVINS (≈28° up). data/cameras/ratm_piloted.yaml carries that
 // CVAR value explicitly instead.

@@ -59,7 +59,7 @@ std::string cell(double value) {
   return text;
 }
 
-// The unit a metrics.json key names by its suffix (DESIGN.md §5 keys).
+// The unit a metrics.json key names by its suffix (frontend/evaluation/OUTPUTS.md).
 std::string unitOf(const std::string& key) {
   const auto ends = [&](const std::string& suffix) {
     return key.size() >= suffix.size() && key.compare(key.size() - suffix.size(), suffix.size(), suffix) == 0;

@@ -77,7 +77,7 @@ struct DetectionSimStats {
 /// attitude (the interval clamped to the flight).
 double bodyAngularRate(const Flight& flight, double t);
 
-/// Orders four pixels as DESIGN.md §6 writes them: the two upper ones (smaller v) left to right, then
+/// Orders four pixels as frontend/io/FORMATS.md writes them: the two upper ones (smaller v) left to right, then
 /// the two lower ones right to left. `order[i]` is the input column that goes to position i.
 std::array<int, 4> imageCornerOrder(const Eigen::Matrix<double, 2, 4>& pixels);
 

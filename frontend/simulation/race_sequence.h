@@ -20,7 +20,7 @@ Result<Sequence> raceSequence(const SimulatedRace& race, const RaceSimParams& pa
 /// again), a summary measured on the flight and the track.
 std::string raceSequenceYaml(const SimulatedRace& race, const Track& track, const RaceSimParams& params);
 
-/// writeSequence of raceSequence(race, ...) into `dir`, with raceSequenceYaml as sequence.yaml (DESIGN.md §6).
+/// writeSequence of raceSequence(race, ...) into `dir`, with raceSequenceYaml as sequence.yaml (frontend/io/FORMATS.md).
 /// kIoError naming the file.
 Status writeRaceSequence(const std::string& dir, const SimulatedRace& race, const Track& track,
                          const RaceSimParams& params);

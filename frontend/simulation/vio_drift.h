@@ -25,7 +25,7 @@ namespace dualgraph {
 /// component ±vertical_velocity_bias · m, and the scale error λ ~ N(0, scale_error_sigma²), with
 /// m ~ U[1 − bias_spread, 1 + bias_spread].
 ///
-/// Reported covariance (the 21 TUM columns, DESIGN.md §6): the absolute covariance of odom_T_body,
+/// Reported covariance (the 21 TUM columns, frontend/io/FORMATS.md): the absolute covariance of odom_T_body,
 /// metric [t; θ], a right perturbation in the body frame, propagated as a random walk
 /// Σ_k = Ad(inc⁻¹) Σ_{k−1} Ad(inc⁻¹)ᵀ + Q Δt with Q = diag(q_t, q_t, q_t, q_r, q_r, q_r):
 ///   q_t = (velocity_bias · (1 + bias_spread))² + (vertical_velocity_bias · (1 + bias_spread))²
