@@ -104,6 +104,11 @@ int runRunCommand(const RunOptions& o) {
     warn(std::to_string(unknown_gates_skipped) + " detections name a gate that is not in the map: skipped (--skip-unknown-gates)");
   }
   warnOutsideOdometry(*sequence, *run);
+  if (sequence->covariance_clamped > 0) {
+    warn(std::to_string(sequence->covariance_clamped) + " eigenvalues of the odometry's relative covariances were raised to "
+         "the floor: " + sequence->vio_path + "'s absolute covariances do not grow as a random walk everywhere (a reset or "
+         "a loop closure in the VIO?)");
+  }
   if (self_calibration.attempted && !self_calibration.applied) {
     warn("self-calibration not applied (" + self_calibration.why_not + "): the whole run used " + o.sequence +
          "/camera.yaml as it is");
