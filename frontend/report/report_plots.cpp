@@ -13,7 +13,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::string metres(double value) {
   char text[32];
-  std::snprintf(text, sizeof text, "%.3g", value);
+  std::snprintf(text, sizeof text, "%.2g", value);
   return text;
 }
 
@@ -64,14 +64,17 @@ XyPlot errorColouredTopView(const std::string& title, const PositionErrors& erro
   static const std::array<std::uint8_t, 3> kBins[] = {{49, 54, 149}, {69, 117, 180}, {116, 173, 209}, {244, 109, 67}, {215, 48, 39}};
   constexpr int kCount = 5;
   XyPlot plot;
-  plot.title = title;
+  plot.title = title + " [m]";
   plot.legend_above = true;
   plot.gates = plotGates(gates);
+  // The ground truth first, so that the coloured estimate is drawn over it.
+  plot.series.push_back({"ground truth", xyOf(ground_truth), {0, 0, 0}, true});
   const double lo = errors.stats.min, hi = errors.stats.max;
   const double width = hi > lo ? (hi - lo) / kCount : 1.0;
   std::vector<PlotSeries> bins(kCount);
   for (int b = 0; b < kCount; ++b) {
-    bins[static_cast<size_t>(b)].label = metres(lo + b * width) + "–" + metres(b + 1 == kCount ? hi : lo + (b + 1) * width) + " m";
+    // ASCII only: the PNG renderer's fonts have no dash beyond '-'. The unit is in the title.
+    bins[static_cast<size_t>(b)].label = metres(lo + b * width) + "-" + metres(b + 1 == kCount ? hi : lo + (b + 1) * width);
     bins[static_cast<size_t>(b)].rgb = kBins[b];
   }
   // Each segment (k, k+1) belongs to the bin of its first point; a bin's polyline breaks (NaN) where it is left.
@@ -85,7 +88,6 @@ XyPlot errorColouredTopView(const std::string& title, const PositionErrors& erro
   for (PlotSeries& bin : bins) {
     if (!bin.points.empty()) plot.series.push_back(std::move(bin));
   }
-  plot.series.push_back({"ground truth", xyOf(ground_truth), {0, 0, 0}, true});
   return plot;
 }
 
@@ -97,7 +99,7 @@ XyPlot latencyDistribution(const std::string& title,
   plot.legend_above = true;
   plot.height = 450;
   plot.x_label = "[ms]";
-  plot.y_label = "fraction at or below";
+  plot.y_label = "CDF";  // the fraction of keyframes at or below x
   size_t k = 0;
   for (const auto& [label, values] : durations_ms) {
     if (values.empty()) continue;

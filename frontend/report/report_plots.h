@@ -33,7 +33,8 @@ Result<PositionErrors> positionErrors(const StampedPoses& ground_truth, const St
 std::array<std::uint8_t, 3> runColour(size_t k);
 
 /// The top view with the trajectory coloured by its error: five bins between the minimum and the maximum
-/// error (dark blue to red, one legend entry each, "0.02–0.05 m"), ground truth dashed, gates grey.
+/// error (dark blue to red, one legend entry each, "0.02-0.05" in metres, the unit in the title), the ground truth
+/// dashed under them, gates grey.
 XyPlot errorColouredTopView(const std::string& title, const PositionErrors& errors, const StampedPoses& ground_truth,
                             const std::vector<TrackGate>& gates);
 

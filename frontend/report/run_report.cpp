@@ -247,7 +247,7 @@ Result<RunPlots> makeRunPlots(const RunReport& run) {
     plots.has_errors = true;
     plots.corrected_stats = corrected->stats;
     plots.vio_stats = vio->stats;
-    plots.error_map = errorColouredTopView(runTitle(run) + ": top view coloured by position error", *corrected,
+    plots.error_map = errorColouredTopView(runTitle(run) + ": error along the path", *corrected,
                                            run.ground_truth, run.gates);
     plots.error_map.height = plots.xy.height;
     plots.error.series.push_back({"VIO", std::move(vio->over_time), kOrange, false});

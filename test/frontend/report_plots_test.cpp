@@ -54,15 +54,15 @@ TEST(ReportPlots, ErrorColouredTopViewPutsEverySegmentInOneBin) {
   auto errors = positionErrors(run.ground_truth, run.estimate, 0.0);
   ASSERT_TRUE(errors.ok());
   const XyPlot plot = errorColouredTopView("t", *errors, run.ground_truth, {});
-  ASSERT_EQ(plot.series.size(), 6u);  // five bins and the ground truth
-  EXPECT_EQ(plot.series[0].label, "0–0.1 m");
-  EXPECT_EQ(plot.series[4].label, "0.4–0.5 m");
-  EXPECT_TRUE(plot.series[5].dashed);
+  ASSERT_EQ(plot.series.size(), 6u);  // the ground truth (drawn first, under the bins) and five bins
+  EXPECT_TRUE(plot.series[0].dashed);
+  EXPECT_EQ(plot.series[1].label, "0-0.1");
+  EXPECT_EQ(plot.series[5].label, "0.4-0.5");
   size_t segments = 0;
-  for (size_t b = 0; b < 5; ++b) {
+  for (size_t b = 1; b <= 5; ++b) {
     const auto& points = plot.series[b].points;
     for (size_t i = 0; i + 1 < points.size(); ++i) segments += points[i].allFinite() && points[i + 1].allFinite();
-    EXPECT_NE(plot.series[b].rgb, plot.series[(b + 1) % 5].rgb);
+    EXPECT_NE(plot.series[b].rgb, plot.series[b % 5 + 1].rgb);
   }
   EXPECT_EQ(segments, 50u);  // 51 points, 50 segments, none drawn twice or lost
   // One constant error: one bin.
