@@ -13,8 +13,8 @@
 namespace dualgraph {
 namespace {
 
-/// A value for messages, 6 significant digits.
-std::string formatValue(double value) {
+/// A value for messages, 6 significant digits (own name: unity builds join this file with trajectory_metrics.cpp).
+std::string formatForMessage(double value) {
   char buffer[32];
   std::snprintf(buffer, sizeof(buffer), "%.6g", value);
   return buffer;
@@ -76,7 +76,7 @@ Result<TrajectoryAssociation> associateByTime(const StampedPoses& world_T_body_g
   DG_RETURN_IF_ERROR(validateTrajectory(world_T_body_gt, "ground truth"));
   DG_RETURN_IF_ERROR(validateTrajectory(estimate_T_body, "estimate"));
   if (!(std::isfinite(max_gap_s) && max_gap_s > 0.0)) {
-    return Status(StatusCode::kInvalidArgument, "maximum gap " + formatValue(max_gap_s) + " s must be positive and finite");
+    return Status(StatusCode::kInvalidArgument, "maximum gap " + formatForMessage(max_gap_s) + " s must be positive and finite");
   }
   const double t_first = world_T_body_gt.front().first;
   const double t_last = world_T_body_gt.back().first;
@@ -109,7 +109,7 @@ Result<TrajectoryAssociation> associateByTime(const StampedPoses& world_T_body_g
     association.estimate_T_body.push_back(estimate_T_body[i]);
   }
   return nonEmpty(std::move(association), world_T_body_gt, estimate_T_body,
-                  "a ground-truth sample within the maximum gap of " + formatValue(max_gap_s) + " s");
+                  "a ground-truth sample within the maximum gap of " + formatForMessage(max_gap_s) + " s");
 }
 
 Result<TrajectoryAssociation> associateByNearestStamp(const StampedPoses& world_T_body_gt,
@@ -117,7 +117,7 @@ Result<TrajectoryAssociation> associateByNearestStamp(const StampedPoses& world_
   DG_RETURN_IF_ERROR(validateTrajectory(world_T_body_gt, "ground truth"));
   DG_RETURN_IF_ERROR(validateTrajectory(estimate_T_body, "estimate"));
   if (!(std::isfinite(max_dt_s) && max_dt_s > 0.0)) {
-    return Status(StatusCode::kInvalidArgument, "maximum time difference " + formatValue(max_dt_s) +
+    return Status(StatusCode::kInvalidArgument, "maximum time difference " + formatForMessage(max_dt_s) +
                                                     " s must be positive and finite");
   }
   const double t_first = world_T_body_gt.front().first;
@@ -146,7 +146,7 @@ Result<TrajectoryAssociation> associateByNearestStamp(const StampedPoses& world_
     association.estimate_T_body.push_back(estimate_T_body[i]);
   }
   return nonEmpty(std::move(association), world_T_body_gt, estimate_T_body,
-                  "a ground-truth stamp within " + formatValue(max_dt_s) + " s");
+                  "a ground-truth stamp within " + formatForMessage(max_dt_s) + " s");
 }
 
 }  // namespace dualgraph

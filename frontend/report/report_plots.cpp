@@ -23,14 +23,14 @@ std::vector<PlotGate> plotGates(const std::vector<TrackGate>& gates) {
   return out;
 }
 
+}  // namespace
+
 std::vector<Eigen::Vector2d> xyOf(const StampedPoses& poses) {
   std::vector<Eigen::Vector2d> out;
   out.reserve(poses.size());
   for (const auto& [t, pose] : poses) out.push_back(pose.translation().head<2>());
   return out;
 }
-
-}  // namespace
 
 double reportTimeOrigin(const RunReport& run) {
   const double first = run.estimate.empty() ? 0.0 : run.estimate.front().first;

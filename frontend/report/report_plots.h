@@ -47,6 +47,9 @@ XyPlot latencyDistribution(const std::string& title,
 /// estimate stamp (recorded data carry Unix times).
 double reportTimeOrigin(const RunReport& run);
 
+/// The x, y of every pose [m].
+std::vector<Eigen::Vector2d> xyOf(const StampedPoses& poses);
+
 /// The values of (t, value) pairs.
 std::vector<double> valuesOf(const std::vector<std::pair<double, double>>& series);
 

@@ -22,13 +22,6 @@ namespace fs = std::filesystem;
 
 constexpr std::array<std::uint8_t, 3> kBlack{0, 0, 0}, kOrange{230, 120, 20}, kBlue{31, 119, 180};
 
-std::vector<Eigen::Vector2d> xyOf(const StampedPoses& poses) {
-  std::vector<Eigen::Vector2d> out;
-  out.reserve(poses.size());
-  for (const auto& [t, pose] : poses) out.push_back(pose.translation().head<2>());
-  return out;
-}
-
 bool hasData(const XyPlot& plot) {
   for (const PlotSeries& s : plot.series) {
     for (const Eigen::Vector2d& p : s.points) {
