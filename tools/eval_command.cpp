@@ -141,9 +141,7 @@ int runEvalCommand(const EvalOptions& o) {
 
   TrajectoryMetricsParams params;
   params.alignment = *alignment;
-  params.max_gap_s = o.max_gap_s;
-  params.max_dt_s = o.max_dt_s;
-  const auto metrics = evaluateTrajectory(gt_poses, est_poses, params);
+  const auto metrics = evaluateAssociation(*association, est_poses.size(), params);  // associated once, above
   if (!metrics.ok()) return fail(o.est + " against " + o.gt + ": " + metrics.status().message());
   std::printf("%-14s %s: %s, %zu poses, %s\n", "ground truth", o.gt.c_str(), trajectoryFormatName(gt_format),
               gt_poses.size(), spanOf(gt_poses).c_str());

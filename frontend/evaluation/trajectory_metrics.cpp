@@ -206,30 +206,35 @@ Result<TrajectoryMetrics> evaluateTrajectory(const StampedPoses& world_T_body_gt
                                ? associateByNearestStamp(world_T_body_gt, estimate_T_body, params.max_dt_s)
                                : associateByTime(world_T_body_gt, estimate_T_body, params.max_gap_s);
   if (!association.ok()) return association.status();
-  const auto alignment = alignTrajectory(*association, params.alignment);
+  return evaluateAssociation(*association, estimate_T_body.size(), params);
+}
+
+Result<TrajectoryMetrics> evaluateAssociation(const TrajectoryAssociation& association, size_t estimate_poses,
+                                              const TrajectoryMetricsParams& params) {
+  const auto alignment = alignTrajectory(association, params.alignment);
   if (!alignment.ok()) return alignment.status();
 
   TrajectoryMetrics metrics;
   metrics.alignment = params.alignment;
   metrics.world_T_estimate = alignment->world_T_estimate;
   metrics.scale = alignment->scale;
-  std::tie(metrics.ate_m, metrics.ate_rot_deg) = absoluteErrors(*association, *alignment);
-  metrics.ate_stats = positionErrorStatistics(*association, *alignment);
-  const auto se3 = alignTrajectory(*association, TrajectoryAlignment::kSE3);
-  const auto four_dof = alignTrajectory(*association, TrajectoryAlignment::kFourDof);
-  metrics.ate_se3_m = se3.ok() ? absoluteErrors(*association, *se3).first : kNaN;
-  metrics.ate_4dof_m = four_dof.ok() ? absoluteErrors(*association, *four_dof).first : kNaN;
-  metrics.ate_unaligned_m = absoluteErrors(*association, AlignmentTransform{}).first;
+  std::tie(metrics.ate_m, metrics.ate_rot_deg) = absoluteErrors(association, *alignment);
+  metrics.ate_stats = positionErrorStatistics(association, *alignment);
+  const auto se3 = alignTrajectory(association, TrajectoryAlignment::kSE3);
+  const auto four_dof = alignTrajectory(association, TrajectoryAlignment::kFourDof);
+  metrics.ate_se3_m = se3.ok() ? absoluteErrors(association, *se3).first : kNaN;
+  metrics.ate_4dof_m = four_dof.ok() ? absoluteErrors(association, *four_dof).first : kNaN;
+  metrics.ate_unaligned_m = absoluteErrors(association, AlignmentTransform{}).first;
   for (const double distance_m : params.rpe_distances_m) {
-    const auto rpe = relativePoseError(*association, distance_m, alignment->scale);
+    const auto rpe = relativePoseError(association, distance_m, alignment->scale);
     if (!rpe.ok()) return rpe.status();
     metrics.rpe.push_back(*rpe);
   }
-  metrics.estimate_poses = static_cast<long>(estimate_T_body.size());
-  metrics.associated = static_cast<long>(association->size());
-  metrics.before_span = association->before_span;
-  metrics.after_span = association->after_span;
-  metrics.beyond_gap = association->beyond_gap;
+  metrics.estimate_poses = static_cast<long>(estimate_poses);
+  metrics.associated = static_cast<long>(association.size());
+  metrics.before_span = association.before_span;
+  metrics.after_span = association.after_span;
+  metrics.beyond_gap = association.beyond_gap;
   return metrics;
 }
 

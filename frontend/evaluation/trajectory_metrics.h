@@ -141,8 +141,14 @@ struct TrajectoryMetrics {
   long unassociated() const { return before_span + after_span + beyond_gap; }
 };
 
-/// Associates, aligns and measures. Errors: those of associateByTime, alignTrajectory (fewer than 3
-/// associated poses for kSE3/kFourDof) and relativePoseError (a bad Δ).
+/// Aligns and measures an association already made (associateByTime or associateByNearestStamp) of an estimate
+/// of `estimate_poses` poses; `params.max_gap_s` and `max_dt_s` are not used. Errors of alignTrajectory and
+/// relativePoseError.
+Result<TrajectoryMetrics> evaluateAssociation(const TrajectoryAssociation& association, size_t estimate_poses,
+                                              const TrajectoryMetricsParams& params = {});
+
+/// Associates (associateByNearestStamp when params.max_dt_s > 0, else associateByTime), then evaluateAssociation.
+/// Errors: those of the association, alignTrajectory (too few associated poses) and relativePoseError (a bad Δ).
 Result<TrajectoryMetrics> evaluateTrajectory(const StampedPoses& world_T_body_gt, const StampedPoses& estimate_T_body,
                                              const TrajectoryMetricsParams& params = {});
 

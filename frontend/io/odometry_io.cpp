@@ -40,6 +40,14 @@ const std::vector<std::string>& tumNames() {
   return names;
 }
 
+/// The first eight fields of a TUM-like row (TUM, OpenVINS): t [s], position [m], quaternion x y z w (normalised).
+/// `t_field` names the stamp column in messages.
+Status readTumPose(const RowReader& row, const std::string& t_field, double& t, Eigen::Vector3d& p, Eigen::Quaterniond& q) {
+  DG_RETURN_IF_ERROR(row.readDouble(0, t_field, t));
+  for (int k = 0; k < 3; ++k) DG_RETURN_IF_ERROR(row.readDouble(1 + k, tumNames()[1 + k], p[k]));
+  return readQuaternion(row, 4, QuaternionOrder::kXyzw, {"qx", "qy", "qz", "qw"}, q);
+}
+
 /// EuRoC column name without its unit: "p_RS_R_x [m]" → "p_RS_R_x".
 std::string eurocColumnName(const std::string& header_field) {
   std::string name = header_field.substr(0, header_field.find('['));
@@ -106,9 +114,7 @@ Result<OdometryLog> readTumOdometry(const std::string& path) {
     double t = 0.0;
     Eigen::Vector3d p;
     Eigen::Quaterniond q;
-    DG_RETURN_IF_ERROR(row.readDouble(0, "t", t));
-    for (int k = 0; k < 3; ++k) DG_RETURN_IF_ERROR(row.readDouble(1 + k, tumNames()[1 + k], p[k]));
-    DG_RETURN_IF_ERROR(readQuaternion(row, 4, QuaternionOrder::kXyzw, {"qx", "qy", "qz", "qw"}, q));
+    DG_RETURN_IF_ERROR(readTumPose(row, "t", t, p, q));
     if (form == 29) {
       Matrix6d covariance;
       DG_RETURN_IF_ERROR(readCovariance(row, 8, covariance));
@@ -152,9 +158,7 @@ Result<OdometryLog> readOpenVinsOdometry(const std::string& path) {
     double t = 0.0;
     Eigen::Vector3d p;
     Eigen::Quaterniond q;
-    DG_RETURN_IF_ERROR(row.readDouble(0, "timestamp", t));
-    for (int k = 0; k < 3; ++k) DG_RETURN_IF_ERROR(row.readDouble(1 + k, tumNames()[1 + k], p[k]));
-    DG_RETURN_IF_ERROR(readQuaternion(row, 4, QuaternionOrder::kXyzw, {"qx", "qy", "qz", "qw"}, q));
+    DG_RETURN_IF_ERROR(readTumPose(row, "timestamp", t, p, q));
     Eigen::Matrix3d rotation_cov, position_cov;
     DG_RETURN_IF_ERROR(readUpper(row, 8, kRotation, rotation_cov));
     DG_RETURN_IF_ERROR(readUpper(row, 14, kPosition, position_cov));

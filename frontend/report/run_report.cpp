@@ -141,7 +141,8 @@ void writeTables(std::ostream& html, const RunReport& run) {
   html << "</table>\n";
 }
 
-std::string page(const std::vector<RunReport>& runs, const std::vector<RunPlots>& plots, const OverlayPlots* overlay) {
+std::string page(const std::vector<RunReport>& runs, const std::vector<RunPlots>& plots,
+                 const std::optional<OverlayPlots>& overlay) {
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>dualgraph report</title>\n"
           "<style>\nbody{font-family:sans-serif;color:#222;max-width:1200px;margin:1.5em auto;padding:0 1em}\n"
@@ -152,7 +153,7 @@ std::string page(const std::vector<RunReport>& runs, const std::vector<RunPlots>
           "figcaption,.note{color:#555;font-size:90%}\nsection{border-top:2px solid #ddd;margin-top:2em}\n"
           "</style>\n</head>\n<body>\n<h1>dualgraph report</h1>\n";
   if (runs.size() > 1) writeComparison(html, runs);
-  if (overlay != nullptr) {
+  if (overlay) {
     html << "<h2>Overlay</h2>\n";
     writeFigure(html, overlay->xy, "Top view: every run's corrected estimate, the first run's ground truth (dashed) and gates.", "");
     writeFigure(html, overlay->error, "Position error of every run's corrected estimate, unaligned.",
@@ -189,13 +190,24 @@ std::string page(const std::vector<RunReport>& runs, const std::vector<RunPlots>
   return html.str();
 }
 
-Result<std::vector<RunPlots>> allPlots(const std::vector<RunReport>& runs) {
+/// Every plot of a report: one RunPlots per run, and the overlay when there are several runs.
+struct ReportPlots {
+  std::vector<RunPlots> runs;
+  std::optional<OverlayPlots> overlay;
+};
+
+Result<ReportPlots> allPlots(const std::vector<RunReport>& runs) {
   if (runs.empty()) return Status(StatusCode::kInvalidArgument, "a report needs at least one run");
-  std::vector<RunPlots> plots;
+  ReportPlots plots;
   for (const RunReport& run : runs) {
     auto made = makeRunPlots(run);
     if (!made.ok()) return made.status();
-    plots.push_back(std::move(*made));
+    plots.runs.push_back(std::move(*made));
+  }
+  if (runs.size() > 1) {
+    auto overlay = makeOverlayPlots(runs);
+    if (!overlay.ok()) return overlay.status();
+    plots.overlay = std::move(*overlay);
   }
   return plots;
 }
@@ -260,10 +272,7 @@ Result<RunPlots> makeRunPlots(const RunReport& run) {
 Result<std::string> renderRunReportHtml(const std::vector<RunReport>& runs) {
   auto plots = allPlots(runs);
   if (!plots.ok()) return plots.status();
-  if (runs.size() < 2) return page(runs, *plots, nullptr);
-  auto overlay = makeOverlayPlots(runs);
-  if (!overlay.ok()) return overlay.status();
-  return page(runs, *plots, &*overlay);
+  return page(runs, plots->runs, plots->overlay);
 }
 
 Status writeRunReport(std::vector<RunReport> runs, const std::string& html_path, std::vector<std::string>* written) {
@@ -278,12 +287,7 @@ Status writeRunReport(std::vector<RunReport> runs, const std::string& html_path,
   }
   auto plots = allPlots(runs);
   if (!plots.ok()) return plots.status();
-  std::optional<OverlayPlots> overlay;
-  if (runs.size() > 1) {
-    auto made = makeOverlayPlots(runs);
-    if (!made.ok()) return made.status();
-    overlay = std::move(*made);
-  }
+  const std::optional<OverlayPlots>& overlay = plots->overlay;
   const fs::path folder = fs::path(html_path).parent_path();
   auto writePng = [&](const std::string& name, const XyPlot& plot) {
     if (!hasData(plot)) return Status();
@@ -293,7 +297,7 @@ Status writeRunReport(std::vector<RunReport> runs, const std::string& html_path,
     return Status();
   };
   for (size_t i = 0; i < runs.size(); ++i) {
-    const RunPlots& p = (*plots)[i];
+    const RunPlots& p = plots->runs[i];
     const std::pair<const char*, const XyPlot*> files[] = {
         {"_xy.png", &p.xy},         {"_error.png", &p.error},   {"_error_corrected.png", &p.error_corrected},
         {"_error_map.png", &p.error_map}, {"_opt_ms.png", &p.opt_ms}, {"_latency.png", &p.latency}};
@@ -304,7 +308,7 @@ Status writeRunReport(std::vector<RunReport> runs, const std::string& html_path,
     DG_RETURN_IF_ERROR(writePng("overlay_error.png", overlay->error));
     DG_RETURN_IF_ERROR(writePng("overlay_latency.png", overlay->latency));
   }
-  const std::string html = page(runs, *plots, overlay ? &*overlay : nullptr);
+  const std::string html = page(runs, plots->runs, overlay);
   DG_RETURN_IF_ERROR(writeFileAtomically(html_path, [&](std::ostream& out) {
     out << html;
     return Status();
