@@ -307,6 +307,12 @@ void Localizer::resumeTracking() {
   counters_.recoveries = monitor_.recoveries();
 }
 
+void Localizer::distrustFrame() {
+  if (history_.empty()) return;
+  monitor_.declareLost(history_.newest().t);
+  counters_.losses = monitor_.losses();
+}
+
 Result<double> Localizer::relocalize(const Eigen::Isometry3d& world_T_odom, double since, double sigma_t,
                                      double sigma_r) {
   if (history_.empty()) return Status(StatusCode::kFailedPrecondition, "relocalize: no odometry yet");

@@ -70,8 +70,8 @@ struct LocalizerCounters {
   /// (associated in the frame that was given up).
   int observations_without_frame = 0;
   int losses = 0;          ///< tracking turned lost (TrackingMonitor)
-  int recoveries = 0;      ///< lost turned tracking without a new frame: a gate edge accepted again, or resumeTracking
-  int relocalizations = 0; ///< `relocalize` calls while lost: a new frame, the main graph started again
+  int recoveries = 0;      ///< lost turned tracking without a new frame: gate edges accepted with no failure in lost_after_s, or resumeTracking
+  int relocalizations = 0; ///< `relocalize` calls while lost (or after distrustFrame): a new frame, the main graph started again
   int keyframes_conditioned = 0;  ///< fixed-lag: keyframes whose marginalisation failed, conditioned on instead
   int partial_used = 0;        ///< partial gates (corner rays) that became corner edges in a temporary graph
   int partial_unanchored = 0;  ///< partial gates left out: no pose observation of their gate in the interval
@@ -123,6 +123,13 @@ class Localizer {
   /// tracking again without starting over, counted as a recovery. No-op unless lost.
   void resumeTracking();
   TrackingState trackingState() const { return monitor_.state(); }
+  /// Tracking, but at least lost_min_failures detections failed in the last lost_after_s while others were
+  /// used: the frame in use may be wrong (a VIO jump by about a gate spacing matches some gates to their
+  /// neighbours and leaves the others unmatched). The cue for a search that checks it.
+  bool frameSuspicious() const { return monitor_.suspicious(); }
+  /// A check found a better frame than the one in use: tracking turns lost (counted as a loss), so the
+  /// `relocalize` that follows counts as a relocalisation. No-op unless tracking.
+  void distrustFrame();
 
   /// End of input: uses what is still collected (dual: distils into a keyframe at the newest sample;
   /// single: commits the newest node's edges) and optimises once more.

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/dual_graph/tracking_monitor.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace dualgraph {
@@ -35,8 +36,10 @@ void TrackingMonitor::addUnmatched(double t, const std::vector<Eigen::Vector3d>&
 }
 
 void TrackingMonitor::addUpdate(double t, int added, int rejected_observations) {
+  newest_t_ = std::max(newest_t_, t);
   if (added > 0) {
     if (state_ == TrackingState::kLost) {
+      if (recentFailures() > 0 || rejected_observations > 0) return;  // not clean evidence: stay lost
       state_ = TrackingState::kTracking;
       ++recoveries_;
     }
@@ -47,8 +50,24 @@ void TrackingMonitor::addUpdate(double t, int added, int rejected_observations) 
   addFailures(t, rejected_observations);
 }
 
+int TrackingMonitor::recentFailures() const {
+  int count = 0;
+  for (const Failures& failures : recent_failures_) {
+    if (failures.t >= newest_t_ - lost_after_s_) count += failures.count;
+  }
+  return count;
+}
+
+void TrackingMonitor::declareLost(double t) {
+  if (state_ != TrackingState::kTracking) return;
+  state_ = TrackingState::kLost;
+  ++losses_;
+  newest_t_ = std::max(newest_t_, t);
+}
+
 void TrackingMonitor::locked(double t) {
   state_ = TrackingState::kTracking;
+  recent_failures_.clear();
   last_success_t_ = t;
   failures_ = 0;
 }
@@ -60,6 +79,9 @@ void TrackingMonitor::resume(double t) {
 }
 
 void TrackingMonitor::addFailures(double t, int count) {
+  newest_t_ = std::max(newest_t_, t);
+  while (!recent_failures_.empty() && recent_failures_.front().t < newest_t_ - lost_after_s_) recent_failures_.pop_front();
+  if (count > 0 && state_ != TrackingState::kInitialising) recent_failures_.push_back(Failures{t, count});
   if (count <= 0 || state_ != TrackingState::kTracking) return;
   // Given a frame at the start (no lock, no success yet), the clock starts at the first evidence.
   if (std::isinf(last_success_t_) && std::isnan(first_evidence_t_)) first_evidence_t_ = t;

@@ -28,8 +28,13 @@ const char* trackingStateName(TrackingState state);
 /// detection (addUnmatched, reported by the frontend) — or one standing in an edge the χ² gate rejected
 /// (addUpdate). Tracking turns lost when, since the last success (or the lock), at least `min_failures`
 /// failures came and `lost_after_s` passed: gates are in view but none fits where the estimate says the drone
-/// is. Silence (no gate in view) is no evidence either way. Lost turns tracking again at the next success;
-/// initialising and lost turn tracking at `locked` (a frame found, e.g. by relocalisation).
+/// is. Silence (no gate in view) is no evidence either way. Lost turns tracking again at a success only when
+/// no failure came in the last `lost_after_s` (a success among failures may be a gate matched to its
+/// neighbour by a wrong estimate: the frame search decides then); initialising and lost turn tracking at
+/// `locked` (a frame found, e.g. by relocalisation) or `resume` (the frame in use confirmed).
+/// `suspicious()`: at least `min_failures` failures in the last `lost_after_s` even while successes keep
+/// tracking alive — the cue for a frame search that checks the frame in use (a VIO jump onto a neighbouring
+/// gate's place keeps some gates matched, wrongly, and leaves the others unmatched).
 class TrackingMonitor {
  public:
   TrackingMonitor(TrackingState initial, double lost_after_s, int min_failures)
@@ -50,6 +55,12 @@ class TrackingMonitor {
   int recoveries() const { return recoveries_; }
   /// Failures since the last success (or the lock) [count].
   int failuresSinceSuccess() const { return failures_; }
+  /// Failures in the `lost_after_s` before the newest evidence, successes or not [count].
+  int recentFailures() const;
+  /// Tracking, with at least `min_failures` recent failures.
+  bool suspicious() const { return state_ == TrackingState::kTracking && recentFailures() >= min_failures_; }
+  /// The frame in use was found wrong at t (a check found a better one): tracking turns lost (counted).
+  void declareLost(double t);
 
  private:
   void addFailures(double t, int count);
@@ -58,6 +69,12 @@ class TrackingMonitor {
     Eigen::Vector3d p_world;
   };
   std::deque<Unmatched> recent_unmatched_;  ///< the last 0.5 s
+  struct Failures {
+    double t;
+    int count;
+  };
+  std::deque<Failures> recent_failures_;  ///< the last lost_after_s, whatever the state
+  double newest_t_ = -std::numeric_limits<double>::infinity();
 
   TrackingState state_;
   const double lost_after_s_;

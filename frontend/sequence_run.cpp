@@ -42,7 +42,18 @@ class FrameSearch {
     search.start_sigma_r = params_.relocalization.sigma_r;
     start(search, odom_T_body, t);
     initial_ = false;
+    checking_ = false;
   }
+  /// Tracking but suspicious (Localizer::frameSuspicious): the same search as a relocalisation's, to check the
+  /// frame in use; it is replaced only by a frame that explains clearly more of the window's detections.
+  void startCheck(double t, const Eigen::Isometry3d& world_T_body, const Eigen::Isometry3d& odom_T_body) {
+    startRelocalization(t, world_T_body, odom_T_body);
+    checking_ = true;
+  }
+  bool checksFrames() const { return params_.relocalization.replace_ratio > 0.0; }
+  bool checking() const { return initializer_.has_value() && checking_; }
+  /// The Localizer turned lost during a check: from now on the search is a relocalisation's.
+  void checkBecameRelocalization() { checking_ = false; }
   void stop() {
     initializer_.reset();
     seen_.clear();
@@ -58,18 +69,31 @@ class FrameSearch {
   Result<std::vector<Seen>> add(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body,
                                 const std::vector<GateObservation>& solved, Localizer& localizer,
                                 SequenceRunResult& result) {
+    const Eigen::Isometry3d world_T_body = localizer.mapTOdom() * odom_T_body;  // where the estimate puts it
     if (!initializer_) return std::vector<Seen>{};
     placed_ += solved.size();
     if (initial_) {
       seen_.push_back(Seen{instant, odom_T_body});
       while (seen_.front().instant.t < instant.t - params_.initialization.window_s) seen_.pop_front();
     }
-    const FrameInitialization& found = initializer_->add(instant.t, odom_T_body, solved);
+    const FrameInitialization& found = checking_ ? initializer_->addInUse(instant.t, odom_T_body, world_T_body, solved)
+                                                 : initializer_->add(instant.t, odom_T_body, solved);
     if (initial_) result.initialization = found;
     if (found.locked && !initial_ && sameFrame(found, localizer.mapTOdom(), odom_T_body)) {
-      localizer.resumeTracking();  // the estimate was right after all: keep the graph
+      localizer.resumeTracking();  // the estimate was right after all: keep the graph (no-op when checking)
       stop();
       return std::vector<Seen>{};
+    }
+    if (found.locked && checking_) {
+      // A different frame: taken only when the estimate in use explained clearly fewer of the same detections
+      // where it placed them at their instants.
+      const int in_use = initializer_->inUseInliers();
+      if (in_use >= params_.relocalization.replace_ratio * found.inliers) {
+        stop();
+        return std::vector<Seen>{};
+      }
+      localizer.distrustFrame();
+      ++result.frame_checks_replaced;
     }
     if (found.locked) {
       const Eigen::Isometry3d world_T_odom = found.world_T_odom;
@@ -88,7 +112,7 @@ class FrameSearch {
       stop();
       return replay;
     }
-    if (!initial_ && started_t_ >= 0.0 && instant.t - started_t_ > params_.relocalization.global_after_s) {
+    if (!initial_ && !checking_ && started_t_ >= 0.0 && instant.t - started_t_ > params_.relocalization.global_after_s) {
       start(params_.initialization, odom_T_body, -1.0);  // the estimate was no guide: anywhere in the map
     }
     return std::vector<Seen>{};
@@ -123,6 +147,7 @@ class FrameSearch {
   std::optional<FrameInitializer> initializer_;
   std::deque<Seen> seen_;
   bool initial_ = false;
+  bool checking_ = false;  ///< a check of the frame in use while tracking, not a relocalisation
   bool initial_started_ = false;  ///< the run looks for the frame (auto_initialize): it reports how that went
   double started_t_ = -1.0;  ///< a relocalisation search's start [s]; −1: global already
   size_t placed_ = 0;
@@ -162,10 +187,19 @@ Status handInstant(const DetectionInstant& instant, const Eigen::Isometry3d& odo
   }
   if (!frontend.lastUnmatched().empty()) DG_RETURN_IF_ERROR(localizer.reportUnmatched(instant.t, frontend.lastUnmatched()));
   if (!search) return Status();
-  if (localizer.trackingState() != TrackingState::kLost) {
-    search->stop();
-    return Status();
+  if (localizer.trackingState() == TrackingState::kTracking) {
+    const bool suspicious = search->checksFrames() && localizer.frameSuspicious();
+    if (!suspicious) {
+      search->stop();
+      return Status();
+    }
+    if (!search->active()) {
+      search->startCheck(instant.t, world_T_body, odom_T_body);
+      ++result.frame_checks;
+    }
+    return searchWith(instant, odom_T_body, frontend, localizer, *search, result);
   }
+  if (search->checking()) search->checkBecameRelocalization();
   if (!search->active()) search->startRelocalization(instant.t, world_T_body, odom_T_body);
   return searchWith(instant, odom_T_body, frontend, localizer, *search, result);
 }

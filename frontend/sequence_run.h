@@ -30,6 +30,10 @@ struct SequenceRunResult {
   /// Localizer (the frame they need was not known yet).
   int detections_frame_search_only = 0;
   int observations_rejected = 0;              ///< refused by the Localizer (see localizer_counters.last_error)
+  /// Checks of the frame in use, started while tracking when detections kept failing beside used ones
+  /// (Localizer::frameSuspicious), and how many of them found a clearly better frame and relocalised.
+  int frame_checks = 0;
+  int frame_checks_replaced = 0;
   /// With `auto_initialize`: how the first search found the VIO's frame (or why not: then no detection was
   /// used and every sample stayed initialising). The Localizer was relocalised at `initialization.world_T_odom`.
   std::optional<FrameInitialization> initialization;

@@ -162,7 +162,8 @@ int runRunCommand(const RunOptions& o) {
   std::cout << "  tracking " << metrics->time_tracking_s << " s, lost " << metrics->time_lost_s << " s ("
             << metrics->lost_share_pct << " %), initialising " << metrics->time_initialising_s << " s; "
             << metrics->losses << " losses, " << metrics->recoveries << " recovered, " << metrics->relocalizations
-            << " relocalisations; final state " << metrics->final_state << "\n";
+            << " relocalisations (" << metrics->frames_replaced << " of them a wrong frame replaced after "
+            << metrics->frame_checks << " checks); final state " << metrics->final_state << "\n";
   if (metrics->has_ground_truth) {
     std::cout << "  ATE (SE(3)-aligned) " << metrics->estimate.ate_se3_m << " m (VIO " << metrics->vio.ate_se3_m
               << " m, " << std::setprecision(3) << metrics->ate_reduction_pct << " % lower); unaligned "

@@ -268,6 +268,8 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
       .add("losses", m.losses)
       .add("recoveries", m.recoveries)
       .add("relocalizations", m.relocalizations)
+      .add("frame_checks", m.frame_checks)
+      .add("frames_replaced", m.frames_replaced)
       .add("keyframes_conditioned", run.localizer_counters.keyframes_conditioned)
       .add("wall_s", run.wall_seconds);
   if (self != nullptr) {

@@ -90,6 +90,8 @@ void addStateTimes(const SequenceRunResult& run, RunMetrics& m) {
   m.losses = run.localizer_counters.losses;
   m.recoveries = run.localizer_counters.recoveries;
   m.relocalizations = run.localizer_counters.relocalizations;
+  m.frame_checks = run.frame_checks;
+  m.frames_replaced = run.frame_checks_replaced;
 }
 
 }  // namespace

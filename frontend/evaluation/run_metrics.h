@@ -50,7 +50,9 @@ struct RunMetrics {
   double lost_share_pct = 0.0;       ///< time lost over the time after the first lock [%] (0 without one)
   int losses = 0;                    ///< LocalizerCounters: tracking turned lost
   int recoveries = 0;                ///< lost turned tracking again without a new frame
-  int relocalizations = 0;           ///< a new frame found while lost
+  int relocalizations = 0;           ///< a new frame found while lost, or replacing a wrong one (frames_replaced)
+  int frame_checks = 0;              ///< checks of the frame in use while tracking (failures beside used gates)
+  int frames_replaced = 0;           ///< of them, the frame found clearly better: counted as a loss and a relocalisation
   std::string final_state;           ///< the last sample's state ("tracking", "lost", "initialising")
 };
 

@@ -28,12 +28,25 @@ FrameInitializer::FrameInitializer(const FrameInitializerParams& params, GateMap
 
 const FrameInitialization& FrameInitializer::add(double t, const Eigen::Isometry3d& odom_T_body,
                                                  const std::vector<GateObservation>& observations) {
+  return addSightings(t, odom_T_body, nullptr, observations);
+}
+
+const FrameInitialization& FrameInitializer::addSightings(double t, const Eigen::Isometry3d& odom_T_body,
+                                                          const Eigen::Isometry3d* world_T_body,
+                                                          const std::vector<GateObservation>& observations) {
   if (state_.locked || observations.empty()) return state_;
   if (!start_odom_T_body_) start_odom_T_body_ = odom_T_body;
   for (const GateObservation& observation : observations) {
     if (observation.kind != ObservationKind::kPose) continue;
     const Eigen::Isometry3d odom_T_gate = odom_T_body * observation.body_T_gate;
-    window_.push_back({t, observation.gate_id, odom_T_gate.translation(), headingOf(odom_T_gate.linear())});
+    Sighting sighting{t, observation.gate_id, odom_T_gate.translation(), headingOf(odom_T_gate.linear())};
+    if (world_T_body != nullptr) {
+      const Eigen::Isometry3d world_T_gate = *world_T_body * observation.body_T_gate;
+      sighting.has_in_use = true;
+      sighting.p_in_use = world_T_gate.translation();
+      sighting.yaw_in_use = headingOf(world_T_gate.linear());
+    }
+    window_.push_back(sighting);
   }
   window_.erase(window_.begin(), std::find_if(window_.begin(), window_.end(), [&](const Sighting& s) {
                   return s.t >= t - params_.window_s;
@@ -45,6 +58,12 @@ const FrameInitialization& FrameInitializer::add(double t, const Eigen::Isometry
   return state_;
 }
 
+const FrameInitialization& FrameInitializer::addInUse(double t, const Eigen::Isometry3d& odom_T_body,
+                                                      const Eigen::Isometry3d& world_T_body,
+                                                      const std::vector<GateObservation>& observations) {
+  return addSightings(t, odom_T_body, &world_T_body, observations);
+}
+
 bool FrameInitializer::allowedByStart(const Hypothesis& h) const {
   if (!params_.start_world_T_body || !start_odom_T_body_) return true;
   const Eigen::Isometry3d world_T_body = gravityAligned(h.yaw, h.translation) * *start_odom_T_body_;
@@ -53,26 +72,39 @@ bool FrameInitializer::allowedByStart(const Hypothesis& h) const {
   return distance <= 3.0 * params_.start_sigma_t && std::abs(yaw) <= 3.0 * params_.start_sigma_r;
 }
 
+int FrameInitializer::explainedBy(const Eigen::Vector3d& p_world, double yaw_world, int gate_id) const {
+  for (const auto& [id, world_T_gate] : map_.world_T_gate) {
+    if (params_.use_ids && gate_id >= 0 && map_.contains(gate_id) && id != gate_id) continue;
+    if ((p_world - world_T_gate.translation()).norm() > params_.inlier_distance) continue;
+    const double turn = normalizeAngle(yaw_world - headingOf(world_T_gate.linear()));
+    if (std::min(std::abs(turn), M_PI - std::abs(turn)) > params_.inlier_normal_angle) continue;  // either side
+    return id;
+  }
+  return -1;
+}
+
 int FrameInitializer::score(Hypothesis& h, std::vector<std::pair<size_t, int>>* matches) const {
   const Eigen::Matrix3d rotation = Eigen::AngleAxisd(h.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   int inliers = 0;
   std::vector<int> gates;
   for (size_t k = 0; k < window_.size(); ++k) {
     const Sighting& s = window_[k];
-    const Eigen::Vector3d p_world = rotation * s.p_odom + h.translation;
-    for (const auto& [id, world_T_gate] : map_.world_T_gate) {
-      if (params_.use_ids && s.gate_id >= 0 && map_.contains(s.gate_id) && id != s.gate_id) continue;
-      if ((p_world - world_T_gate.translation()).norm() > params_.inlier_distance) continue;
-      const double turn = normalizeAngle(s.yaw_odom + h.yaw - headingOf(world_T_gate.linear()));
-      if (std::min(std::abs(turn), M_PI - std::abs(turn)) > params_.inlier_normal_angle) continue;  // either side
-      ++inliers;
-      if (std::find(gates.begin(), gates.end(), id) == gates.end()) gates.push_back(id);
-      if (matches != nullptr) matches->emplace_back(k, id);
-      break;
-    }
+    const int id = explainedBy(rotation * s.p_odom + h.translation, s.yaw_odom + h.yaw, s.gate_id);
+    if (id < 0) continue;
+    ++inliers;
+    if (std::find(gates.begin(), gates.end(), id) == gates.end()) gates.push_back(id);
+    if (matches != nullptr) matches->emplace_back(k, id);
   }
   h.inliers = inliers;
   h.gates = static_cast<int>(gates.size());
+  return inliers;
+}
+
+int FrameInitializer::inUseInliers() const {
+  int inliers = 0;
+  for (const Sighting& s : window_) {
+    if (s.has_in_use && explainedBy(s.p_in_use, s.yaw_in_use, s.gate_id) >= 0) ++inliers;
+  }
   return inliers;
 }
 

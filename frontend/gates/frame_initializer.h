@@ -59,6 +59,13 @@ class FrameInitializer {
   const FrameInitialization& add(double t, const Eigen::Isometry3d& odom_T_body,
                                  const std::vector<GateObservation>& observations);
   const FrameInitialization& state() const { return state_; }
+  /// Detections of the window that the estimate in use explained at their instants (by the same test as a
+  /// hypothesis), counting those added with the estimate's world_T_body only (addInUse) [count].
+  int inUseInliers() const;
+  /// As `add`, also recording where the estimate in use put the body then (world_T_body), for inUseInliers.
+  const FrameInitialization& addInUse(double t, const Eigen::Isometry3d& odom_T_body,
+                                      const Eigen::Isometry3d& world_T_body,
+                                      const std::vector<GateObservation>& observations);
   /// odom_T_body where the flight starts (the first odometry sample), where the coarse start pose applies.
   void setStartOdometry(const Eigen::Isometry3d& odom_T_body) { start_odom_T_body_ = odom_T_body; }
 
@@ -68,6 +75,9 @@ class FrameInitializer {
     int gate_id;
     Eigen::Vector3d p_odom;  ///< gate centre in the odometry frame [m]
     double yaw_odom;         ///< heading of the gate normal in the odometry frame [rad]
+    bool has_in_use = false;          ///< added with the estimate in use (addInUse)
+    Eigen::Vector3d p_in_use = Eigen::Vector3d::Zero();  ///< gate centre where that estimate put it [m, world]
+    double yaw_in_use = 0.0;          ///< its normal's heading there [rad]
   };
   struct Hypothesis {
     double yaw = 0.0;
@@ -79,8 +89,13 @@ class FrameInitializer {
       return gates != other.gates ? gates > other.gates : inliers > other.inliers;
     }
   };
+  const FrameInitialization& addSightings(double t, const Eigen::Isometry3d& odom_T_body,
+                                          const Eigen::Isometry3d* world_T_body,
+                                          const std::vector<GateObservation>& observations);
   void search();
   int score(Hypothesis& hypothesis, std::vector<std::pair<size_t, int>>* matches) const;
+  /// The map gate a detection at p_world with normal heading yaw_world [rad] may be (−1: none).
+  int explainedBy(const Eigen::Vector3d& p_world, double yaw_world, int gate_id) const;
   bool allowedByStart(const Hypothesis& hypothesis) const;
   Hypothesis refine(const Hypothesis& hypothesis) const;
 

@@ -35,6 +35,12 @@ Status readNonNegativeInt(const std::string& source, const std::string& field, c
   return Status();
 }
 
+Status readShare(const std::string& source, const std::string& field, const YAML::Node& node, double& out) {
+  DG_RETURN_IF_ERROR(readNumber(source, field, node, out));
+  if (!(out >= 0.0 && out <= 1.0)) return fieldError(source, node.Mark(), field, "must be in [0, 1]");
+  return Status();
+}
+
 Status readTimeOffset(const std::string& source, const std::string& field, const YAML::Node& node,
                       std::optional<double>& out) {
   double offset = 0.0;
@@ -78,6 +84,7 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
     else if (key == "relocalization_sigma_t") status = readPositive(source, field, value, params.relocalization.sigma_t);
     else if (key == "relocalization_sigma_r") status = readPositive(source, field, value, params.relocalization.sigma_r);
     else if (key == "relocalization_global_after_s") status = readPositive(source, field, value, params.relocalization.global_after_s);
+    else if (key == "relocalization_replace_ratio") status = readShare(source, field, value, params.relocalization.replace_ratio);
     else if (key == "time_offset") status = readTimeOffset(source, field, value, params.time_offset);
     else if (key == "self_calibration_after_s") status = readNumber(source, field, value, params.self_calibration_after_s);
     else return fieldError(source, entry.first.Mark(), field, "unknown key");

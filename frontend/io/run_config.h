@@ -18,6 +18,12 @@ struct RelocalizationParams {
   double sigma_t = 2.0;          ///< the estimate when lost, as the search's start pose: position σ [m]
   double sigma_r = 0.5;          ///< and yaw σ [rad] (hypotheses beyond 3 σ are discarded)
   double global_after_s = 5.0;   ///< no lock after this long: search the whole map instead [s]
+  /// Tracking but suspicious (detections keep failing beside used ones: Localizer::frameSuspicious), the same
+  /// search checks the frame in use; a different frame it finds replaces it only when the estimate in use
+  /// explained (placed within the search's inlier distance of a map gate) fewer than this share of the
+  /// detections the found frame explains — the found frame is the best of many hypotheses, so a fair
+  /// comparison needs a margin. 0 disables the check.
+  double replace_ratio = 0.5;
 };
 
 /// Everything `dualgraph run` configures.
@@ -67,7 +73,7 @@ struct SequenceRunParams {
 ///       pose_detection_sigma_t: 0.1  # SequenceRunParams [m], [rad] (_r)
 ///       time_offset: 0.015           # optional [s]: overrides the camera file's time_offset
 ///       self_calibration_after_s: 15 # [s], >= 0 (0: off): self-calibration (frontend/calibration/self_calibration.h)
-///       relocalization_sigma_t: 2.0  # RelocalizationParams [m]; likewise _sigma_r [rad], _global_after_s [s]
+///       relocalization_sigma_t: 2.0  # RelocalizationParams [m]; likewise _sigma_r [rad], _global_after_s [s], _replace_ratio
 ///
 /// Either section may be missing (defaults). Errors are "source:LINE: field 'NAME': why": kParseError
 /// for an unknown or duplicate key, a wrong type, NaN or a `frontend:` value out of range;

@@ -24,10 +24,41 @@ TEST(TrackingMonitor, APersistentUnmatchedGateWithoutSuccessTurnsLostAfterTheTim
   for (; t < 1.1; t += 1.0 / 30.0) monitor.addUnmatched(t, at(5.0));
   EXPECT_EQ(monitor.state(), TrackingState::kLost);
   EXPECT_EQ(monitor.losses(), 1);
-  monitor.addUpdate(1.2, 1, 0);  // a gate edge accepted again
+  // A gate edge accepted among the failures is no clean evidence (it may be a gate matched to its neighbour by
+  // the wrong estimate): still lost.
+  monitor.addUpdate(1.2, 1, 0);
+  EXPECT_EQ(monitor.state(), TrackingState::kLost);
+  EXPECT_EQ(monitor.recoveries(), 0);
+  // Accepted once the last failure is lost_after_s old: tracking again.
+  monitor.addUpdate(2.2, 1, 0);
   EXPECT_EQ(monitor.state(), TrackingState::kTracking);
   EXPECT_EQ(monitor.recoveries(), 1);
   EXPECT_EQ(monitor.failuresSinceSuccess(), 0);
+}
+
+TEST(TrackingMonitor, FailuresBesideSuccessesMakeTheFrameSuspiciousButNotLost) {
+  TrackingMonitor monitor(TrackingState::kTracking, 1.0, 5);
+  monitor.locked(0.0);
+  // Half the gates keep fitting (an edge a keyframe), the other half are seen again where the map has none.
+  double t = 0.1;
+  for (; t < 3.0; t += 1.0 / 30.0) {
+    monitor.addUnmatched(t, at(5.0));
+    if (static_cast<int>(t * 30.0) % 10 == 0) monitor.addUpdate(t, 1, 0);
+  }
+  EXPECT_EQ(monitor.state(), TrackingState::kTracking);  // successes keep it alive
+  EXPECT_GE(monitor.recentFailures(), 5);
+  EXPECT_TRUE(monitor.suspicious());
+  // The failures stop: after lost_after_s nothing is suspicious any more.
+  monitor.addUpdate(t + 1.1, 1, 0);
+  EXPECT_EQ(monitor.recentFailures(), 0);
+  EXPECT_FALSE(monitor.suspicious());
+  // A check found a better frame: lost (counted), and the relocalisation's lock makes it tracking.
+  monitor.declareLost(t + 1.2);
+  EXPECT_EQ(monitor.state(), TrackingState::kLost);
+  EXPECT_EQ(monitor.losses(), 1);
+  EXPECT_FALSE(monitor.suspicious());
+  monitor.locked(t + 1.3);
+  EXPECT_EQ(monitor.state(), TrackingState::kTracking);
 }
 
 TEST(TrackingMonitor, OneOffFalseDetectionsAndSilenceAreNoEvidence) {

@@ -126,3 +126,49 @@ TEST(FrameInitializer, TooFewDetectionsSayHowMany) {
 
 }  // namespace
 }  // namespace dualgraph
+
+namespace dualgraph {
+namespace {
+
+// inUseInliers counts the detections the estimate in use explained where it put them: all of them with the
+// right estimate, none with ids when the estimate sits one gate spacing (2.6 m) off, about the aliased half
+// without ids (those land 0.4 m from the neighbouring gate); the search's own hypotheses are untouched.
+TEST(FrameInitializer, TheEstimateInUseIsJudgedWhereItPutTheDetections) {
+  const GateMap map = ellipseGates(true);
+  const Eigen::Isometry3d world_T_odom = gravityAligned(0.7, {2.0, -3.0, 0.0});
+  const Eigen::Isometry3d off(Eigen::Translation3d(0.0, -3.0, 0.0));
+  const Flight flight = ellipseFlight(3.0);
+  for (bool ids : {true, false}) {
+    FrameInitializerParams params;
+    params.use_ids = ids;
+    params.min_inliers = 100000;  // never locks: a locked search takes no more detections
+    FrameInitializer right(params, map), wrong(params, map);
+    int detections = 0;
+    for (size_t k = 0; k < flight.t.size(); ++k) {
+      const Eigen::Isometry3d odom_T_body = world_T_odom.inverse() * flight.world_T_body[k];
+      std::vector<GateObservation> seen;
+      for (const auto& [id, world_T_gate] : map.world_T_gate) {
+        const Eigen::Isometry3d body_T_gate = flight.world_T_body[k].inverse() * world_T_gate;
+        if (body_T_gate.translation().x() < 0.5 || body_T_gate.translation().norm() > 8.0) continue;
+        seen.push_back(GateObservation::pose(flight.t[k], ids ? id : -1, body_T_gate, Matrix6d::Identity()));
+      }
+      detections += static_cast<int>(seen.size());
+      right.addInUse(flight.t[k], odom_T_body, flight.world_T_body[k], seen);
+      wrong.addInUse(flight.t[k], odom_T_body, off * flight.world_T_body[k], seen);
+    }
+    SCOPED_TRACE(ids ? "ids" : "no ids");
+    ASSERT_GT(detections, 10);
+    EXPECT_EQ(right.inUseInliers(), detections);
+    if (ids) {
+      EXPECT_EQ(wrong.inUseInliers(), 0);
+    } else {
+      EXPECT_LT(wrong.inUseInliers(), detections);
+    }
+    // Both searches saw the same odometry-frame detections: the same answer.
+    EXPECT_GT(right.state().inliers, 0);
+    EXPECT_EQ(right.state().inliers, wrong.state().inliers);
+  }
+}
+
+}  // namespace
+}  // namespace dualgraph

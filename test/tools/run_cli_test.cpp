@@ -128,7 +128,7 @@ TEST(RunCli, WritesTrajectoriesStatsAndMetricsWithEveryKey) {
                           "vio_ate_rot_deg", "ate_reduction_pct", "keyframes", "nodes", "edges", "opt_ms_p50",
                           "opt_ms_p95", "opt_ms_max", "laps", "detections_used", "detections_rejected",
                           "detections_between_nodes", "time_initialising_s", "time_tracking_s", "time_lost_s",
-                          "lost_share_pct", "losses", "recoveries", "relocalizations"}) {
+                          "lost_share_pct", "losses", "recoveries", "relocalizations", "frame_checks", "frames_replaced"}) {
     const double value = jsonNumber(json, key);
     EXPECT_TRUE(std::isfinite(value)) << key << " in\n" << json;
   }
