@@ -50,6 +50,7 @@ TEST(RunConfig, BundledDefaultYamlIsExactlyTheDefaults) {
   EXPECT_EQ(loaded->relocalization.sigma_t, defaults.relocalization.sigma_t);
   EXPECT_EQ(loaded->relocalization.sigma_r, defaults.relocalization.sigma_r);
   EXPECT_EQ(loaded->relocalization.global_after_s, defaults.relocalization.global_after_s);
+  EXPECT_EQ(loaded->relocalization.replace_ratio, defaults.relocalization.replace_ratio);
   EXPECT_FALSE(loaded->time_offset.has_value());
 }
 
@@ -91,7 +92,8 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
       "  pose_detection_sigma_r: 0.03\n"
       "  relocalization_sigma_t: 4.5\n"
       "  relocalization_sigma_r: 0.25\n"
-      "  relocalization_global_after_s: 7.5\n";
+      "  relocalization_global_after_s: 7.5\n"
+      "  relocalization_replace_ratio: 0.25\n";
   auto parsed = parseRunConfig(text, kSource);
   ASSERT_TRUE(parsed.ok()) << parsed.status().message();
   EXPECT_EQ(parsed->localizer.mode, LocalizerMode::kSingle);
@@ -116,6 +118,7 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
   EXPECT_EQ(parsed->relocalization.sigma_t, 4.5);
   EXPECT_EQ(parsed->relocalization.sigma_r, 0.25);
   EXPECT_EQ(parsed->relocalization.global_after_s, 7.5);
+  EXPECT_EQ(parsed->relocalization.replace_ratio, 0.25);
   EXPECT_EQ(parsed->pose_detection_sigma_r, 0.03);
   const Matrix6d covariance = parsed->defaultPoseDetectionCovariance();
   EXPECT_DOUBLE_EQ(covariance(0, 0), 0.04);
@@ -158,6 +161,10 @@ TEST(RunConfig, ErrorsNameTheLineAndTheField) {
        "frontend.max_normal_angle"},
       {"negative max_normal_angle", "frontend:\n  trust_ids: true\n  max_normal_angle: -0.1\n", 3,
        "frontend.max_normal_angle"},
+      {"replace ratio above 1", "frontend:\n  trust_ids: true\n  relocalization_replace_ratio: 1.5\n", 3,
+       "frontend.relocalization_replace_ratio"},
+      {"negative replace ratio", "frontend:\n  relocalization_replace_ratio: -0.1\n", 2,
+       "frontend.relocalization_replace_ratio"},
       {"zero mapping_min_sightings", "frontend:\n  mapping_min_sightings: 0\n", 2, "frontend.mapping_min_sightings"},
       {"frontend a number", "localizer:\n  d_main: 2.0\nfrontend: 3\n", 3, "frontend"},
       {"frontend a list", "frontend:\n  - trust_ids\n", 2, "frontend"},
