@@ -307,6 +307,18 @@ void Localizer::resumeTracking() {
   counters_.recoveries = monitor_.recoveries();
 }
 
+Status Localizer::resumeWithNewGraph(double sigma_t, double sigma_r) {
+  if (history_.empty()) return Status(StatusCode::kFailedPrecondition, "resumeWithNewGraph: no odometry yet");
+  if (monitor_.state() != TrackingState::kLost) return Status();
+  const int relocalizations = counters_.relocalizations;
+  Result<double> anchor = relocalize(mapTOdom(), std::numeric_limits<double>::infinity(), sigma_t, sigma_r);
+  if (!anchor.ok()) return anchor.status();
+  counters_.relocalizations = relocalizations;  // the same frame: a recovery, not a new frame
+  monitor_.countRecovery();
+  counters_.recoveries = monitor_.recoveries();
+  return Status();
+}
+
 void Localizer::distrustFrame() {
   if (history_.empty()) return;
   monitor_.declareLost(history_.newest().t);

@@ -122,6 +122,12 @@ class Localizer {
   /// A search found the frame the estimate already uses (a false alarm, or a loss the graph recovered from):
   /// tracking again without starting over, counted as a recovery. No-op unless lost.
   void resumeTracking();
+  /// Lost, and a search found the frame in use about right (it explains the search's detections about as well
+  /// as the best frame found): tracking again at the current estimate, but in a new main graph whose first
+  /// keyframe is held by a prior of `sigma_t` [m] / `sigma_r` [rad] — the old graph's marginal prior, confident
+  /// in a pose that failed to explain the detections for lost_after_s, is dropped (as `relocalize` does).
+  /// Counted as a recovery. No-op unless lost; kFailedPrecondition before any odometry.
+  Status resumeWithNewGraph(double sigma_t, double sigma_r);
   TrackingState trackingState() const { return monitor_.state(); }
   /// Tracking, but at least lost_min_failures detections failed in the last lost_after_s while others were
   /// used: the frame in use may be wrong (a VIO jump by about a gate spacing matches some gates to their

@@ -50,6 +50,8 @@ class TrackingMonitor {
   void locked(double t);
   /// Lost, but a search found the frame in use at t: tracking again, counted as a recovery. No-op unless lost.
   void resume(double t);
+  /// A recovery made outside the monitor (the Localizer restarted its graph in the frame in use).
+  void countRecovery() { ++recoveries_; }
   /// Times tracking turned lost, and lost turned tracking by a success (without a new frame).
   int losses() const { return losses_; }
   int recoveries() const { return recoveries_; }

@@ -74,6 +74,14 @@ inline Result<std::vector<GateObservation>> solveInstant(const GateFrontend& fro
   return instant.poses;
 }
 
+/// As solveInstant, the PnP residuals also teaching the frontend's pixel-noise estimate (for instants the
+/// frontend's processCorners will not see: those given to the first frame search alone).
+inline Result<std::vector<GateObservation>> solveInstantLearningNoise(GateFrontend& frontend,
+                                                                      const DetectionInstant& instant) {
+  if (!instant.corners.empty()) return frontend.solveCornersLearningNoise(instant.corners);
+  return instant.poses;
+}
+
 /// An instant through the whole frontend (PnP, association) at `world_T_body`.
 inline Result<std::vector<GateObservation>> processInstant(GateFrontend& frontend, const DetectionInstant& instant,
                                                            const Eigen::Isometry3d& world_T_body) {

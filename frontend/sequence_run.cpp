@@ -76,33 +76,37 @@ class FrameSearch {
       seen_.push_back(Seen{instant, odom_T_body});
       while (seen_.front().instant.t < instant.t - params_.initialization.window_s) seen_.pop_front();
     }
-    const FrameInitialization& found = checking_ ? initializer_->addInUse(instant.t, odom_T_body, world_T_body, solved)
-                                                 : initializer_->add(instant.t, odom_T_body, solved);
+    // A relocalisation or check also records where the estimate in use put each detection, to weigh it.
+    const FrameInitialization& found = initial_ ? initializer_->add(instant.t, odom_T_body, solved)
+                                                : initializer_->addInUse(instant.t, odom_T_body, world_T_body, solved);
     if (initial_) result.initialization = found;
-    if (found.locked && !initial_ && sameFrame(found, localizer.mapTOdom(), odom_T_body)) {
-      localizer.resumeTracking();  // the estimate was right after all: keep the graph (no-op when checking)
-      stop();
-      return std::vector<Seen>{};
-    }
-    if (found.locked && checking_) {
-      // A different frame: taken only when the estimate in use explained clearly fewer of the same detections
-      // where it placed them at their instants.
-      const int in_use = initializer_->inUseInliers();
-      if (in_use >= params_.relocalization.replace_ratio * found.inliers) {
+    if (found.locked && !initial_) {
+      // The frame in use is kept when the found one is the same, or when the estimate in use explained, where it
+      // placed them at their instants, at least replace_ratio of the detections the found frame explains: the
+      // found frame is the best of many hypotheses from a short window, the estimate has the whole graph
+      // behind it (a loss among failures can be a false alarm).
+      const double ratio = params_.relocalization.replace_ratio;
+      const bool keep = sameFrame(found, localizer.mapTOdom(), odom_T_body) ||
+                        (ratio > 0.0 && initializer_->inUseInliers() >= ratio * found.inliers);
+      if (keep) {
+        // Checking: nothing to do. Lost: the frame in use was about right, but its graph failed to explain the
+        // detections for lost_after_s; a new graph at the current estimate, held as the search's frame would be.
+        if (!checking_) DG_RETURN_IF_ERROR(localizer.resumeWithNewGraph(foundSigmaT(found), params_.localizer.initial_sigma_r));
         stop();
         return std::vector<Seen>{};
       }
-      localizer.distrustFrame();
-      ++result.frame_checks_replaced;
+      if (checking_) {
+        localizer.distrustFrame();
+        ++result.frame_checks_replaced;
+      }
     }
     if (found.locked) {
       const Eigen::Isometry3d world_T_odom = found.world_T_odom;
       const double since = seen_.empty() ? std::numeric_limits<double>::infinity() : seen_.front().instant.t;
       // The found frame's position is held as well as its own inliers say (at least 0.1 m, no worse than the
       // configured initial prior); its yaw keeps the configured σ (a few nearby gates fix it only to degrees).
-      const LocalizerParams& lp = params_.localizer;
-      const double sigma_t = std::clamp(found.residual_rms_m, 0.1, std::max(0.1, lp.initial_sigma_t));
-      const double sigma_r = lp.initial_sigma_r;
+      const double sigma_t = foundSigmaT(found);
+      const double sigma_r = params_.localizer.initial_sigma_r;
       Result<double> anchor = localizer.relocalize(world_T_odom, since, sigma_t, sigma_r);
       if (!anchor.ok()) return anchor.status();
       std::vector<Seen> replay;
@@ -136,6 +140,11 @@ class FrameSearch {
     const double apart = ((found.world_T_odom * odom_T_body).translation() - (current * odom_T_body).translation()).norm();
     return apart <= std::max(0.5, 3.0 * found.residual_rms_m) && std::abs(yaw) <= 5.0 * M_PI / 180.0;
   }
+  /// A found frame's position σ: as well as its own inliers say, at least 0.1 m, no worse than the configured
+  /// initial prior [m].
+  double foundSigmaT(const FrameInitialization& found) const {
+    return std::clamp(found.residual_rms_m, 0.1, std::max(0.1, params_.localizer.initial_sigma_t));
+  }
   void start(const FrameInitializerParams& search, const Eigen::Isometry3d& odom_T_body, double t) {
     initializer_.emplace(search, map_);
     initializer_->setStartOdometry(odom_T_body);
@@ -162,7 +171,10 @@ Status handInstant(const DetectionInstant& instant, const Eigen::Isometry3d& odo
 /// `instant` to the frame search; on lock, the search's own instants again, now through the frontend.
 Status searchWith(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body, GateFrontend& frontend,
                   Localizer& localizer, FrameSearch& search, SequenceRunResult& result) {
-  Result<std::vector<GateObservation>> solved = solveInstant(frontend, instant);
+  // While initialising the instant reaches no other part of the frontend: its residuals teach the noise here.
+  const bool initialising = localizer.trackingState() == TrackingState::kInitialising;
+  Result<std::vector<GateObservation>> solved =
+      initialising ? solveInstantLearningNoise(frontend, instant) : solveInstant(frontend, instant);
   if (!solved.ok()) return Status();  // PnP's own failures are counted by the frontend when it sees them
   Result<std::vector<FrameSearch::Seen>> replay = search.add(instant, odom_T_body, *solved, localizer, result);
   if (!replay.ok()) return replay.status();

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "dualgraph/types/se2.h"
@@ -122,20 +123,69 @@ FrameInitializer::Hypothesis FrameInitializer::refine(const Hypothesis& h) const
   }
   mean_odom /= static_cast<double>(matches.size());
   mean_world /= static_cast<double>(matches.size());
-  double sin_sum = 0.0, cos_sum = 0.0;
+  // Two estimates of the yaw, fused by their variances as the inliers themselves show them:
+  //  - from the positions (2-D Procrustes): variance σ_p² / Σ|a|², σ_p² from the fit's residuals per coordinate
+  //    (2n coordinates, 3 parameters), Σ|a|² the spread of the odometry-frame centres about their centroid;
+  //  - from the normals: the mean of the inliers' normal turns (each folded to the side nearest the hypothesis:
+  //    a gate is flown from either side), variance their sample variance / n (a PnP normal is noisy at range).
+  // Gates seen from one place only (no spread) leave the normals alone; a few nearby gates, mostly the positions.
+  const double n = static_cast<double>(matches.size());
+  double sin_sum = 0.0, cos_sum = 0.0, spread = 0.0;
   for (const auto& [k, id] : matches) {
     const Eigen::Vector2d a = (window_[k].p_odom - mean_odom).head<2>();
     const Eigen::Vector2d b = (map_.world_T_gate.at(id).translation() - mean_world).head<2>();
     cos_sum += a.dot(b);
     sin_sum += a.x() * b.y() - a.y() * b.x();
+    spread += a.squaredNorm();
   }
+  constexpr double kInfinite = std::numeric_limits<double>::infinity();
+  const double yaw_positions = std::atan2(sin_sum, cos_sum);
+  double var_positions = kInfinite;
+  if (spread > 0.0 && 2.0 * n > 3.0) {
+    const Eigen::Rotation2Dd turn(yaw_positions);
+    double residual = 0.0;
+    for (const auto& [k, id] : matches) {
+      const Eigen::Vector2d a = (window_[k].p_odom - mean_odom).head<2>();
+      const Eigen::Vector2d b = (map_.world_T_gate.at(id).translation() - mean_world).head<2>();
+      residual += (b - turn * a).squaredNorm();
+    }
+    var_positions = std::max(residual / (2.0 * n - 3.0), 1e-6) / spread;
+  }
+  double turn_sum = 0.0, turn_sq = 0.0;
+  for (const auto& [k, id] : matches) {
+    double turn = normalizeAngle(headingOf(map_.world_T_gate.at(id).linear()) - window_[k].yaw_odom - h.yaw);
+    if (turn > M_PI / 2) turn -= M_PI;
+    if (turn < -M_PI / 2) turn += M_PI;
+    turn_sum += turn;
+    turn_sq += turn * turn;
+  }
+  const double turn_mean = turn_sum / n;
+  const double yaw_normals = normalizeAngle(h.yaw + turn_mean);
+  constexpr double kNormalFloor = 1e-4;  // (0.6°)²: no better than the PnP can tell
+  const double var_normals = std::max((turn_sq - n * turn_mean * turn_mean) / (n - 1.0), kNormalFloor) / n;
   Hypothesis refined = h;
-  // Gates seen from one place only do not fix the yaw: keep the normals' yaw then.
-  if (std::hypot(sin_sum, cos_sum) > 1.0) refined.yaw = std::atan2(sin_sum, cos_sum);
+  const double weight_normals = std::isinf(var_positions) ? 1.0 : var_positions / (var_positions + var_normals);
+  refined.yaw = normalizeAngle(yaw_positions + weight_normals * normalizeAngle(yaw_normals - yaw_positions));
   const Eigen::Matrix3d rotation = Eigen::AngleAxisd(refined.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   refined.translation = mean_world - rotation * mean_odom;
   score(refined, nullptr);
-  return (refined < h) || (refined.gates == h.gates && refined.inliers == h.inliers) ? refined : h;
+  // The refined frame is kept unless it loses a gate or fits the window worse by the truncated quadratic cost
+  // (MSAC's: every inlier counts its squared distance, every other detection the threshold's square) — the
+  // raw hypothesis maximised the inlier count, so counting alone would always prefer it.
+  if (refined.gates < h.gates) return h;
+  return truncatedCost(refined) <= truncatedCost(h) ? refined : h;
+}
+
+double FrameInitializer::truncatedCost(const Hypothesis& h) const {
+  const Eigen::Matrix3d rotation = Eigen::AngleAxisd(h.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const double threshold = params_.inlier_distance * params_.inlier_distance;
+  double cost = 0.0;
+  for (const Sighting& s : window_) {
+    const Eigen::Vector3d p_world = rotation * s.p_odom + h.translation;
+    const int id = explainedBy(p_world, s.yaw_odom + h.yaw, s.gate_id);
+    cost += id < 0 ? threshold : std::min(threshold, (p_world - map_.world_T_gate.at(id).translation()).squaredNorm());
+  }
+  return cost;
 }
 
 void FrameInitializer::search() {

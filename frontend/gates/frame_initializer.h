@@ -98,6 +98,9 @@ class FrameInitializer {
   int explainedBy(const Eigen::Vector3d& p_world, double yaw_world, int gate_id) const;
   bool allowedByStart(const Hypothesis& hypothesis) const;
   Hypothesis refine(const Hypothesis& hypothesis) const;
+  /// MSAC's cost of a hypothesis over the window: Σ min(d², inlier_distance²) [m²], d an explained detection's
+  /// distance from its map gate (the threshold's square for the others).
+  double truncatedCost(const Hypothesis& hypothesis) const;
 
   FrameInitializerParams params_;
   GateMap map_;

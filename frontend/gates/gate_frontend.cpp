@@ -54,6 +54,17 @@ Result<GateFrontend> GateFrontend::create(const GateFrontendParams& params, cons
   return GateFrontend(params, std::move(gate_map).value(), size, std::move(camera));
 }
 
+namespace {
+
+/// Every fitted pose tells the noise, the ones the reprojection or range gate refused included (else a σ too
+/// small would refuse what would correct it).
+bool tellsTheNoise(const GatePnpSolution& solution) {
+  return solution.ok() || solution.rejection == GatePnpRejection::kReprojectionError ||
+         solution.rejection == GatePnpRejection::kRangeOutOfBounds;
+}
+
+}  // namespace
+
 GatePnpParams GateFrontend::pnpParams() const {
   GatePnpParams pnp = params_.pnp;
   pnp.gate_size = gate_size_;
@@ -85,12 +96,7 @@ Result<std::vector<GateObservation>> GateFrontend::processCorners(const std::vec
     GateCornerPixels pixels;
     for (int i = 0; i < 4; ++i) pixels.col(i) = detection.corners[static_cast<size_t>(i)];
     const GatePnpSolution solution = solveGatePnp(pixels, *camera_, GateSide::kFront, pnp);
-    // Every fitted pose tells the noise, the ones the gate refused included (else a σ too small would
-    // refuse what would correct it).
-    if (params_.adaptive_pixel_sigma && (solution.ok() || solution.rejection == GatePnpRejection::kReprojectionError ||
-                                         solution.rejection == GatePnpRejection::kRangeOutOfBounds)) {
-      noise_.add(solution.reprojection_rms);
-    }
+    if (params_.adaptive_pixel_sigma && tellsTheNoise(solution)) noise_.add(solution.reprojection_rms);
     if (!solution.ok()) {
       ++counters_.pnp_rejected;
       ++counters_.pnp_rejected_by_reason[static_cast<int>(solution.rejection)];
@@ -126,14 +132,23 @@ Status GateFrontend::matchPartials(const std::vector<CornerDetection>& partials,
 }
 
 Result<std::vector<GateObservation>> GateFrontend::solveCorners(const std::vector<CornerDetection>& image) const {
+  return solveWholeGates(image, nullptr);
+}
+
+Result<std::vector<GateObservation>> GateFrontend::solveCornersLearningNoise(const std::vector<CornerDetection>& image) {
+  return solveWholeGates(image, params_.adaptive_pixel_sigma ? &noise_ : nullptr);
+}
+
+Result<std::vector<GateObservation>> GateFrontend::solveWholeGates(const std::vector<CornerDetection>& image,
+                                                                   PixelNoiseEstimator* noise) const {
   if (!camera_) return Status(StatusCode::kFailedPrecondition, "gate frontend: corner detections need a camera");
-  const GatePnpParams pnp = pnpParams();
   std::vector<GateObservation> solved;
   for (const CornerDetection& detection : image) {
     if (!detection.complete()) continue;
     GateCornerPixels pixels;
     for (int i = 0; i < 4; ++i) pixels.col(i) = detection.corners[static_cast<size_t>(i)];
-    const GatePnpSolution solution = solveGatePnp(pixels, *camera_, GateSide::kFront, pnp);
+    const GatePnpSolution solution = solveGatePnp(pixels, *camera_, GateSide::kFront, pnpParams());
+    if (noise != nullptr && tellsTheNoise(solution)) noise->add(solution.reprojection_rms);
     if (solution.ok()) solved.push_back(solution.observation(detection.t, detection.gate_id));
   }
   return solved;

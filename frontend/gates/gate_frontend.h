@@ -68,6 +68,10 @@ class GateFrontend {
   /// observations keeping the detector's gate ids (for FrameInitializer); partial detections are left out
   /// (PnP needs four corners). kFailedPrecondition without a camera.
   Result<std::vector<GateObservation>> solveCorners(const std::vector<CornerDetection>& image) const;
+  /// As solveCorners, and every fitted pose's reprojection RMS goes to the pixel-noise estimate (as in
+  /// processCorners): for detections that go to the frame search alone while the frame is unknown, so the
+  /// noise is learnt before the first lock (else the prior σ refuses most gates of a noisy detector there).
+  Result<std::vector<GateObservation>> solveCornersLearningNoise(const std::vector<CornerDetection>& image);
   /// Pose detections of one instant → observations with map ids (association as above).
   Result<std::vector<GateObservation>> processPoses(const std::vector<GateObservation>& detections,
                                                     const Eigen::Isometry3d& world_T_body);
@@ -87,6 +91,9 @@ class GateFrontend {
         associator_(params.association), noise_(params.pnp.pixel_sigma) {
     counters_.pixel_sigma = params.pnp.pixel_sigma;
   }
+  /// PnP on the complete detections of one image; every fitted pose's RMS goes to `noise` when not null.
+  Result<std::vector<GateObservation>> solveWholeGates(const std::vector<CornerDetection>& image,
+                                                       PixelNoiseEstimator* noise) const;
   /// The PnP parameters now: the map's gate size, and σ and the gate from the noise estimate when adaptive.
   GatePnpParams pnpParams() const;
   Result<std::vector<GateObservation>> associate(std::vector<GateObservation> detections,

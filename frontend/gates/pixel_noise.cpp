@@ -28,7 +28,8 @@ void PixelNoiseEstimator::add(double reprojection_rms) {
 }
 
 void PixelNoiseEstimator::update() {
-  if (seen_ < min_samples_) {
+  constexpr size_t kFirstSamples = 3;  // the median of three ignores one outlier
+  if (seen_ < std::min(kFirstSamples, min_samples_)) {
     sigma_ = prior_;
     return;
   }
@@ -37,7 +38,10 @@ void PixelNoiseEstimator::update() {
   std::nth_element(scratch_.begin(), middle, scratch_.end());
   const double median = *middle;
   constexpr double kChi2TwoMedian = 1.3862943611198906;  // 2 ln 2
-  sigma_ = std::clamp(std::sqrt(median / kChi2TwoMedian), min_sigma_, max_sigma_);
+  const double estimate = std::clamp(std::sqrt(median / kChi2TwoMedian), min_sigma_, max_sigma_);
+  // Before min_samples the few fits only widen the prior: a detector noisier than assumed is not refused
+  // until enough of its fits were seen (at the start of a flight, where the frame search needs them).
+  sigma_ = seen_ < min_samples_ ? std::max(prior_, estimate) : estimate;
 }
 
 }  // namespace dualgraph

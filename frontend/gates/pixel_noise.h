@@ -12,7 +12,8 @@ namespace dualgraph {
 /// coordinates, so under isotropic Gaussian noise its sum of squared residuals SSR = 4·rms² is σ²·χ²₂
 /// (first order), whose median is σ²·2 ln 2. The estimate is √(median SSR / (2 ln 2)) over the newest
 /// `window` solutions: the median ignores up to half of them being outliers (displaced corners, wrong
-/// solutions). Until `min_samples` solutions were seen it is the prior σ. Clamped to [min_sigma, max_sigma].
+/// solutions). Until `min_samples` solutions were seen it is the prior σ, widened (never narrowed) by the
+/// estimate from the solutions so far once there are three. Clamped to [min_sigma, max_sigma].
 class PixelNoiseEstimator {
  public:
   /// `prior_sigma` [px] > 0; window ≥ min_samples ≥ 1.

@@ -54,6 +54,20 @@ TEST(PixelNoiseEstimator, ThePriorUntilEnoughFitsAndInvalidValuesIgnored) {
   EXPECT_LT(estimator.sigma(), 2.0);
 }
 
+TEST(PixelNoiseEstimator, AFewNoisyFitsWidenThePriorButCleanOnesDoNotNarrowIt) {
+  std::mt19937 rng(9);
+  PixelNoiseEstimator noisy(1.0, 300, 30);
+  noisy.add(fitRms(4.0, rng));
+  noisy.add(fitRms(4.0, rng));
+  EXPECT_EQ(noisy.sigma(), 1.0);  // two fits say nothing yet
+  for (int k = 0; k < 5; ++k) noisy.add(fitRms(4.0, rng));
+  EXPECT_GT(noisy.sigma(), 2.0);  // a 4 px detector is not refused by a 1 px gate for 30 fits
+  EXPECT_LT(noisy.sigma(), 8.0);
+  PixelNoiseEstimator clean(2.5, 300, 30);
+  for (int k = 0; k < 10; ++k) clean.add(fitRms(0.5, rng));
+  EXPECT_EQ(clean.sigma(), 2.5);  // narrowed only once min_samples fits were seen
+}
+
 TEST(PixelNoiseEstimator, FollowsAChangeWithinItsWindow) {
   std::mt19937 rng(11);
   PixelNoiseEstimator estimator(1.0, 300, 30);

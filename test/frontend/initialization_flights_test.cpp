@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: MIT
+// The automatic initialisation on simulated flights of every bundled track, realistic and harsh, seeds 1-3 (the
+// VIO in its own frame at a random yaw and up to 10 m away): locked within 2 s of the first detection, on a
+// the right frame: where the drone is at the lock within 1.5 m and 10 degrees of the truth, well inside the
+// 2.6 m (the nearest gates' spacing) or half turn that a wrong hypothesis is off (measured 0.2-1.3 m and 0.3-7.4
+// degrees: 4 px corners, an uncalibrated 1.5-2 degree mount; the main graph removes the rest). Before the pixel noise was learnt during the search (the prior
+// 1 px refused most 4 px gates until 30 fits were seen by tracking) the harsh lemniscate took 2.4-4.0 s, and
+// before the lock's yaw fused the inliers' positions and normals the realistic lemniscate seed 1 locked 10
+// degrees off.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/track_io.h"
+#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/simulation/race_profiles.h"
+#include "dualgraph/frontend/simulation/race_sequence.h"
+#include "dualgraph/types/se3_math.h"
+#include "test/testing/shared_data.h"
+
+namespace dualgraph {
+namespace {
+
+TEST(InitializationFlights, EveryTrackAndProfileLocksWithinTwoSecondsOnTheRightFrame) {
+  auto camera = loadCameraYaml(testing::sourcePath("data/cameras/ratm_piloted.yaml"));
+  ASSERT_TRUE(camera.ok());
+  for (const char* profile : {"realistic", "harsh"}) {
+    for (const char* track_name : {"ratm_ellipse.yaml", "ratm_lemniscate.yaml"}) {
+      auto track = loadTrackYaml(testing::sourcePath(std::string("data/tracks/") + track_name));
+      ASSERT_TRUE(track.ok());
+      for (std::uint64_t seed : {1, 2, 3}) {
+        SCOPED_TRACE(std::string(profile) + " " + track_name + " seed " + std::to_string(seed));
+        RaceSimParams params;
+        params.seed = seed;
+        params.override_laps = true;
+        params.flight.laps = 1;
+        ASSERT_TRUE(applySimulationProfile(profile, params).ok());
+        auto race = simulateRace(*track, *camera, params);
+        ASSERT_TRUE(race.ok());
+        auto sequence = raceSequence(*race, params, track_name);
+        ASSERT_TRUE(sequence.ok());
+        ASSERT_FALSE(sequence->corners.empty());
+        auto run = runSequence(*sequence, SequenceRunParams{});
+        ASSERT_TRUE(run.ok()) << run.status().message();
+        ASSERT_TRUE(run->initialization.has_value());
+        ASSERT_TRUE(run->initialization->locked) << run->initialization->why_not;
+        const double after_first = run->initialization->locked_at - sequence->corners.front().t;
+        // The drone at the lock: odometry sample and ground truth at the first stamps at or after it.
+        const double t = run->initialization->locked_at;
+        auto atOrAfter = [t](const std::vector<OdometrySample>& samples) {
+          const auto it = std::lower_bound(samples.begin(), samples.end(), t,
+                                           [](const OdometrySample& sample, double time) { return sample.t < time; });
+          return it == samples.end() ? samples.back().odom_T_body : it->odom_T_body;
+        };
+        const Eigen::Isometry3d found = run->initialization->world_T_odom * atOrAfter(sequence->odometry.samples);
+        const Eigen::Isometry3d truth = atOrAfter(sequence->ground_truth->samples);
+        const double apart = (found.translation() - truth.translation()).norm();
+        const double turn = so3Log(found.linear().transpose() * truth.linear()).norm() * 180.0 / M_PI;
+        std::printf("%s %s seed %d: locked %.2f s after the first detection, the drone %.3f m and %.2f deg from the "
+                    "truth\n", profile, track_name, static_cast<int>(seed), after_first, apart, turn);
+        EXPECT_LT(after_first, 2.0);
+        EXPECT_LT(apart, 1.5);
+        EXPECT_LT(turn, 10.0);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace dualgraph
