@@ -153,7 +153,7 @@ Result<int> poseGraphDimension(const Graph& graph) {
     const int d = dynamic_cast<const VertexSE2*>(vertex.get()) != nullptr   ? 2
                   : dynamic_cast<const VertexSE3*>(vertex.get()) != nullptr ? 3
                                                                              : 0;
-    if (d == 0) return notAPoseGraph("vertex " + std::to_string(id) + " is of another type");
+    if (d == 0) return notAPoseGraph("vertex " + std::to_string(id) + " is neither a VERTEX_SE2 nor a VERTEX_SE3:QUAT");
     if (dimension != 0 && d != dimension) {
       return notAPoseGraph("vertex " + std::to_string(id) + " is " + (d == 2 ? "VERTEX_SE2" : "VERTEX_SE3:QUAT") +
                            " among " + (dimension == 2 ? "VERTEX_SE2" : "VERTEX_SE3:QUAT") + " vertices");

@@ -43,5 +43,9 @@ Status solveTranslations(PoseProblem<D>& problem, LinearSolver& solver);
 /// The rotation of SO(D) nearest to `m` in the Frobenius norm (SVD with det = +1 for D = 3).
 template <int D>
 Eigen::Matrix<double, D, D> nearestRotation(const Eigen::Matrix<double, D, D>& m);
+template <>
+Eigen::Matrix<double, 2, 2> nearestRotation<2>(const Eigen::Matrix<double, 2, 2>& m);
+template <>
+Eigen::Matrix<double, 3, 3> nearestRotation<3>(const Eigen::Matrix<double, 3, 3>& m);
 
 }  // namespace dualgraph::chordal

@@ -89,7 +89,7 @@ int runOptimizeCommand(const OptimizeOptions& o) {
   // The file's own χ² stays `initial_chi2`; the initialiser's result is `init_chi2` (issue 22).
   const double file_chi2 = graph.chi2(!o.robust.empty());
   const auto init = initializePoseGraph(graph, *init_kind, *linear_kind);
-  if (!init.ok()) return fail(init.status().message());
+  if (!init.ok()) return fail(o.input + ": " + init.status().message() + " (--init none keeps the file's estimate)");
   const double init_chi2 = init->applied == PoseGraphInit::kNone ? file_chi2 : graph.chi2(!o.robust.empty());
 
   OptimizerParams params;
