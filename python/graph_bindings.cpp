@@ -161,15 +161,21 @@ the last accepted step. Graph.save refuses graphs with custom edges.)doc")
            "sum of e^T Omega e over the edges at the current estimates [dimensionless]; robust: with the kernels' rho.")
       .def("optimize",
            [](PyGraph& g, int max_iterations, const std::string& algorithm, const std::string& linear_solver,
-              double relative_decrease_stop, double time_budget_ms, bool check, const std::string& damping) {
+              double relative_decrease_stop, double time_budget_ms, bool check, const std::string& damping,
+              const std::string& init) {
              return g.optimize({max_iterations, algorithm, linear_solver, relative_decrease_stop, time_budget_ms, check,
-                                damping});
+                                damping, init});
            },
            "max_iterations"_a = 100, "algorithm"_a = "lm", "linear_solver"_a = "cholmod", "relative_decrease_stop"_a = 1e-9,
-           "time_budget_ms"_a = 0.0, "check"_a = true, "damping"_a = "identity",
+           "time_budget_ms"_a = 0.0, "check"_a = true, "damping"_a = "diagonal", "init"_a = "none",
            "Levenberg-Marquardt ('lm') or Gauss-Newton ('gn') with 'cholmod' or 'eigen'. max_iterations [count]; "
            "relative_decrease_stop: stop when a step lowers chi2 by less than this fraction [1]; time_budget_ms: wall "
-           "time [ms], 0 = none; damping (LM): 'identity' (H + lambda I, g2o) or 'diagonal' (H + lambda diag H, Ceres). "
+           "time [ms], 0 = none; damping (LM): 'diagonal' (H + lambda diag H, Ceres; the default) or 'identity' "
+           "(H + lambda I, g2o's, iteration for iteration). init: 'none' (the graph's estimates, so repeated calls "
+           "continue), 'chordal' (rotations by chordal relaxation, then translations, in place before the solve; a "
+           "graph of only se2 or only se3 vertices and edges, else FailedPreconditionError) or 'auto' (chordal on such "
+           "a graph without robust kernels, none otherwise: `dualgraph optimize`'s default); initial_chi2 is then "
+           "after the initialisation. "
            "Raises OptimizationError when the result is not usable (unless check=False), and a custom edge's callback "
            "error unchanged.")
       .def("marginal", [](PyGraph& g, int id, bool metric) { return g.marginals(py::int_(id), metric); }, "id"_a,

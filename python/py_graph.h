@@ -27,7 +27,9 @@ struct OptimizeOptions {
   double relative_decrease_stop = 1e-9;
   double time_budget_ms = 0.0;
   bool check = true;                      ///< raise OptimizationError when the result is not usable
-  std::string damping = "identity";       ///< LM: "identity" (H + λI, g2o) | "diagonal" (H + λ diag H, Ceres)
+  std::string damping = "diagonal";       ///< LM: "diagonal" (H + λ diag H, Ceres) | "identity" (H + λI, g2o)
+  /// "none" (the graph's estimates: repeated calls continue) | "chordal" | "auto" (solvers/chordal_init.h)
+  std::string init = "none";
 };
 
 /// The Python `dualgraph.Graph`: a Graph with the library's types registered, batch construction from numpy

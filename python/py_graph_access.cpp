@@ -6,6 +6,7 @@
 #include "dualgraph/core/robust_kernel.h"
 #include "errors.h"
 #include "py_graph.h"
+#include "dualgraph/solvers/chordal_init.h"
 #include "dualgraph/solvers/marginal_covariance.h"
 #include "dualgraph/types/se3_math.h"
 #include "dualgraph/types/vertex_point_xyz.h"
@@ -140,13 +141,16 @@ SolverSummary PyGraph::optimize(const OptimizeOptions& options) {
   if (options.damping != "identity" && options.damping != "diagonal") {
     raiseInvalid("damping must be 'identity' or 'diagonal', got '" + options.damping + "'");
   }
+  const PoseGraphInit init = unwrap(parsePoseGraphInit(options.init));
   OptimizerParams params;
   params.algorithm = options.algorithm == "gn" ? Algorithm::kGaussNewton : Algorithm::kLevenbergMarquardt;
   params.max_iterations = options.max_iterations;
   params.relative_decrease_stop = options.relative_decrease_stop;
   params.time_budget_ms = options.time_budget_ms;
   params.damping = options.damping == "diagonal" ? LmDamping::kDiagonal : LmDamping::kIdentity;
-  Optimizer& optimizer_ref = optimizer(unwrap(parseLinearSolverKind(options.linear_solver)));
+  const LinearSolverKind linear_kind = unwrap(parseLinearSolverKind(options.linear_solver));
+  Optimizer& optimizer_ref = optimizer(linear_kind);
+  unwrap(initializePoseGraph(graph_, init, linear_kind));  // before the solve; a failure changes nothing
   // The GIL stays held: a Graph is not thread-safe, and another thread must not change it mid-solve.
   callback_failure_->clear();
   const SolverSummary summary = optimizer_ref.optimize(params);

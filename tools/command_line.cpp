@@ -99,8 +99,14 @@ CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& o) {
   cmd->add_option("--linear", o.linear, "Linear solver: cholmod, eigen or auto (Eigen up to 3000 unknowns, CHOLMOD above)")
       ->check(CLI::IsMember({"cholmod", "eigen", "auto"}));
   cmd->add_option("--damping", o.damping,
-                  "Levenberg-Marquardt damping: identity (H + lambda I, g2o's) or diagonal (H + lambda diag H, Ceres')")
+                  "Levenberg-Marquardt damping: diagonal (H + lambda diag H, Ceres'; the default) or identity "
+                  "(H + lambda I, g2o's: iteration for iteration as g2o)")
       ->check(CLI::IsMember({"identity", "diagonal"}));
+  cmd->add_option("--init", o.init,
+                  "Initial estimate: chordal (rotations by chordal relaxation, then translations; pose graphs of "
+                  "VERTEX_SE2/EDGE_SE2 or VERTEX_SE3:QUAT/EDGE_SE3:QUAT only), none (the file's), or auto (chordal "
+                  "on such a pose graph without --robust, none otherwise)")
+      ->check(CLI::IsMember({"auto", "chordal", "none"}));
   cmd->add_option("--robust", o.robust, "Robust kernel on every edge, e.g. huber:1.0 (huber|cauchy|tukey|dcs)");
   cmd->add_option("--relative-decrease", o.relative_decrease,
                   "Stop when an accepted step lowers chi2 by less than this fraction");

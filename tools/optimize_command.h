@@ -13,7 +13,8 @@ struct OptimizeOptions {
   int iterations = 100;
   std::string algorithm = "lm";
   std::string linear = "cholmod";
-  std::string damping = "identity";
+  std::string damping = "diagonal";
+  std::string init = "auto";  ///< auto (chordal on pure pose graphs without robust kernels) | chordal | none
   std::string robust;
   bool json = false;
   bool list_types = false;

@@ -36,25 +36,32 @@ class ParkingGarage(unittest.TestCase):
         self.assertEqual(graph.num_edges, cli["edges"])
         self.assertEqual(dualgraph.Graph.load(PARKING_GARAGE).fix_gauge(), cli["gauge_vertex"])  # same default
         self.assertEqual(graph.fix_gauge("highest"), cli["gauge_vertex"])  # the CLI's default gauge
-        summary = graph.optimize()
+        start = graph.chi2()
+        summary = graph.optimize(init="auto")  # the CLI's default start; Graph.optimize's own default is "none"
+        self.assertEqual(cli["init"], "chordal")
         self.assertEqual(summary.iterations, cli["iterations"])
         self.assertEqual(summary.termination, cli["termination"])
-        self.assertAlmostEqual(summary.initial_chi2, cli["initial_chi2"], delta=1e-12 * cli["initial_chi2"])
+        self.assertAlmostEqual(start, cli["initial_chi2"], delta=1e-12 * cli["initial_chi2"])  # the file's
+        self.assertAlmostEqual(summary.initial_chi2, cli["init_chi2"], delta=1e-12 * cli["init_chi2"])  # chordal
         self.assertAlmostEqual(summary.final_chi2, cli["final_chi2"], delta=1e-12 * cli["final_chi2"])
         self.assertAlmostEqual(graph.chi2(), summary.final_chi2, delta=1e-9 * summary.final_chi2)
         self.assertLess(summary.final_chi2, 1.3)  # README: 1.238684 after LM
 
     @unittest.skipUnless(os.path.exists(PARKING_GARAGE), "needs ../shared/data/posegraph/parking-garage.g2o")
-    def test_diagonal_damping_equals_the_cli(self):
-        cli = json.loads(run_cli("optimize", PARKING_GARAGE, "--json", "--damping", "diagonal"))
-        graph = dualgraph.Graph.load(PARKING_GARAGE)
-        graph.fix_gauge("highest")
-        summary = graph.optimize(damping="diagonal")
-        self.assertEqual(summary.iterations, cli["iterations"])
-        self.assertAlmostEqual(summary.final_chi2, cli["final_chi2"], delta=1e-12 * cli["final_chi2"])
-        self.assertLess(summary.final_chi2, 1.3)  # the same optimum as with g2o's damping
+    def test_each_damping_from_the_files_start_equals_the_cli(self):
+        for damping in ("identity", "diagonal"):
+            cli = json.loads(run_cli("optimize", PARKING_GARAGE, "--json", "--damping", damping, "--init", "none"))
+            graph = dualgraph.Graph.load(PARKING_GARAGE)
+            graph.fix_gauge("highest")
+            summary = graph.optimize(damping=damping) if damping == "identity" else graph.optimize()  # the default
+            self.assertEqual(summary.iterations, cli["iterations"])
+            self.assertAlmostEqual(summary.initial_chi2, cli["initial_chi2"], delta=1e-12 * cli["initial_chi2"])
+            self.assertAlmostEqual(summary.final_chi2, cli["final_chi2"], delta=1e-12 * cli["final_chi2"])
+            self.assertLess(summary.final_chi2, 1.3)  # the same optimum with either damping
         with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "damping must be 'identity' or 'diagonal'"):
             graph.optimize(damping="marquardt")
+        with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "unknown initialisation 'spectral'"):
+            graph.optimize(init="spectral")
 
     @unittest.skipUnless(os.path.exists(PARKING_GARAGE), "needs ../shared/data/posegraph/parking-garage.g2o")
     def test_marginals_of_the_optimum(self):
@@ -121,6 +128,22 @@ class BuiltFromNumpy(unittest.TestCase):
         np.testing.assert_allclose(graph.marginal(7), np.linalg.inv(info[0] + info[1]), rtol=1e-12)
         expected = np.linalg.solve(info[0] + info[1], info[0] @ [1, 2, 3.0] + info[1] @ [1.5, 2, 3.0])
         np.testing.assert_allclose(graph.point_estimates([7])[0], expected, atol=1e-12)
+
+    def test_chordal_init_recovers_a_square_and_refuses_points(self):
+        truth = np.array([[0, 0, 0], [1, 0, np.pi / 2], [1, 1, np.pi], [0, 1, -np.pi / 2]], float)
+        graph = dualgraph.Graph()
+        graph.add_se2_vertices(np.arange(4), truth + [[0, 0, 0], [0.5, -0.5, 2.0], [-1, 2, -2.5], [3, 0, 1.0]])
+        graph.add_se2_edges([[0, 1], [1, 2], [2, 3], [3, 0]], np.array([[1, 0, np.pi / 2]] * 4),
+                            np.diag([100.0, 100.0, 400.0]))
+        graph.set_fixed(0)
+        summary = graph.optimize(init="chordal", max_iterations=0)  # the initialiser alone
+        self.assertLess(summary.initial_chi2, 1e-16)  # after the initialisation
+        np.testing.assert_allclose(graph.se2_estimates(), truth, atol=1e-9)
+        graph.add_point_vertices([9], [[0.0, 0.0, 0.0]])
+        graph.add_point_priors([9], [[1.0, 2.0, 3.0]], np.eye(3))
+        with self.assertRaisesRegex(dualgraph.FailedPreconditionError, "vertex 9 is neither"):
+            graph.optimize(init="chordal")
+        self.assertTrue(graph.optimize(init="auto").usable)  # auto: the graph's own start
 
     def test_se2_square_with_a_loop_closure(self):
         rng = np.random.default_rng(3)

@@ -154,9 +154,16 @@ TEST(OptimizeCli, ListTypesShowsTheRegistry) {
 
 TEST(OptimizeCli, BundledDemoDataOptimisesToG2oQuality) {
   const std::string input = testing::sourcePath("data/posegraph/parking-garage.g2o");
+  // g2o's settings from the file's start: at or below g2o's 1.238684.
+  const CommandRun g2o = runDualgraph("optimize " + input + " --json --init none --damping identity");
+  ASSERT_EQ(g2o.exit_code, 0) << g2o.err;
+  EXPECT_LE(jsonNumber(g2o.out, "final_chi2"), 1.238684 + 5e-7) << g2o.out;
+  // The defaults (chordal start, diagonal damping): the optimum of exactly orthonormal rotations, 1.2386906.
+  // The file's quaternions have |q| = 1 ± 1e-6 and are kept as written (as g2o does) where the chordal start
+  // replaces them; normalising them in the file moves the g2o-settings optimum to the same 1.2386906.
   const CommandRun run = runDualgraph("optimize " + input + " --json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_LE(jsonNumber(run.out, "final_chi2"), 1.238684 + 5e-7) << run.out;
+  EXPECT_LE(jsonNumber(run.out, "final_chi2"), 1.2386906 + 5e-7) << run.out;
 }
 
 }  // namespace

@@ -63,6 +63,7 @@ TEST_P(PoseGraphGolden, InitialChi2EqualsG2oAndFinalChi2IsAtOrBelowG2o) {
     Optimizer optimizer(graph, makeLinearSolver(*parseLinearSolverKind(linear)));
     OptimizerParams params;
     params.max_iterations = 100;
+    params.damping = LmDamping::kIdentity;  // g2o's λI (the library's default; `dualgraph optimize --damping identity`)
     const SolverSummary summary = optimizer.optimize(params);
     EXPECT_TRUE(summary.usable()) << terminationReasonName(summary.termination) << ": " << summary.message;
     EXPECT_LE(summary.iterations, 100);
