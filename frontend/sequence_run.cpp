@@ -86,12 +86,18 @@ class FrameSearch {
       // found frame is the best of many hypotheses from a short window, the estimate has the whole graph
       // behind it (a loss among failures can be a false alarm).
       const double ratio = params_.relocalization.replace_ratio;
-      const bool keep = sameFrame(found, localizer.mapTOdom(), odom_T_body) ||
-                        (ratio > 0.0 && initializer_->inUseInliers() >= ratio * found.inliers);
-      if (keep) {
-        // Checking: nothing to do. Lost: the frame in use was about right, but its graph failed to explain the
-        // detections for lost_after_s; a new graph at the current estimate, held as the search's frame would be.
-        if (!checking_) DG_RETURN_IF_ERROR(localizer.resumeWithNewGraph(foundSigmaT(found), params_.localizer.initial_sigma_r));
+      const int in_use = initializer_->inUseInliers();
+      const bool same = sameFrame(found, localizer.mapTOdom(), odom_T_body);
+      if (same || (ratio > 0.0 && in_use >= ratio * found.inliers)) {
+        // Checking: nothing to do. Lost, and the estimate explained as many as the found frame: a false alarm,
+        // tracking on in the same graph. Lost, and it explained fewer (but not clearly fewer): the frame in use
+        // was about right, but its graph (its marginal prior confident in a pose that failed for lost_after_s)
+        // is dropped for a new one at the current estimate, held as the search's frame would be.
+        if (!checking_ && (same || in_use >= found.inliers)) {
+          localizer.resumeTracking();
+        } else if (!checking_) {
+          DG_RETURN_IF_ERROR(localizer.resumeWithNewGraph(foundSigmaT(found), params_.localizer.initial_sigma_r));
+        }
         stop();
         return std::vector<Seen>{};
       }
