@@ -4,6 +4,7 @@
 #include <cholmod.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <string>
 
@@ -41,10 +42,10 @@ bool strictlyIncreasingAbove(const int* rows, int count, int floor) {
 
 }  // namespace
 
-void CholmodSelectedInverse::clear() { factor_ = nullptr; }
+void CholmodSelectedInverse::clear() { valid_ = false; }
 
 Status CholmodSelectedInverse::compute(const cholmod_factor& factor) {
-  factor_ = nullptr;
+  valid_ = false;
   if (factor.xtype != CHOLMOD_REAL || factor.itype != CHOLMOD_INT || factor.dtype != CHOLMOD_DOUBLE) {
     return selectedInverseError(StatusCode::kFailedPrecondition, "needs a numeric real double factor with int indices");
   }
@@ -55,43 +56,106 @@ Status CholmodSelectedInverse::compute(const cholmod_factor& factor) {
   inverse_perm_.resize(n_);
   const int* perm = static_cast<const int*>(factor.Perm);
   for (int k = 0; k < n_; ++k) inverse_perm_[perm != nullptr ? perm[k] : k] = k;
-  map_.assign(n_, -1);
-  const Status computed = factor.is_super ? computeSupernodal(factor) : computeSimplicial(factor);
-  if (computed.ok()) factor_ = &factor;
-  return computed;
-}
-
-Status CholmodSelectedInverse::computeSupernodal(const cholmod_factor& factor) {
-  if (!factor.is_ll) return selectedInverseError(StatusCode::kFailedPrecondition, "supernodal LDLᵀ is not supported");
-  const int* super = static_cast<const int*>(factor.super);
-  const int* lpi = static_cast<const int*>(factor.pi);
-  const int* lpx = static_cast<const int*>(factor.px);
-  const int* ls = static_cast<const int*>(factor.s);
-  const double* lx = static_cast<const double*>(factor.x);
-  const int nsuper = static_cast<int>(factor.nsuper);
+  DG_RETURN_IF_ERROR(factor.is_super ? layOutSupernodal(factor) : layOutSimplicial(factor));
+  const int nsuper = static_cast<int>(super_.size()) - 1;
   super_of_.resize(n_);
   for (int s = 0; s < nsuper; ++s) {
-    const int nscol = super[s + 1] - super[s];
-    const int nsrow = lpi[s + 1] - lpi[s];
-    for (int j = super[s]; j < super[s + 1]; ++j) super_of_[j] = s;
-    // The gather below reads Σ_RR column by column, so it needs R sorted (CHOLMOD builds it so: checked).
+    const int nscol = super_[s + 1] - super_[s];
+    const int nsrow = pi_[s + 1] - pi_[s];
+    for (int j = super_[s]; j < super_[s + 1]; ++j) super_of_[j] = s;
+    // The gather of Σ_RR reads it column by column, so R must be sorted (CHOLMOD builds it so: checked).
     bool own_columns = nsrow >= nscol;
-    for (int c = 0; own_columns && c < nscol; ++c) own_columns = ls[lpi[s] + c] == super[s] + c;
-    if (!own_columns || !strictlyIncreasingAbove(ls + lpi[s] + nscol, nsrow - nscol, super[s + 1] - 1)) {
+    for (int c = 0; own_columns && c < nscol; ++c) own_columns = s_[pi_[s] + c] == super_[s] + c;
+    if (!own_columns || !strictlyIncreasingAbove(s_.data() + pi_[s] + nscol, nsrow - nscol, super_[s + 1] - 1)) {
       return selectedInverseError(StatusCode::kFailedPrecondition,
                                   "unexpected row pattern in supernode " + std::to_string(s));
     }
   }
-  sigma_.resize(factor.xsize);
+  map_.assign(n_, -1);
+  DG_RETURN_IF_ERROR(recurse());
+  valid_ = true;
+  return Status();
+}
+
+Status CholmodSelectedInverse::layOutSupernodal(const cholmod_factor& factor) {
+  if (!factor.is_ll) return selectedInverseError(StatusCode::kFailedPrecondition, "supernodal LDLᵀ is not supported");
+  const size_t nsuper = factor.nsuper;
+  const int* super = static_cast<const int*>(factor.super);
+  const int* pi = static_cast<const int*>(factor.pi);
+  const int* px = static_cast<const int*>(factor.px);
+  super_.assign(super, super + nsuper + 1);
+  pi_.assign(pi, pi + nsuper + 1);
+  px_.assign(px, px + nsuper + 1);
+  s_.assign(static_cast<const int*>(factor.s), static_cast<const int*>(factor.s) + pi[nsuper]);
+  values_ = static_cast<const double*>(factor.x);
+  return Status();
+}
+
+Status CholmodSelectedInverse::layOutSimplicial(const cholmod_factor& factor) {
+  const int* lp = static_cast<const int*>(factor.p);
+  const int* li = static_cast<const int*>(factor.i);
+  const int* lnz = static_cast<const int*>(factor.nz);
+  const double* lx = static_cast<const double*>(factor.x);
+  for (int j = 0; j < n_; ++j) {
+    if (lnz[j] < 1 || li[lp[j]] != j || !strictlyIncreasingAbove(li + lp[j] + 1, lnz[j] - 1, j)) {
+      return selectedInverseError(StatusCode::kFailedPrecondition, "unexpected row pattern in column " + std::to_string(j));
+    }
+  }
+  // Fundamental supernodes: column j + 1 joins column j when j's rows below j + 1 are exactly j + 1's rows.
+  super_.clear();
+  pi_.clear();
+  px_.clear();
+  s_.clear();
+  size_t size = 0;
+  for (int j = 0; j < n_;) {
+    const int first = j;
+    while (j + 1 < n_ && lnz[j] == lnz[j + 1] + 1 && std::equal(li + lp[j] + 1, li + lp[j] + lnz[j], li + lp[j + 1])) ++j;
+    ++j;
+    super_.push_back(first);
+    pi_.push_back(static_cast<int>(s_.size()));
+    px_.push_back(size);
+    s_.insert(s_.end(), li + lp[first], li + lp[first] + lnz[first]);
+    size += static_cast<size_t>(lnz[first]) * static_cast<size_t>(j - first);
+  }
+  super_.push_back(n_);
+  pi_.push_back(static_cast<int>(s_.size()));
+  px_.push_back(size);
+  owned_values_.assign(size, 0.0);
+  const bool ll = factor.is_ll != 0;
+  for (size_t s = 0; s + 1 < super_.size(); ++s) {
+    const int nsrow = pi_[s + 1] - pi_[s];
+    for (int c = super_[s]; c < super_[s + 1]; ++c) {
+      const int t = c - super_[s];  // column c's rows start at its diagonal, position t of the supernode's rows
+      double* out = owned_values_.data() + px_[s] + static_cast<size_t>(t) * nsrow + t;
+      const double* in = lx + lp[c];
+      if (ll) {
+        std::copy(in, in + lnz[c], out);
+        continue;
+      }
+      if (!(in[0] > 0.0)) {  // LDLᵀ: L_ll = L √D needs D > 0
+        return selectedInverseError(StatusCode::kNumericalError, "non-positive pivot in column " + std::to_string(c));
+      }
+      const double root = std::sqrt(in[0]);
+      out[0] = root;
+      for (int k = 1; k < lnz[c]; ++k) out[k] = in[k] * root;
+    }
+  }
+  values_ = owned_values_.data();
+  return Status();
+}
+
+Status CholmodSelectedInverse::recurse() {
+  const int nsuper = static_cast<int>(super_.size()) - 1;
+  sigma_.resize(px_[nsuper]);
   const double one = 1.0;
   const double minus_one = -1.0;
   const double zero = 0.0;
   for (int s = nsuper - 1; s >= 0; --s) {
-    int nscol = super[s + 1] - super[s];
-    int nsrow = lpi[s + 1] - lpi[s];
+    int nscol = super_[s + 1] - super_[s];
+    int nsrow = pi_[s + 1] - pi_[s];
     int m = nsrow - nscol;
-    const double* l_block = lx + lpx[s];  // nsrow × nscol, column-major: [L_JJ; L_RJ]
-    double* sigma_block = sigma_.data() + lpx[s];
+    const double* l_block = values_ + px_[s];  // nsrow × nscol, column-major: [L_JJ; L_RJ]
+    double* sigma_block = sigma_.data() + px_[s];
     std::copy(l_block, l_block + static_cast<size_t>(nsrow) * nscol, sigma_block);
     int info = 0;
     dpotri_("L", &nscol, sigma_block, &nsrow, &info, 1);  // lower Σ_JJ ← (L_JJ L_JJᵀ)⁻¹
@@ -108,18 +172,18 @@ Status CholmodSelectedInverse::computeSupernodal(const cholmod_factor& factor) {
                 y_.data() + static_cast<size_t>(c) * m);
     }
     dtrsm_("R", "L", "N", "N", &m, &nscol, &one, l_block, &nsrow, y_.data(), &m, 1, 1, 1, 1);
-    // Σ_RR's lower triangle, from the columns of the ancestors computed already. The rows R that fall in
-    // one ancestor supernode are consecutive; map_ holds that supernode's row positions.
+    // Σ_RR's lower triangle, from the columns of the ancestors computed already (R × R lies in L's filled
+    // pattern). The rows R that fall in one ancestor supernode are consecutive; map_ holds its row positions.
     sigma_rr_.resize(static_cast<size_t>(m) * m);
-    const int* rows = ls + lpi[s] + nscol;
+    const int* rows = s_.data() + pi_[s] + nscol;
     for (int a = 0; a < m;) {
       const int ancestor = super_of_[rows[a]];
-      const int first = lpi[ancestor];
-      const int ancestor_rows = lpi[ancestor + 1] - first;
-      for (int t = 0; t < ancestor_rows; ++t) map_[ls[first + t]] = t;
-      const double* ancestor_sigma = sigma_.data() + lpx[ancestor];
+      const int first = pi_[ancestor];
+      const int ancestor_rows = pi_[ancestor + 1] - first;
+      for (int t = 0; t < ancestor_rows; ++t) map_[s_[first + t]] = t;
+      const double* ancestor_sigma = sigma_.data() + px_[ancestor];
       for (; a < m && super_of_[rows[a]] == ancestor; ++a) {
-        const double* column = ancestor_sigma + static_cast<size_t>(rows[a] - super[ancestor]) * ancestor_rows;
+        const double* column = ancestor_sigma + static_cast<size_t>(rows[a] - super_[ancestor]) * ancestor_rows;
         double* out = sigma_rr_.data() + static_cast<size_t>(a) * m;
         for (int b = a; b < m; ++b) out[b] = column[map_[rows[b]]];
       }
@@ -133,91 +197,24 @@ Status CholmodSelectedInverse::computeSupernodal(const cholmod_factor& factor) {
   return Status();
 }
 
-Status CholmodSelectedInverse::computeSimplicial(const cholmod_factor& factor) {
-  const int* lp = static_cast<const int*>(factor.p);
-  const int* li = static_cast<const int*>(factor.i);
-  const int* lnz = static_cast<const int*>(factor.nz);
-  const double* lx = static_cast<const double*>(factor.x);
-  for (int j = 0; j < n_; ++j) {
-    if (lnz[j] < 1 || li[lp[j]] != j || !strictlyIncreasingAbove(li + lp[j] + 1, lnz[j] - 1, j)) {
-      return selectedInverseError(StatusCode::kFailedPrecondition, "unexpected row pattern in column " + std::to_string(j));
-    }
-  }
-  sigma_.resize(factor.nzmax);
-  sigma_rr_.resize(n_);  // here: z = Σ_RR y, indexed by position in R
-  y_.resize(n_);
-  const bool ll = factor.is_ll != 0;
-  for (int j = n_ - 1; j >= 0; --j) {
-    const int begin = lp[j];
-    const int m = lnz[j] - 1;
-    const double pivot = lx[begin];  // LLᵀ: L_jj; LDLᵀ: D_jj (L's unit diagonal is not stored)
-    const double pivot_inverse = ll ? 1.0 / (pivot * pivot) : 1.0 / pivot;
-    if (!(pivot != 0.0)) {
-      return selectedInverseError(StatusCode::kNumericalError, "zero pivot in column " + std::to_string(j));
-    }
-    const int* rows = li + begin + 1;
-    double* y = y_.data();
-    double* z = sigma_rr_.data();
-    for (int a = 0; a < m; ++a) {
-      y[a] = ll ? lx[begin + 1 + a] / pivot : lx[begin + 1 + a];
-      z[a] = 0.0;
-      map_[rows[a]] = a;
-    }
-    // z = Σ_RR y: column c = R[a] of Σ holds Σ(c, c) and Σ(r, c) for its rows r > c, among them R's.
-    for (int a = 0; a < m; ++a) {
-      const int c = rows[a];
-      const int c_begin = lp[c];
-      z[a] += sigma_[c_begin] * y[a];
-      const int c_end = c_begin + lnz[c];
-      for (int q = c_begin + 1; q < c_end; ++q) {
-        const int b = map_[li[q]];
-        if (b < 0) continue;
-        z[b] += sigma_[q] * y[a];
-        z[a] += sigma_[q] * y[b];
-      }
-    }
-    double diagonal = pivot_inverse;
-    for (int a = 0; a < m; ++a) {
-      sigma_[begin + 1 + a] = -z[a];
-      diagonal += y[a] * z[a];
-      map_[rows[a]] = -1;
-    }
-    sigma_[begin] = diagonal;
-  }
-  return Status();
-}
-
 bool CholmodSelectedInverse::entry(int row, int column, double& value) const {
-  const cholmod_factor& factor = *factor_;
-  if (factor.is_super) {
-    const int* super = static_cast<const int*>(factor.super);
-    const int* lpi = static_cast<const int*>(factor.pi);
-    const int* ls = static_cast<const int*>(factor.s);
-    const int s = super_of_[column];
-    const int nscol = super[s + 1] - super[s];
-    const int nsrow = lpi[s + 1] - lpi[s];
-    int position = row - super[s];
-    if (row >= super[s + 1]) {
-      const int* below = ls + lpi[s] + nscol;
-      const int* found = std::lower_bound(below, ls + lpi[s + 1], row);
-      if (found == ls + lpi[s + 1] || *found != row) return false;
-      position = nscol + static_cast<int>(found - below);
-    }
-    value = sigma_[static_cast<const int*>(factor.px)[s] + static_cast<size_t>(column - super[s]) * nsrow + position];
-    return true;
+  const int s = super_of_[column];
+  const int nscol = super_[s + 1] - super_[s];
+  const int nsrow = pi_[s + 1] - pi_[s];
+  int position = row - super_[s];
+  if (row >= super_[s + 1]) {
+    const int* below = s_.data() + pi_[s] + nscol;
+    const int* end = s_.data() + pi_[s + 1];
+    const int* found = std::lower_bound(below, end, row);
+    if (found == end || *found != row) return false;
+    position = nscol + static_cast<int>(found - below);
   }
-  const int* lp = static_cast<const int*>(factor.p);
-  const int* li = static_cast<const int*>(factor.i);
-  const int begin = lp[column];
-  const int end = begin + static_cast<const int*>(factor.nz)[column];
-  const int* found = std::lower_bound(li + begin, li + end, row);
-  if (found == li + end || *found != row) return false;
-  value = sigma_[found - li];
+  value = sigma_[px_[s] + static_cast<size_t>(column - super_[s]) * nsrow + position];
   return true;
 }
 
 Status CholmodSelectedInverse::diagonalBlocks(const int* offsets, const int* dims, int count, double* out) const {
-  if (factor_ == nullptr) return selectedInverseError(StatusCode::kFailedPrecondition, "not computed");
+  if (!valid_) return selectedInverseError(StatusCode::kFailedPrecondition, "not computed");
   size_t written = 0;
   for (int k = 0; k < count; ++k) {
     const int offset = offsets[k];

@@ -19,14 +19,17 @@ int findComponentRoot(std::vector<int>& parent, int k) {
   return k;
 }
 
-/// y = H x for H in upper CSC (the symmetric matrix it stands for).
-void symmetricProduct(const SparseMatrixView& h, const Eigen::VectorXd& x, Eigen::VectorXd& y) {
-  y.setZero(h.n);
+/// xᵀ H x and xᵀ |H| x (|H|: entrywise absolute values; so the second is the sum of the magnitudes whose
+/// cancellation gives the first) for H in upper CSC (the symmetric matrix it stands for).
+void quadraticForms(const SparseMatrixView& h, const Eigen::VectorXd& x, double& form, double& magnitude) {
+  form = 0.0;
+  magnitude = 0.0;
   for (int j = 0; j < h.n; ++j) {
     for (int p = h.col_ptr[j]; p < h.col_ptr[j + 1]; ++p) {
       const int i = h.row_index[p];
-      y[i] += h.values[p] * x[j];
-      if (i != j) y[j] += h.values[p] * x[i];
+      const double term = (i == j ? 1.0 : 2.0) * h.values[p] * x[i] * x[j];
+      form += term;
+      magnitude += std::abs(term);
     }
   }
 }
@@ -91,14 +94,10 @@ Result<bool> singularOnRows(const SparseSystem& system, LinearSolver& solver, co
     if (!std::isfinite(norm) || norm == 0.0) return true;  // H⁻¹ blew up: singular
     v /= norm;
   }
-  Eigen::VectorXd hv;
-  symmetricProduct(h, v, hv);
-  double largest_diagonal = 0.0;
-  for (int row : rows) {
-    const int last = h.col_ptr[row + 1] - 1;  // the diagonal ends its column in upper CSC
-    if (last >= h.col_ptr[row] && h.row_index[last] == row) largest_diagonal = std::max(largest_diagonal, h.values[last]);
-  }
-  return v.dot(hv) <= kGaugeRelativeEigenvalue * largest_diagonal;
+  double form = 0.0;
+  double magnitude = 0.0;
+  quadraticForms(h, v, form, magnitude);
+  return form <= kGaugeCancellation * magnitude;
 }
 
 Status freeGaugeError(const std::vector<UnanchoredComponent>& components) {

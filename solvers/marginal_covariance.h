@@ -57,8 +57,8 @@ class MarginalCovariance {
   /// vertex or is unary (a prior). A component that is not is suspect, since its relative edges leave H
   /// singular along a common motion of its vertices (a rigid motion of a pose graph); it is a free gauge
   /// when the factorisation fails or, when round-off lets it pass (it usually does: covariances of 1e9 m²
-  /// result), when inverse iteration with the factor finds an eigenvalue of H on the component below
-  /// 1e-11 × its largest diagonal entry (solvers/gauge_check.h). So an edge between free vertices that
+  /// result), when inverse iteration with the factor finds a direction v along which vᵀHv is only the
+  /// round-off of its terms (vᵀHv ≤ 1e-12 · vᵀ|H|v; solvers/gauge_check.h has the measured margins). So an edge between free vertices that
   /// anchors them absolutely (a marginalisation prior over several vertices, a user's multi-vertex absolute
   /// edge) is recognised by the numbers; a component anchored only in some directions (a position-only
   /// prior on a pose graph leaves the rotation free) is not caught by the structure and gives a huge
