@@ -184,7 +184,7 @@ the last accepted step. Graph.save refuses graphs with custom edges.)doc")
            "Each vertex's own marginal covariance, shape (n, d, d) in the order of ids (repeats allowed), in its tangent "
            "space (se3: g2o's [dt; dq] [m^2, 1], metric=True gives [dt; dtheta] [m^2, rad^2]; se2 [dx dy dtheta] "
            "[m^2, rad^2]; point [m^2]); fixed vertices are zero. All blocks come from one pass over CHOLMOD's factor "
-           "(its selected inverse), so every vertex costs about as much as one. The ids must share one tangent "
+           "(its selected inverse): all of a graph's vertices cost about one factorisation. The ids must share one tangent "
            "dimension d (InvalidArgumentError otherwise). A free gauge (nothing fixed, no prior) is "
            "FailedPreconditionError.")
       .def("__repr__", &graphRepr);

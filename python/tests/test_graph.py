@@ -151,11 +151,11 @@ class BuiltFromNumpy(unittest.TestCase):
         poses = graph.marginal_blocks([1, 0, 1])
         self.assertEqual(poses.shape, (3, 6, 6))
         np.testing.assert_array_equal(poses[1], 0.0)
-        np.testing.assert_allclose(poses[0], graph.marginal(1), rtol=1e-9)
+        np.testing.assert_allclose(poses[0], graph.marginal(1), rtol=1e-9, atol=1e-12)
         np.testing.assert_array_equal(poses[0], poses[2])
         point = graph.marginal_blocks([2])
         self.assertEqual(point.shape, (1, 3, 3))
-        np.testing.assert_allclose(point[0], graph.marginal(2), rtol=1e-9)
+        np.testing.assert_allclose(point[0], graph.marginal(2), rtol=1e-9, atol=1e-12)
         self.assertEqual(graph.marginal_blocks([]).shape, (0, 0, 0))
         with self.assertRaises(dualgraph.NotFoundError):
             graph.marginal_blocks([1, 9])
