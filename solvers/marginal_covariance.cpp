@@ -40,7 +40,19 @@ Status MarginalCovariance::compute(Optimizer& optimizer, const Graph& graph) {
       if (!singular.ok()) return singular.status();
       free_gauge = *singular;
     }
-    if (free_gauge) return freeGaugeError(unanchored);
+    if (free_gauge) {
+      // Name only the components that are singular themselves (H is block diagonal across components), when
+      // there are few enough to test one by one; a failed factorisation cannot tell them apart.
+      std::vector<UnanchoredComponent> singular_components;
+      if (factorized.ok() && unanchored.size() > 1 && unanchored.size() <= 8) {
+        for (const UnanchoredComponent& component : unanchored) {
+          const Result<bool> singular = singularOnRows(optimizer.system(), optimizer.linearSolver(), component.rows);
+          if (!singular.ok()) return singular.status();
+          if (*singular) singular_components.push_back(component);
+        }
+      }
+      return freeGaugeError(singular_components.empty() ? unanchored : singular_components);
+    }
   }
   DG_RETURN_IF_ERROR(factorized);
   fixed_snapshot_.reserve(graph.numVertices());

@@ -62,7 +62,8 @@ class MarginalCovariance {
   /// anchors them absolutely (a marginalisation prior over several vertices, a user's multi-vertex absolute
   /// edge) is recognised by the numbers; a component anchored only in some directions (a position-only
   /// prior on a pose graph leaves the rotation free) is not caught by the structure and gives a huge
-  /// covariance or kNotPositiveDefinite.
+  /// covariance or kNotPositiveDefinite. The message names the free components (with a factor and up to 8
+  /// suspects, only those singular themselves; when the factorisation failed, every suspect).
   /// Other errors: the factorisation's status (kNotPositiveDefinite for another singularity);
   /// kFailedPrecondition when no free vertex is attached to an edge. After a failure every block call is
   /// kFailedPrecondition.
