@@ -42,6 +42,14 @@ class LinearSolver {
   /// rows last (EigenSolver with EigenOrdering::kNatural on a graph whose marginal vertices have the
   /// largest ids) stops its substitutions at them. The default solves in full.
   virtual Status solveColumnsAtRows(const double* B, double* X, int n, int columns, const int* rows, int row_count);
+  /// Whether `inverseDiagonalBlocks` is implemented (CHOLMOD: yes, from its factor's selected inverse).
+  virtual bool hasSelectedInverse() const { return false; }
+  /// The diagonal blocks of H⁻¹ of the last factorisation: for k < `count`, the dims[k] × dims[k] block
+  /// at rows and columns [offsets[k], offsets[k] + dims[k]) of H, column-major, one after another in `out`
+  /// (Σ dims[k]² entries). A solver that implements it computes the entries of H⁻¹ on its factor's
+  /// pattern once per factorisation (Takahashi's recursion) and reads every block from them. The default
+  /// is kFailedPrecondition: callers solve unit columns instead.
+  virtual Status inverseDiagonalBlocks(const int* offsets, const int* dims, int count, double* out);
   /// Short name for summaries, e.g. "cholmod-supernodal".
   virtual std::string name() const = 0;
 };
@@ -58,6 +66,11 @@ inline Status LinearSolver::solveColumns(const double* B, double* X, int n, int 
 inline Status LinearSolver::solveColumnsAtRows(const double* B, double* X, int n, int columns, const int* /*rows*/,
                                                int /*row_count*/) {
   return solveColumns(B, X, n, columns);
+}
+
+inline Status LinearSolver::inverseDiagonalBlocks(const int* /*offsets*/, const int* /*dims*/, int /*count*/,
+                                                 double* /*out*/) {
+  return Status(StatusCode::kFailedPrecondition, name() + " has no selected inverse (solve unit columns instead)");
 }
 
 }  // namespace dualgraph

@@ -185,6 +185,14 @@ the last accepted step. Graph.save refuses graphs with custom edges.)doc")
       .def("marginals", [](PyGraph& g, IdsLike ids, bool metric) { return g.marginals(ids, metric); }, "ids"_a, "metric"_a = false,
            "Joint marginal covariance of several vertices, blocks in the order of ids (units as marginal); fixed "
            "vertices are zero.")
+      .def("marginal_blocks", [](PyGraph& g, IdsLike ids, bool metric) { return g.marginalBlocks(ids, metric); }, "ids"_a,
+           "metric"_a = false,
+           "Each vertex's own marginal covariance, shape (n, d, d) in the order of ids (repeats allowed), in its tangent "
+           "space (se3: g2o's [dt; dq] [m^2, 1], metric=True gives [dt; dtheta] [m^2, rad^2]; se2 [dx dy dtheta] "
+           "[m^2, rad^2]; point [m^2]); fixed vertices are zero. All blocks come from one pass over CHOLMOD's factor "
+           "(its selected inverse): all of a graph's vertices cost about one factorisation. The ids must share one tangent "
+           "dimension d (InvalidArgumentError otherwise). A free gauge (nothing fixed, no prior) is "
+           "FailedPreconditionError.")
       .def("__repr__", &graphRepr);
 
   m.def("information_metric_to_g2o", [](ArrayLike omega) { return matrixArray(informationMetricToG2o(toMatrix(omega, "information", 6, 6))); },

@@ -69,6 +69,9 @@ class PyGraph {
 
   SolverSummary optimize(const OptimizeOptions& options);
   pybind11::array_t<double> marginals(pybind11::handle ids, bool metric);
+  /// Each vertex's own covariance block, (n, d, d) (MarginalCovariance::blocks: CHOLMOD's selected inverse);
+  /// every id must have the same tangent dimension d (InvalidArgumentError naming two that differ).
+  pybind11::array_t<double> marginalBlocks(pybind11::handle ids, bool metric);
   /// Σ eᵀΩe (robust: Σ ρ) at the current estimates; re-raises a custom edge's callback error.
   double chi2(bool robust) const;
 

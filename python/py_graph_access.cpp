@@ -162,6 +162,41 @@ SolverSummary PyGraph::optimize(const OptimizeOptions& options) {
   return summary;
 }
 
+py::array_t<double> PyGraph::marginalBlocks(py::handle ids_object, bool metric) {
+  const std::vector<int> ids = toIds(ids_object, "ids");
+  long dim = -1;
+  int first_id = -1;
+  for (int id : ids) {  // unknown ids are the library's NotFound below
+    const VertexBase* vertex = graph_.vertex(id);
+    if (vertex == nullptr) continue;
+    if (dim < 0) {
+      dim = vertex->tangentDim();
+      first_id = id;
+    } else if (vertex->tangentDim() != dim) {
+      raiseInvalid("marginal_blocks: the vertices' tangent dimensions differ (vertex " + std::to_string(first_id) + ": " +
+                   std::to_string(dim) + ", vertex " + std::to_string(id) + ": " + std::to_string(vertex->tangentDim()) +
+                   "); ask for each dimension separately, or use marginals(ids) for one joint matrix");
+    }
+  }
+  MarginalCovariance marginal;
+  callback_failure_->clear();
+  const Status computed = marginal.compute(optimizer(optimizer_kind_), graph_);
+  callback_failure_->raiseIfFailed();
+  check(computed);
+  const std::vector<Eigen::MatrixXd> blocks = unwrap(marginal.blocks(ids));
+  const long d = dim < 0 ? 0 : dim;
+  py::array_t<double> out({static_cast<long>(ids.size()), d, d});
+  double* data = out.mutable_data();
+  for (size_t k = 0; k < ids.size(); ++k) {
+    Eigen::MatrixXd sigma = blocks[k];
+    if (metric && vertexKindName(*graph_.vertex(ids[k])) == "se3") {  // g2o's [δt; δq] → metric [δt; δθ]
+      sigma = covarianceG2oToMetric(sigma);
+    }
+    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(data + k * d * d, d, d) = sigma;
+  }
+  return out;
+}
+
 py::array_t<double> PyGraph::marginals(py::handle ids_object, bool metric) {
   const std::vector<int> ids = toIds(ids_object, "ids");
   MarginalCovariance marginal;

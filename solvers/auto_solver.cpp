@@ -37,6 +37,11 @@ Status AutoSolver::solveColumnsAtRows(const double* B, double* X, int n, int col
   return active_->solveColumnsAtRows(B, X, n, columns, rows, row_count);
 }
 
+Status AutoSolver::inverseDiagonalBlocks(const int* offsets, const int* dims, int count, double* out) {
+  if (active_ == nullptr) return Status(StatusCode::kFailedPrecondition, "auto solver: selected inverse before analyze");
+  return active_->inverseDiagonalBlocks(offsets, dims, count, out);
+}
+
 std::string AutoSolver::name() const { return active_ == nullptr ? "auto" : "auto(" + active_->name() + ")"; }
 
 }  // namespace dualgraph

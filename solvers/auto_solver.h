@@ -25,6 +25,8 @@ class AutoSolver final : public LinearSolver {
   Status solve(const double* b, double* x) override;
   Status solveColumns(const double* B, double* X, int n, int columns) override;
   Status solveColumnsAtRows(const double* B, double* X, int n, int columns, const int* rows, int row_count) override;
+  bool hasSelectedInverse() const override { return active_ != nullptr && active_->hasSelectedInverse(); }
+  Status inverseDiagonalBlocks(const int* offsets, const int* dims, int count, double* out) override;
   /// "auto(<the active solver's name>)", "auto" before the first analyze.
   std::string name() const override;
 

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <vector>
 
+#include "dualgraph/solvers/cholmod_selected_inverse.h"
 #include "dualgraph/solvers/sparse_pattern.h"
 
 namespace dualgraph {
@@ -89,6 +90,7 @@ struct CholmodSolver::Impl {
   double factor_nnz = 0.0;
   double factor_flops = 0.0;
   std::string message;  // CHOLMOD's first message during the current call
+  CholmodSelectedInverse inverse;  // Σ on L's pattern: computed on demand, cleared by every factorisation
 
   /// A header over the caller's arrays, never freed by CHOLMOD (so never cholmod_free_sparse).
   static cholmod_sparse wrap(const SparseMatrixView& m, bool with_values) {
@@ -121,6 +123,7 @@ struct CholmodSolver::Impl {
     if (block_x != nullptr) cholmod_free_dense(&block_x, &common);
     if (block_y != nullptr) cholmod_free_dense(&block_y, &common);
     if (block_e != nullptr) cholmod_free_dense(&block_e, &common);
+    inverse.clear();
     analyzed = factorized = false;
     factor_nnz = factor_flops = 0.0;
   }
@@ -202,6 +205,7 @@ Status CholmodSolver::analyze(const SparseMatrixView& matrix) {
 Status CholmodSolver::factorize(const SparseMatrixView& matrix) {
   Impl& s = *impl_;
   s.factorized = false;
+  s.inverse.clear();
   if (!s.analyzed) return Status(StatusCode::kFailedPrecondition, "CHOLMOD factorize before a successful analyze");
   if (!samePattern(matrix, s.n, s.col_ptr.data(), s.row_index.data())) {
     return Status(StatusCode::kFailedPrecondition,
@@ -272,6 +276,21 @@ Status CholmodSolver::solveColumns(const double* B, double* X, int n, int column
   }
   std::memcpy(X, s.block_x->x, sizeof(double) * b.nzmax);
   return Status();
+}
+
+Status CholmodSolver::inverseDiagonalBlocks(const int* offsets, const int* dims, int count, double* out) {
+  Impl& s = *impl_;
+  if (!s.factorized) {
+    return Status(StatusCode::kFailedPrecondition, "CHOLMOD selected inverse before a successful factorize");
+  }
+  if (count < 0) return Status(StatusCode::kInvalidArgument, "CHOLMOD selected inverse: negative block count");
+  if (count == 0) return Status();
+  if (offsets == nullptr || dims == nullptr || out == nullptr) {
+    return Status(StatusCode::kInvalidArgument, "CHOLMOD selected inverse: null argument");
+  }
+  if (s.factor == nullptr) return Status(StatusCode::kInvalidArgument, "CHOLMOD selected inverse: the system is empty");
+  if (!s.inverse.valid()) DG_RETURN_IF_ERROR(s.inverse.compute(*s.factor));
+  return s.inverse.diagonalBlocks(offsets, dims, count, out);
 }
 
 }  // namespace dualgraph

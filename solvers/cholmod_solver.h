@@ -56,6 +56,11 @@ class CholmodSolver final : public LinearSolver {
   Status solve(const double* b, double* x) override;
   /// One cholmod_solve2 on the n × columns block (its own workspaces, kept between calls).
   Status solveColumns(const double* B, double* X, int n, int columns) override;
+  bool hasSelectedInverse() const override { return true; }
+  /// Diagonal blocks of H⁻¹ from the selected inverse of the last factor (solvers/cholmod_selected_inverse.h:
+  /// Takahashi's recursion, BLAS-3 per supernode), computed at the first call after each factorisation and
+  /// kept until the next: all blocks of a graph for about twice the flops of the factorisation.
+  Status inverseDiagonalBlocks(const int* offsets, const int* dims, int count, double* out) override;
   /// "cholmod-supernodal" or "cholmod-simplicial" (the kind of the analysed factor; with kAuto before any
   /// `analyze`: "cholmod-auto").
   std::string name() const override;

@@ -4,16 +4,10 @@
 #include <algorithm>
 #include <string>
 
+#include "dualgraph/solvers/gauge_check.h"
+
 namespace dualgraph {
 namespace {
-
-/// One requested vertex: where its rows sit in the system (-1 when fixed) and in the result.
-struct Requested {
-  int id;
-  int dim;
-  int system_offset;
-  int result_offset;
-};
 
 std::string vertexName(int id) { return "vertex " + std::to_string(id); }
 
@@ -27,13 +21,40 @@ Status MarginalCovariance::compute(Optimizer& optimizer, const Graph& graph) {
   optimizer_ = nullptr;
   graph_ = nullptr;
   fixed_snapshot_.clear();
-  DG_RETURN_IF_ERROR(optimizer.factorizeAtCurrentEstimate());
+  const Status factorized = optimizer.factorizeAtCurrentEstimate();
+  // Not positive definite may be a free gauge (below); any other failure leaves no system to look at.
+  if (!factorized.ok() && factorized.code() != StatusCode::kNotPositiveDefinite) return factorized;
   for (const VertexBase* vertex : optimizer.system().activeVertices()) {
     if (graph.vertex(vertex->id()) != vertex) {
       return Status(StatusCode::kInvalidArgument, "marginal covariance: the graph is not the optimiser's graph (" +
                                                       vertexName(vertex->id()) + " of the system is not in it)");
     }
   }
+  const std::vector<UnanchoredComponent> unanchored = unanchoredComponents(optimizer.system());
+  if (!unanchored.empty()) {
+    bool free_gauge = !factorized.ok();
+    if (!free_gauge) {
+      std::vector<int> rows;
+      for (const UnanchoredComponent& component : unanchored) rows.insert(rows.end(), component.rows.begin(), component.rows.end());
+      const Result<bool> singular = singularOnRows(optimizer.system(), optimizer.linearSolver(), rows);
+      if (!singular.ok()) return singular.status();
+      free_gauge = *singular;
+    }
+    if (free_gauge) {
+      // Name only the components that are singular themselves (H is block diagonal across components), when
+      // there are few enough to test one by one; a failed factorisation cannot tell them apart.
+      std::vector<UnanchoredComponent> singular_components;
+      if (factorized.ok() && unanchored.size() > 1 && unanchored.size() <= 8) {
+        for (const UnanchoredComponent& component : unanchored) {
+          const Result<bool> singular = singularOnRows(optimizer.system(), optimizer.linearSolver(), component.rows);
+          if (!singular.ok()) return singular.status();
+          if (*singular) singular_components.push_back(component);
+        }
+      }
+      return freeGaugeError(singular_components.empty() ? unanchored : singular_components);
+    }
+  }
+  DG_RETURN_IF_ERROR(factorized);
   fixed_snapshot_.reserve(graph.numVertices());
   for (const auto& [id, vertex] : graph.vertices()) fixed_snapshot_.emplace_back(vertex.get(), vertex->fixed());
   structure_version_ = graph.structureVersion();
@@ -63,10 +84,8 @@ Status MarginalCovariance::checkCurrent() const {
 
 Result<Eigen::MatrixXd> MarginalCovariance::block(int id) { return jointBlock({id}); }
 
-Result<Eigen::MatrixXd> MarginalCovariance::jointBlock(const std::vector<int>& ids) {
-  DG_RETURN_IF_ERROR(checkCurrent());
+Result<std::vector<MarginalCovariance::Requested>> MarginalCovariance::locate(const std::vector<int>& ids) const {
   const SparseSystem& system = optimizer_->system();
-
   std::vector<Requested> requested;
   requested.reserve(ids.size());
   int total = 0;
@@ -86,6 +105,55 @@ Result<Eigen::MatrixXd> MarginalCovariance::jointBlock(const std::vector<int>& i
     requested.push_back(Requested{id, vertex->tangentDim(), system_offset, total});
     total += vertex->tangentDim();
   }
+  return requested;
+}
+
+Result<std::vector<Eigen::MatrixXd>> MarginalCovariance::blocks(const std::vector<int>& ids) {
+  DG_RETURN_IF_ERROR(checkCurrent());
+  Result<std::vector<Requested>> located = locate(ids);
+  if (!located.ok()) return located.status();
+  std::vector<Eigen::MatrixXd> out;
+  out.reserve(ids.size());
+  LinearSolver& solver = optimizer_->linearSolver();
+  if (!solver.hasSelectedInverse()) {  // each vertex's unit columns
+    for (const Requested& r : *located) {
+      Result<Eigen::MatrixXd> sigma = jointBlock({r.id});
+      if (!sigma.ok()) return sigma.status();
+      out.push_back(std::move(*sigma));
+    }
+    return out;
+  }
+  std::vector<int> offsets;
+  std::vector<int> dims;
+  size_t entries = 0;
+  for (const Requested& r : *located) {
+    if (r.system_offset < 0) continue;
+    offsets.push_back(r.system_offset);
+    dims.push_back(r.dim);
+    entries += static_cast<size_t>(r.dim) * static_cast<size_t>(r.dim);
+  }
+  std::vector<double> values(entries);
+  const Status read = solver.inverseDiagonalBlocks(offsets.data(), dims.data(), static_cast<int>(offsets.size()), values.data());
+  if (!read.ok()) return Status(read.code(), "marginal covariance: " + read.message());
+  size_t at = 0;
+  for (const Requested& r : *located) {
+    if (r.system_offset < 0) {
+      out.push_back(Eigen::MatrixXd::Zero(r.dim, r.dim));
+      continue;
+    }
+    const Eigen::Map<const Eigen::MatrixXd> block(values.data() + at, r.dim, r.dim);
+    out.push_back(0.5 * (block + block.transpose()));  // exact up to round-off; a covariance is symmetric
+    at += static_cast<size_t>(r.dim) * static_cast<size_t>(r.dim);
+  }
+  return out;
+}
+
+Result<Eigen::MatrixXd> MarginalCovariance::jointBlock(const std::vector<int>& ids) {
+  DG_RETURN_IF_ERROR(checkCurrent());
+  Result<std::vector<Requested>> located = locate(ids);
+  if (!located.ok()) return located.status();
+  const std::vector<Requested>& requested = *located;
+  const int total = requested.empty() ? 0 : requested.back().result_offset + requested.back().dim;
   std::vector<int> sorted_ids(ids);
   std::sort(sorted_ids.begin(), sorted_ids.end());
   const auto duplicate = std::adjacent_find(sorted_ids.begin(), sorted_ids.end());

@@ -93,6 +93,9 @@ CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& o) {
   CLI::App* cmd = app.add_subcommand("optimize", "Optimise a g2o file and print a summary");
   cmd->add_option("input", o.input, "Input graph (g2o text format)");
   cmd->add_option("-o,--output", o.output, "Write the optimised graph here (only on success)");
+  cmd->add_option("--marginals", o.marginals,
+                  "After the optimisation, write every free vertex's marginal covariance here (CSV: a # header line, "
+                  "then per vertex its id and its D x D block row-major, in the vertex's tangent space)");
   cmd->add_option("-i,--iterations", o.iterations, "Maximum iterations")->check(nonNegative());
   cmd->add_option("--solver", o.algorithm, "lm (Levenberg-Marquardt) or gn (Gauss-Newton)")
       ->check(CLI::IsMember({"lm", "gn"}));

@@ -6,12 +6,14 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <vector>
 
 #include "dualgraph/core/atomic_file.h"
 #include "dualgraph/core/g2o_io.h"
 #include "dualgraph/core/optimizer.h"
 #include "dualgraph/solvers/chordal_init.h"
 #include "dualgraph/solvers/linear_solver_factory.h"
+#include "dualgraph/solvers/marginal_covariance.h"
 #include "dualgraph/frontend/io/json_writer.h"
 #include "dualgraph/types/register_types.h"
 
@@ -39,6 +41,42 @@ void listTypes(const TypeRegistry& registry) {
   }
 }
 
+/// Every free vertex's marginal covariance (those on an edge; a free vertex on no edge has none: counted in
+/// `left_out`) at the current estimate, written as `path` (atomically).
+Status writeMarginalsCsv(Optimizer& optimizer, const Graph& graph, const std::string& path, int& left_out) {
+  MarginalCovariance marginals;
+  DG_RETURN_IF_ERROR(marginals.compute(optimizer, graph));
+  std::vector<int> ids;
+  left_out = 0;
+  for (const auto& [id, vertex] : graph.vertices()) {
+    if (vertex->fixed()) continue;
+    if (optimizer.system().offsetOf(vertex.get()) < 0) {
+      ++left_out;
+      continue;
+    }
+    ids.push_back(id);
+  }
+  Result<std::vector<Eigen::MatrixXd>> blocks = marginals.blocks(ids);
+  if (!blocks.ok()) return blocks.status();
+  return writeFileAtomically(path, [&](std::ostream& out) {
+    out << "# id, then the vertex's D x D marginal covariance row-major, in its tangent space "
+           "(VERTEX_SE3:QUAT: g2o's [dt; dq] [m^2, 1]; VERTEX_SE2: [dx dy dtheta] [m^2, rad^2]; points: [m^2])\n";
+    char number[32];
+    for (size_t k = 0; k < ids.size(); ++k) {
+      out << ids[k];
+      const Eigen::MatrixXd& sigma = (*blocks)[k];
+      for (int r = 0; r < sigma.rows(); ++r) {
+        for (int c = 0; c < sigma.cols(); ++c) {
+          std::snprintf(number, sizeof(number), ",%.17g", sigma(r, c));
+          out << number;
+        }
+      }
+      out << '\n';
+    }
+    return out ? Status() : Status(StatusCode::kIoError, path + ": write failed");
+  });
+}
+
 }  // namespace
 
 int runOptimizeCommand(const OptimizeOptions& o) {
@@ -54,8 +92,9 @@ int runOptimizeCommand(const OptimizeOptions& o) {
   if (!linear_kind.ok()) return fail(linear_kind.status().message());
   const auto init_kind = parsePoseGraphInit(o.init);
   if (!init_kind.ok()) return fail(init_kind.status().message());
-  if (!o.output.empty()) {  // before the work, not after it
-    const Status writable = checkWritableFile(o.output);
+  for (const std::string* path : {&o.output, &o.marginals}) {  // before the work, not after it
+    if (path->empty()) continue;
+    const Status writable = checkWritableFile(*path);
     if (!writable.ok()) return fail(writable.message());
   }
 
@@ -107,6 +146,20 @@ int runOptimizeCommand(const OptimizeOptions& o) {
   Optimizer optimizer(graph, makeLinearSolver(*linear_kind));
   const SolverSummary summary = optimizer.optimize(params);
   const double ms_per_iteration = summary.iterations > 0 ? summary.total_ms / summary.iterations : 0.0;
+  // The marginals of the optimised graph (undamped H at the final estimate), before anything is printed or
+  // written: a failure (e.g. a free gauge with --gauge none) leaves no output at all.
+  double marginals_ms = 0.0;
+  if (!o.marginals.empty() && summary.usable()) {
+    const auto marginals_start = std::chrono::steady_clock::now();
+    int left_out = 0;
+    const Status written = writeMarginalsCsv(optimizer, graph, o.marginals, left_out);
+    if (!written.ok()) return fail("--marginals: " + written.message());
+    marginals_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - marginals_start).count();
+    if (left_out > 0) {
+      std::cerr << "warning: " << left_out << " free vertices on no edge have no marginal covariance (unbounded): "
+                << "not in " << o.marginals << "\n";
+    }
+  }
 
   if (o.json) {
     JsonObject json;
@@ -133,6 +186,7 @@ int runOptimizeCommand(const OptimizeOptions& o) {
         .add("solve_ms", summary.solve_ms)
         .add("update_ms", summary.update_ms)
         .add("factorizations", summary.factorizations)
+        .add("marginals_ms", marginals_ms)
         .add("peak_rss_mib", peakRssMiB());
     std::cout << json.str() << "\n";
   } else {
@@ -153,6 +207,9 @@ int runOptimizeCommand(const OptimizeOptions& o) {
                 summary.total_ms, ms_per_iteration, summary.linearize_ms, summary.assemble_ms,
                 summary.factorize_ms, summary.solve_ms, summary.update_ms, summary.structure_ms,
                 summary.linear_solver.c_str());
+    if (!o.marginals.empty() && summary.usable()) {
+      std::printf("marginals      %.1f ms, written to %s\n", marginals_ms, o.marginals.c_str());
+    }
     std::printf("peak memory    %.1f MiB\n", peakRssMiB());
   }
   if (!summary.usable()) return fail(std::string("optimisation failed: ") + terminationReasonName(summary.termination) +

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// `dualgraph optimize`: optimises a g2o file, prints a summary (or JSON), writes the result with -o.
+// `dualgraph optimize`: optimises a g2o file, prints a summary (or JSON), writes the result with -o (and marginals).
 #pragma once
 
 #include <string>
@@ -10,6 +10,8 @@ namespace dualgraph::tools {
 struct OptimizeOptions {
   std::string input;
   std::string output;
+  /// With a path: after the optimisation, every free vertex's marginal covariance as CSV (`--marginals`).
+  std::string marginals;
   int iterations = 100;
   std::string algorithm = "lm";
   std::string linear = "cholmod";

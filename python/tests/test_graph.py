@@ -80,6 +80,21 @@ class ParkingGarage(unittest.TestCase):
         metric = graph.marginal(far, metric=True)
         np.testing.assert_allclose(metric, dualgraph.covariance_g2o_to_metric(sigma), rtol=1e-12)
 
+    @unittest.skipUnless(os.path.exists(PARKING_GARAGE), "needs ../shared/data/posegraph/parking-garage.g2o")
+    def test_marginal_blocks_of_every_pose_equal_the_per_vertex_marginals(self):
+        graph = dualgraph.Graph.load(PARKING_GARAGE)
+        gauge = graph.fix_gauge("highest")
+        graph.optimize()
+        ids = graph.vertex_ids("se3")
+        blocks = graph.marginal_blocks(ids)
+        self.assertEqual(blocks.shape, (len(ids), 6, 6))
+        np.testing.assert_array_equal(blocks[list(ids).index(gauge)], 0.0)  # the gauge is known exactly
+        for k in [0, 1, 500, 1200, len(ids) - 2]:  # the per-vertex solve path, one vertex at a time
+            sigma = graph.marginal(int(ids[k]))
+            np.testing.assert_allclose(blocks[k], sigma, rtol=1e-9, atol=1e-9 * np.abs(sigma).max())
+        metric = graph.marginal_blocks(ids[:3], metric=True)
+        np.testing.assert_allclose(metric[1], dualgraph.covariance_g2o_to_metric(blocks[1]), rtol=1e-12)
+
 
 class BuiltFromNumpy(unittest.TestCase):
     def test_se3_chain_round_trips_through_a_g2o_file(self):
@@ -144,6 +159,29 @@ class BuiltFromNumpy(unittest.TestCase):
         with self.assertRaisesRegex(dualgraph.FailedPreconditionError, "vertex 9 is neither"):
             graph.optimize(init="chordal")
         self.assertTrue(graph.optimize(init="auto").usable)  # auto: the graph's own start
+
+    def test_marginal_blocks_need_one_dimension_and_an_anchored_gauge(self):
+        graph = dualgraph.Graph()
+        graph.add_se3_vertices([0, 1], [[0, 0, 0, 0, 0, 0, 1], [1, 0, 0, 0, 0, 0, 1]])
+        graph.add_point_vertices([2], [[1.0, 2.0, 3.0]])
+        graph.add_se3_edges([[0, 1]], [[1, 0, 0, 0, 0, 0, 1]], np.eye(6))
+        graph.add_se3_point_edges([[1, 2]], [[0.0, 2.0, 3.0]], np.eye(3))
+        with self.assertRaisesRegex(dualgraph.FailedPreconditionError, "gauge is free.*fix a vertex"):
+            graph.marginal_blocks([0, 1])  # nothing fixed, no prior
+        graph.set_fixed(0)
+        with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "dimensions differ \\(vertex 1: 6, vertex 2: 3\\)"):
+            graph.marginal_blocks([1, 2])
+        poses = graph.marginal_blocks([1, 0, 1])
+        self.assertEqual(poses.shape, (3, 6, 6))
+        np.testing.assert_array_equal(poses[1], 0.0)
+        np.testing.assert_allclose(poses[0], graph.marginal(1), rtol=1e-9, atol=1e-12)
+        np.testing.assert_array_equal(poses[0], poses[2])
+        point = graph.marginal_blocks([2])
+        self.assertEqual(point.shape, (1, 3, 3))
+        np.testing.assert_allclose(point[0], graph.marginal(2), rtol=1e-9, atol=1e-12)
+        self.assertEqual(graph.marginal_blocks([]).shape, (0, 0, 0))
+        with self.assertRaises(dualgraph.NotFoundError):
+            graph.marginal_blocks([1, 9])
 
     def test_se2_square_with_a_loop_closure(self):
         rng = np.random.default_rng(3)

@@ -127,6 +127,9 @@ TEST(OptimizeCli, JsonSummaryHasTheDocumentedKeys) {
                           "ms_per_iteration", "vertices", "edges"}) {
     EXPECT_NE(run.out.find("\"" + std::string(key) + "\":"), std::string::npos) << key;
   }
+  for (const char* key : {"factorize_ms", "marginals_ms", "gauge_vertex", "linear_solver"}) {
+    EXPECT_NE(run.out.find("\"" + std::string(key) + "\":"), std::string::npos) << key;
+  }
   EXPECT_EQ(run.out.front(), '{');
   EXPECT_LT(jsonNumber(run.out, "final_chi2"), 1e-12) << run.out;
   EXPECT_GT(jsonNumber(run.out, "initial_chi2"), 1e-3) << run.out;
@@ -164,6 +167,82 @@ TEST(OptimizeCli, BundledDemoDataOptimisesToG2oQuality) {
   const CommandRun run = runDualgraph("optimize " + input + " --json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_LE(jsonNumber(run.out, "final_chi2"), 1.2386906 + 5e-7) << run.out;
+}
+
+/// The lines of a --marginals file after its '#' header, each split at commas into numbers.
+std::vector<std::vector<double>> readMarginalsCsv(const std::string& path, std::string* header) {
+  std::istringstream in(readFile(path));
+  std::string line;
+  std::getline(in, line);
+  *header = line;
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::istringstream fields(line);
+    std::string field;
+    while (std::getline(fields, field, ',')) row.push_back(std::stod(field));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+TEST(OptimizeCli, MarginalsOfAPointWithTwoPriorsAreTheInverseOfTheSummedInformation) {
+  // Linear: H = Ω₁ + Ω₂ exactly, so the marginal is (Ω₁ + Ω₂)⁻¹; upper triangles as g2o writes them.
+  const std::string input = writeFile("point.g2o",
+                                      "VERTEX_TRACKXYZ 4 1 2 3\n"
+                                      "EDGE_POINTXYZ_PRIOR 4 1.1 2 3 4 1 1 2 0 1\n"
+                                      "EDGE_POINTXYZ_PRIOR 4 0.9 2 3 2 0 0 1 0 3\n");
+  const std::string csv = tempDir() + "/point_marginals.csv";
+  const CommandRun run = runDualgraph("optimize " + input + " --gauge none --json --marginals " + csv);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::string header;
+  const std::vector<std::vector<double>> rows = readMarginalsCsv(csv, &header);
+  EXPECT_EQ(header.front(), '#');
+  ASSERT_EQ(rows.size(), 1u);
+  ASSERT_EQ(rows[0].size(), 10u);
+  EXPECT_EQ(rows[0][0], 4.0);
+  // Ω₁ + Ω₂ = [[6, 1, 1], [1, 3, 0], [1, 0, 4]]: det 65, inverse = adjugate / 65.
+  const double expected[9] = {12, -4, -3, -4, 23, 1, -3, 1, 17};
+  for (int k = 0; k < 9; ++k) EXPECT_NEAR(rows[0][1 + k], expected[k] / 65.0, 1e-14) << k;
+  EXPECT_GE(jsonNumber(run.out, "marginals_ms"), 0.0) << run.out;
+}
+
+TEST(OptimizeCli, MarginalsWritesOneSymmetricBlockPerFreeVertex) {
+  const std::string input = testing::sharedPath("data/posegraph/smallGrid3D.g2o");
+  const std::string csv = tempDir() + "/grid_marginals.csv";
+  const CommandRun run = runDualgraph("optimize " + input + " --json --marginals " + csv);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::string header;
+  const std::vector<std::vector<double>> rows = readMarginalsCsv(csv, &header);
+  EXPECT_NE(header.find("row-major"), std::string::npos) << header;
+  EXPECT_EQ(static_cast<double>(rows.size()), jsonNumber(run.out, "vertices") - 1) << "all but the gauge";
+  const int gauge = static_cast<int>(jsonNumber(run.out, "gauge_vertex"));
+  for (size_t k = 0; k < rows.size(); ++k) {
+    ASSERT_EQ(rows[k].size(), 37u) << "line " << k;
+    EXPECT_NE(static_cast<int>(rows[k][0]), gauge);
+    if (k > 0) {
+      EXPECT_GT(rows[k][0], rows[k - 1][0]) << "increasing ids";
+    }
+    for (int r = 0; r < 6; ++r) {
+      EXPECT_GT(rows[k][1 + 7 * r], 0.0) << "variance " << r << " of line " << k;
+      for (int c = 0; c < 6; ++c) EXPECT_EQ(rows[k][1 + 6 * r + c], rows[k][1 + 6 * c + r]);
+    }
+  }
+  EXPECT_GT(jsonNumber(run.out, "marginals_ms"), 0.0) << run.out;
+}
+
+TEST(OptimizeCli, MarginalsOfAFreeGaugeAreAnErrorSayingHowToFixItAndWriteNothing) {
+  const std::string input = writeFile("free.g2o", std::string(kTwoPoses) + kGoodEdge);
+  const std::string csv = tempDir() + "/free_marginals.csv";
+  const std::string output = tempDir() + "/free.out.g2o";
+  const CommandRun run = runDualgraph("optimize " + input + " --gauge none --marginals " + csv + " -o " + output);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("gauge is free"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("--gauge"), std::string::npos) << run.err;
+  EXPECT_FALSE(testing::fileExists(csv));
+  EXPECT_FALSE(testing::fileExists(output));
+  EXPECT_EQ(runDualgraph("optimize " + input + " --marginals " + csv).exit_code, 0) << "with the default gauge";
+  EXPECT_TRUE(testing::fileExists(csv));
 }
 
 }  // namespace
