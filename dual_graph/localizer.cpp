@@ -267,8 +267,8 @@ void Localizer::optimizeAndRecord(KeyframeStats& row, double start_ms) {
   }
   row.keyframe = static_cast<int>(main_->keyframes().size()) - 1;
   row.t = main_->keyframes().back().t;
-  row.main_vertices = static_cast<int>(main_->totalVertices());
-  row.main_edges = static_cast<int>(main_->totalEdges());
+  row.main_vertices = static_cast<int>(given_up_graph_keyframes_ + main_->totalVertices());
+  row.main_edges = static_cast<int>(given_up_graph_edges_ + main_->totalEdges());
   row.active_edges = static_cast<int>(main_->graph().numEdges());
   row.iterations = summary.iterations;
   row.termination = terminationReasonName(summary.termination);
@@ -330,6 +330,8 @@ Result<double> Localizer::relocalize(const Eigen::Isometry3d& world_T_odom, doub
   if (history_.empty()) return Status(StatusCode::kFailedPrecondition, "relocalize: no odometry yet");
   DG_RETURN_IF_ERROR(checkRigidTransform(world_T_odom, "relocalize: world_T_odom"));
   given_up_keyframes_ = keyframeTrajectory();
+  given_up_graph_keyframes_ += main_->keyframes().size();
+  given_up_graph_edges_ += main_->totalEdges();
   const int dropped = static_cast<int>(pending_.size() + temporary_.numObservations()) + single_observations_;
   counters_.observations_without_frame += dropped;
   pending_.clear();

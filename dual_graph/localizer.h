@@ -33,8 +33,11 @@ struct CorrectedPose {
 struct KeyframeStats {
   int keyframe = 0;            ///< index of the newest keyframe
   double t = 0.0;              ///< its time [s]
+  /// Vertices the run's main graph stands for (marginalised keyframes included), plus the keyframes of the main
+  /// graphs given up before a `relocalize` / `resumeWithNewGraph` (their gates are the same gates again).
   int main_vertices = 0;
-  int main_edges = 0;          ///< edges the main graph stands for (folded into marginal priors included)
+  /// Edges the main graph stands for (folded into marginal priors included), plus those of the graphs given up.
+  int main_edges = 0;
   int active_edges = 0;        ///< edges in the optimisation (fewer than main_edges in fixed-lag mode)
   int iterations = 0;          ///< LM iterations of the main graph
   /// Main-graph update wall time: the new edges' χ² gate (its marginals), LM, and (fixed-lag) the
@@ -192,7 +195,9 @@ class Localizer {
   std::vector<KeyframeStats> stats_;
   LocalizerCounters counters_;
   TrackingMonitor monitor_;
-  std::vector<CorrectedPose> given_up_keyframes_;  ///< keyframes of the main graphs before a `relocalize`
+  std::vector<CorrectedPose> given_up_keyframes_;
+  size_t given_up_graph_keyframes_ = 0;  ///< keyframes of the main graphs given up (KeyframeStats::main_vertices)
+  size_t given_up_graph_edges_ = 0;      ///< and their edges (KeyframeStats::main_edges)  ///< keyframes of the main graphs before a `relocalize`
 };
 
 }  // namespace dualgraph
