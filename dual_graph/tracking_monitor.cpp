@@ -39,7 +39,10 @@ void TrackingMonitor::addUpdate(double t, int added, int rejected_observations) 
   newest_t_ = std::max(newest_t_, t);
   if (added > 0) {
     if (state_ == TrackingState::kLost) {
-      if (recentFailures() > 0 || rejected_observations > 0) return;  // not clean evidence: stay lost
+      if (recentFailures() > 0 || rejected_observations > 0) {  // not clean evidence: stay lost
+        addFailures(t, rejected_observations);
+        return;
+      }
       state_ = TrackingState::kTracking;
       ++recoveries_;
     }
