@@ -2,7 +2,6 @@
 #include "dualgraph/dual_graph/marginal_prior.h"
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 
 #include "dualgraph/types/se3_math.h"
@@ -12,8 +11,8 @@
 namespace dualgraph {
 namespace {
 
-/// Eigen-directions of Λ below this fraction of its largest eigenvalue carry no information.
-constexpr double kRelativeEigenFloor = 1e-12;
+/// Pivots of Λ's LDLᵀ below this fraction of the largest carry no information.
+constexpr double kRelativePivotFloor = 1e-12;
 
 bool isPose(const VertexBase* vertex) { return dynamic_cast<const VertexSE3*>(vertex) != nullptr; }
 bool isPoint(const VertexBase* vertex) { return dynamic_cast<const VertexPointXYZ*>(vertex) != nullptr; }
@@ -178,22 +177,28 @@ Result<MarginalizationOutcome> marginalizeVertex(Graph& graph, int id) {
     Eigen::MatrixXd lambda = H.bottomRightCorner(nb, nb) - Hbm * llt.solve(Hbm.transpose());
     lambda = 0.5 * (lambda + lambda.transpose()).eval();
     const Eigen::VectorXd beta = g.tail(nb) - Hbm * llt.solve(g.head(dm));
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(lambda);
-    if (eigen.info() != Eigen::Success) {
-      return Status(StatusCode::kNumericalError, "marginalise vertex " + std::to_string(id) + ": eigen-decomposition failed");
+    // Λ = Pᵀ L D Lᵀ P (LDLᵀ with diagonal pivoting: O(n³/3), against ≈ 9n³ for an eigen-decomposition, the
+    // largest cost of a fold over 11 gates), so J = D^½ Lᵀ P gives JᵀJ = Λ and e₀ = D^-½ L⁻¹ P β gives Jᵀe₀ = β.
+    // With pivoting the negligible pivots come last: dropping them keeps the leading rows exact.
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(lambda);
+    if (ldlt.info() != Eigen::Success) {
+      return Status(StatusCode::kNumericalError, "marginalise vertex " + std::to_string(id) + ": LDLT of the prior failed");
     }
-    const double floor = kRelativeEigenFloor * std::max(eigen.eigenvalues().maxCoeff(), 0.0);
-    std::vector<int> kept;
-    for (int k = 0; k < nb; ++k) {
-      if (eigen.eigenvalues()(k) > floor && eigen.eigenvalues()(k) > 0.0) kept.push_back(k);
-    }
-    jacobian.resize(static_cast<int>(kept.size()), nb);
-    error0.resize(static_cast<int>(kept.size()));
-    for (size_t r = 0; r < kept.size(); ++r) {
-      const double value = eigen.eigenvalues()(kept[r]);
-      const Eigen::VectorXd direction = eigen.eigenvectors().col(kept[r]);
-      jacobian.row(static_cast<int>(r)) = std::sqrt(value) * direction.transpose();
-      error0(static_cast<int>(r)) = direction.dot(beta) / std::sqrt(value);
+    const Eigen::VectorXd d = ldlt.vectorD();
+    const double floor = kRelativePivotFloor * std::max(d.maxCoeff(), 0.0);
+    int rank = 0;
+    while (rank < nb && d(rank) > floor && d(rank) > 0.0) ++rank;
+    const Eigen::MatrixXd lower = ldlt.matrixL();
+    const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> permutation(ldlt.transpositionsP());  // P
+    const Eigen::MatrixXd root = lower.transpose() * permutation;  // Lᵀ P
+    Eigen::VectorXd whitened = permutation * beta;
+    lower.triangularView<Eigen::UnitLower>().solveInPlace(whitened);  // L⁻¹ P β
+    jacobian.resize(rank, nb);
+    error0.resize(rank);
+    for (int r = 0; r < rank; ++r) {
+      const double scale = std::sqrt(d(r));
+      jacobian.row(r) = scale * root.row(r);
+      error0(r) = whitened(r) / scale;
     }
   }
   std::unique_ptr<EdgeMarginalPrior> prior;
