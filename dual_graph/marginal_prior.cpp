@@ -48,6 +48,7 @@ Result<std::unique_ptr<EdgeMarginalPrior>> EdgeMarginalPrior::create(const std::
   edge->error_ = error0;
   edge->delta_ = Eigen::VectorXd::Zero(columns);
   edge->information_ = Eigen::MatrixXd::Identity(rows, rows);
+  edge->hessian_.noalias() = jacobian.transpose() * jacobian;
   for (VertexBase* vertex : vertices) {
     const int dim = vertex->tangentDim();
     edge->is_pose_.push_back(isPose(vertex));
@@ -145,19 +146,31 @@ Result<MarginalizationOutcome> marginalizeVertex(Graph& graph, int id) {
     const double weight = kernel != nullptr ? kernel->robustify(edge->chi2())[1] : 1.0;
     const Eigen::Map<const Eigen::MatrixXd> information(edge->informationData(), rows, rows);
     const Eigen::Map<const Eigen::VectorXd> error(edge->errorData(), rows);
+    const Eigen::VectorXd weighted_error = weight * (information * error);
+    // An earlier prior's JᵀΩJ is constant and kept by the edge: its blocks are copied, not formed.
+    const double* constant = kernel == nullptr ? edge->constantHessianData() : nullptr;
+    std::vector<int> column(edge->numVertices() + 1, 0);
+    for (size_t a = 0; a < edge->numVertices(); ++a) column[a + 1] = column[a] + edge->vertex(a)->tangentDim();
+    const Eigen::Map<const Eigen::MatrixXd> full(constant, constant != nullptr ? column.back() : 0,
+                                                 constant != nullptr ? column.back() : 0);
     for (size_t a = 0; a < edge->numVertices(); ++a) {
       const VertexBase* va = edge->vertex(a);
       if (va->fixed()) continue;
+      const int da = va->tangentDim();
       const int oa = offset[std::find(order.begin(), order.end(), va) - order.begin()];
-      const Eigen::Map<const Eigen::MatrixXd> Ja(edge->jacobianData(a), rows, va->tangentDim());
-      const Eigen::MatrixXd JaT_omega = weight * Ja.transpose() * information;
-      g.segment(oa, va->tangentDim()) += JaT_omega * error;
+      const Eigen::Map<const Eigen::MatrixXd> Ja(edge->jacobianData(a), rows, da);
+      g.segment(oa, da).noalias() += Ja.transpose() * weighted_error;
+      const Eigen::MatrixXd JaT_omega = constant != nullptr ? Eigen::MatrixXd() : weight * Ja.transpose() * information;
       for (size_t b = 0; b < edge->numVertices(); ++b) {
         const VertexBase* vb = edge->vertex(b);
         if (vb->fixed()) continue;
+        const int db = vb->tangentDim();
         const int ob = offset[std::find(order.begin(), order.end(), vb) - order.begin()];
-        const Eigen::Map<const Eigen::MatrixXd> Jb(edge->jacobianData(b), rows, vb->tangentDim());
-        H.block(oa, ob, va->tangentDim(), vb->tangentDim()) += JaT_omega * Jb;
+        if (constant != nullptr) {
+          H.block(oa, ob, da, db) += full.block(column[a], column[b], da, db);
+        } else {
+          H.block(oa, ob, da, db) += JaT_omega * Eigen::Map<const Eigen::MatrixXd>(edge->jacobianData(b), rows, db);
+        }
       }
     }
   }
