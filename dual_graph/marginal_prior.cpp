@@ -3,6 +3,8 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <utility>
+#include <vector>
 
 #include "dualgraph/types/se3_math.h"
 #include "dualgraph/types/vertex_point_xyz.h"
@@ -11,7 +13,7 @@
 namespace dualgraph {
 namespace {
 
-/// Pivots of Λ's LDLᵀ below this fraction of the largest carry no information.
+/// Pivots of Λ's Cholesky below this fraction of its largest diagonal entry carry no information.
 constexpr double kRelativePivotFloor = 1e-12;
 
 bool isPose(const VertexBase* vertex) { return dynamic_cast<const VertexSE3*>(vertex) != nullptr; }
@@ -20,6 +22,46 @@ bool isPoint(const VertexBase* vertex) { return dynamic_cast<const VertexPointXY
 Status unsupported(const VertexBase* vertex) {
   return Status(StatusCode::kInvalidArgument, "marginalisation supports SE(3) and point vertices only; vertex " +
                                                   std::to_string(vertex->id()) + " is neither");
+}
+
+/// J (rank × n) and e₀ with JᵀJ = Λ and Jᵀe₀ = β, Λ symmetric positive semi-definite: Λ = Pᵀ L Lᵀ P by
+/// Cholesky with diagonal pivoting on the updated Schur complement (as LAPACK's dpstrf), stopping when the
+/// largest remaining pivot is below kRelativePivotFloor of Λ's largest diagonal entry, so J = Lᵀ P has one row
+/// per non-negligible pivot (Λ's numerical rank) and e₀ = L₁₁⁻¹ (Pβ)₁. O(n³/3), against ≈ 9n³ for the
+/// eigen-decomposition this replaced, the largest cost of a fold over 11 gates (72 coordinates). Eigen's own
+/// LDLT pivots on the not-yet-updated diagonal, so a rank-deficient Λ can meet a zero pivot before non-zero
+/// ones: not usable here.
+void pivotedCholeskyRoot(Eigen::MatrixXd S, const Eigen::VectorXd& beta, Eigen::MatrixXd& jacobian,
+                         Eigen::VectorXd& error0) {
+  const int n = static_cast<int>(S.rows());
+  std::vector<int> position(n);  // coordinate at pivoted position k
+  for (int k = 0; k < n; ++k) position[k] = k;
+  const double floor = kRelativePivotFloor * std::max(S.diagonal().maxCoeff(), 0.0);
+  int rank = 0;
+  for (int k = 0; k < n; ++k) {
+    int best = 0;
+    const double pivot = S.diagonal().tail(n - k).maxCoeff(&best);
+    best += k;
+    if (!(pivot > floor) || !(pivot > 0.0)) break;
+    if (best != k) {
+      S.row(k).swap(S.row(best));
+      S.col(k).swap(S.col(best));
+      std::swap(position[k], position[best]);
+    }
+    const int m = n - k - 1;
+    S(k, k) = std::sqrt(S(k, k));
+    S.col(k).tail(m) /= S(k, k);
+    S.bottomRightCorner(m, m).noalias() -= S.col(k).tail(m) * S.col(k).tail(m).transpose();
+    ++rank;
+  }
+  // L is the lower trapezoid of S's first `rank` columns; row r of J is column r of L, at the coordinates' places.
+  jacobian.setZero(rank, n);
+  Eigen::VectorXd head(rank);
+  for (int r = 0; r < rank; ++r) {
+    for (int k = r; k < n; ++k) jacobian(r, position[k]) = S(k, r);
+    head(r) = beta(position[r]);
+  }
+  error0 = S.topLeftCorner(rank, rank).triangularView<Eigen::Lower>().solve(head);
 }
 
 }  // namespace
@@ -190,29 +232,7 @@ Result<MarginalizationOutcome> marginalizeVertex(Graph& graph, int id) {
     Eigen::MatrixXd lambda = H.bottomRightCorner(nb, nb) - Hbm * llt.solve(Hbm.transpose());
     lambda = 0.5 * (lambda + lambda.transpose()).eval();
     const Eigen::VectorXd beta = g.tail(nb) - Hbm * llt.solve(g.head(dm));
-    // Λ = Pᵀ L D Lᵀ P (LDLᵀ with diagonal pivoting: O(n³/3), against ≈ 9n³ for an eigen-decomposition, the
-    // largest cost of a fold over 11 gates), so J = D^½ Lᵀ P gives JᵀJ = Λ and e₀ = D^-½ L⁻¹ P β gives Jᵀe₀ = β.
-    // With pivoting the negligible pivots come last: dropping them keeps the leading rows exact.
-    const Eigen::LDLT<Eigen::MatrixXd> ldlt(lambda);
-    if (ldlt.info() != Eigen::Success) {
-      return Status(StatusCode::kNumericalError, "marginalise vertex " + std::to_string(id) + ": LDLT of the prior failed");
-    }
-    const Eigen::VectorXd d = ldlt.vectorD();
-    const double floor = kRelativePivotFloor * std::max(d.maxCoeff(), 0.0);
-    int rank = 0;
-    while (rank < nb && d(rank) > floor && d(rank) > 0.0) ++rank;
-    const Eigen::MatrixXd lower = ldlt.matrixL();
-    const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> permutation(ldlt.transpositionsP());  // P
-    const Eigen::MatrixXd root = lower.transpose() * permutation;  // Lᵀ P
-    Eigen::VectorXd whitened = permutation * beta;
-    lower.triangularView<Eigen::UnitLower>().solveInPlace(whitened);  // L⁻¹ P β
-    jacobian.resize(rank, nb);
-    error0.resize(rank);
-    for (int r = 0; r < rank; ++r) {
-      const double scale = std::sqrt(d(r));
-      jacobian.row(r) = scale * root.row(r);
-      error0(r) = whitened(r) / scale;
-    }
+    pivotedCholeskyRoot(std::move(lambda), beta, jacobian, error0);
   }
   std::unique_ptr<EdgeMarginalPrior> prior;
   if (error0.size() > 0) {

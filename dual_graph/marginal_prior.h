@@ -17,8 +17,8 @@ namespace dualgraph {
 /// δᵢ are the vertices' local coordinates relative to their linearisation points x̄ᵢ:
 /// VertexSE3 (world_T_x): δ = g2oChart(x̄⁻¹·x) = [t; q.vec] (m, unit quaternion vector part, w ≥ 0);
 /// VertexPointXYZ (p, m): δ = p − p̄. So χ² = ‖e₀ + Jδ‖² = const + 2βᵀδ + δᵀΛδ reproduces the
-/// marginalised edges' quadratic model (Λ = JᵀJ, β = Jᵀe₀) in g2o's χ² convention. J = D^½ Lᵀ P from
-/// the pivoted LDLᵀ of Λ (Pᵀ L D Lᵀ P), one row per pivot above round-off (Λ's numerical rank). Jacobians are first-estimate Jacobians: J itself, the exact
+/// marginalised edges' quadratic model (Λ = JᵀJ, β = Jᵀe₀) in g2o's χ² convention. J = Lᵀ P from the
+/// Cholesky of Λ with diagonal pivoting (Λ = Pᵀ L Lᵀ P), one row per pivot above round-off (Λ's numerical rank). Jacobians are first-estimate Jacobians: J itself, the exact
 /// derivative at x̄ and within O(|δ|) of it elsewhere (the chart derivative is I + O(|δ|)); re-evaluating
 /// the chart derivative would rotate the prior's information a little at every later fold (a measured
 /// drift, see marginal_prior.cpp), the reason fixed-lag VIO uses first-estimate Jacobians too.
