@@ -52,6 +52,13 @@ class EdgeBase {
   virtual const double* informationData() const = 0;
   virtual double* mutableInformationData() = 0;
 
+  /// Optional: JᵀΩJ over all the edge's vertices (Σ tangentDim rows and columns, vertices in slot order,
+  /// column-major) when it does not depend on the estimate — an edge affine in its vertices' coordinates
+  /// with fixed Jacobians and information, such as a marginalisation prior with first-estimate Jacobians.
+  /// Without a robust kernel the assembly then copies its blocks instead of forming them from the
+  /// Jacobians (the same values up to round-off). Null (the default): formed from the Jacobians.
+  virtual const double* constantHessianData() const { return nullptr; }
+
   /// eᵀΩe of the last computed error (without robust kernel).
   virtual double chi2() const;
   /// ρ(eᵀΩe) with the robust kernel, eᵀΩe without.

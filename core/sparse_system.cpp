@@ -159,6 +159,11 @@ void SparseSystem::computeEdgeDynamic(size_t edge_index, double* out) {
   weighted_error.noalias() = weight * (information * error);
   const int v_begin = edge_vertex_begin_[edge_index];
   const int num_slots = edge_vertex_begin_[edge_index + 1] - v_begin;
+  const double* constant = edge.robustKernel() == nullptr ? edge.constantHessianData() : nullptr;
+  if (constant != nullptr) {  // blocks copied from the edge's own JᵀΩJ (no m × m products)
+    computeEdgeFromConstantHessian(edge, constant, weighted_error.data(), v_begin, num_slots, out);
+    return;
+  }
   for (int a = 0; a < num_slots; ++a) {
     if (edge_vertex_offset_[v_begin + a] < 0) continue;
     const int da = edge.vertex(a)->tangentDim();
@@ -173,6 +178,35 @@ void SparseSystem::computeEdgeDynamic(size_t edge_index, double* out) {
       MatrixMap(out, da, db).noalias() = jt_w * ConstMatrixMap(edge.jacobianData(b), m, db);
       out += da * db;
     }
+  }
+}
+
+void SparseSystem::computeEdgeFromConstantHessian(const EdgeBase& edge, const double* hessian,
+                                                  const double* weighted_error, int v_begin, int num_slots,
+                                                  double* out) const {
+  using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd>;
+  const int m = edge.errorDim();
+  int total = 0;
+  for (int a = 0; a < num_slots; ++a) total += edge.vertex(a)->tangentDim();
+  const ConstMatrixMap full(hessian, total, total);
+  const Eigen::Map<const Eigen::VectorXd> we(weighted_error, m);
+  int column_a = 0;
+  for (int a = 0; a < num_slots; ++a) {
+    const int da = edge.vertex(a)->tangentDim();
+    if (edge_vertex_offset_[v_begin + a] >= 0) {
+      Eigen::Map<Eigen::VectorXd>(out, da).noalias() = -(ConstMatrixMap(edge.jacobianData(a), m, da).transpose() * we);
+      out += da;
+      int column_b = column_a;
+      for (int b = a; b < num_slots; ++b) {
+        const int db = edge.vertex(b)->tangentDim();
+        if (edge_vertex_offset_[v_begin + b] >= 0) {
+          Eigen::Map<Eigen::MatrixXd>(out, da, db) = full.block(column_a, column_b, da, db);
+          out += da * db;
+        }
+        column_b += db;
+      }
+    }
+    column_a += da;
   }
 }
 

@@ -88,6 +88,10 @@ class SparseSystem {
   void assembleEdgeFixed(size_t edge_index);
   /// Writes any other edge's Jᵀ W e parts and Jᵀ W J blocks (slot order) to `out`.
   void computeEdgeDynamic(size_t edge_index, double* out);
+  /// The same for an edge that supplies its constant JᵀΩJ (`hessian`, EdgeBase::constantHessianData):
+  /// the blocks are copied from it, b from the Jacobians and `weighted_error` = Ω e.
+  void computeEdgeFromConstantHessian(const EdgeBase& edge, const double* hessian, const double* weighted_error,
+                                      int v_begin, int num_slots, double* out) const;
   /// Adds what `computeEdge*` wrote into H and b.
   void scatterEdge(size_t edge_index, const double* in);
   void scatter(const BlockSlot& slot, const double* block, int rows, int cols);

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <tuple>
 
 #include "dualgraph/solvers/sparse_pattern.h"
 
@@ -55,29 +54,36 @@ Status EigenSolver::computeAmdOrdering() {
 
 void EigenSolver::buildPermutedPattern() {
   const int n = static_cast<int>(col_ptr_.size()) - 1;
-  // The permuted upper triangle, and which input entry fills each of its entries (the input's own
-  // order when the ordering is natural: its columns' rows are sorted).
-  std::vector<std::tuple<int, int, int>> entries;  // (column, row, input entry) in the new order
-  entries.reserve(row_index_.size());
+  const int nnz = static_cast<int>(row_index_.size());
+  // The permuted upper triangle, and which input entry fills each of its entries: each input entry lands at
+  // (row, column) = (min, max) of its two new positions. Two counting passes (by row, then stably by column)
+  // give the columns with their rows sorted in O(nnz + n), as a comparison sort would in O(nnz log nnz).
+  std::vector<int> low(nnz), high(nnz);
   for (int j = 0; j < n; ++j) {
     for (int e = col_ptr_[j]; e < col_ptr_[j + 1]; ++e) {
       const int a = new_position_[row_index_[e]], b = new_position_[j];
-      entries.emplace_back(std::max(a, b), std::min(a, b), e);
+      low[e] = std::min(a, b);
+      high[e] = std::max(a, b);
     }
   }
-  if (ordering_ != EigenOrdering::kNatural) std::sort(entries.begin(), entries.end());
+  std::vector<int> start(n + 1, 0), by_row(nnz);
+  for (int e = 0; e < nnz; ++e) ++start[low[e] + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  for (int e = 0; e < nnz; ++e) by_row[start[low[e]]++] = e;
   permuted_.resize(n, n);
-  permuted_.resizeNonZeros(static_cast<Eigen::Index>(entries.size()));
-  source_entry_.assign(entries.size(), 0);
-  std::fill(permuted_.outerIndexPtr(), permuted_.outerIndexPtr() + n + 1, 0);
-  for (size_t k = 0; k < entries.size(); ++k) {
-    const auto [column, row, source] = entries[k];
-    ++permuted_.outerIndexPtr()[column + 1];
-    permuted_.innerIndexPtr()[k] = row;
+  permuted_.resizeNonZeros(static_cast<Eigen::Index>(nnz));
+  int* outer = permuted_.outerIndexPtr();
+  std::fill(outer, outer + n + 1, 0);
+  for (int e = 0; e < nnz; ++e) ++outer[high[e] + 1];
+  std::partial_sum(outer, outer + n + 1, outer);
+  std::vector<int> next(outer, outer + n);
+  source_entry_.assign(nnz, 0);
+  for (const int e : by_row) {
+    const int k = next[high[e]]++;
+    permuted_.innerIndexPtr()[k] = low[e];
     permuted_.valuePtr()[k] = 0.0;
-    source_entry_[k] = source;
+    source_entry_[k] = e;
   }
-  std::partial_sum(permuted_.outerIndexPtr(), permuted_.outerIndexPtr() + n + 1, permuted_.outerIndexPtr());
 }
 
 Status EigenSolver::factorize(const SparseMatrixView& view) {
