@@ -310,10 +310,9 @@ void Localizer::resumeTracking() {
 Status Localizer::resumeWithNewGraph(double sigma_t, double sigma_r) {
   if (history_.empty()) return Status(StatusCode::kFailedPrecondition, "resumeWithNewGraph: no odometry yet");
   if (monitor_.state() != TrackingState::kLost) return Status();
-  const int relocalizations = counters_.relocalizations;
-  Result<double> anchor = relocalize(mapTOdom(), std::numeric_limits<double>::infinity(), sigma_t, sigma_r);
+  // The same frame in a new graph: a recovery, not a relocalisation.
+  Result<double> anchor = startGraph(mapTOdom(), std::numeric_limits<double>::infinity(), sigma_t, sigma_r);
   if (!anchor.ok()) return anchor.status();
-  counters_.relocalizations = relocalizations;  // the same frame: a recovery, not a new frame
   monitor_.countRecovery();
   counters_.recoveries = monitor_.recoveries();
   return Status();
@@ -329,6 +328,12 @@ Result<double> Localizer::relocalize(const Eigen::Isometry3d& world_T_odom, doub
                                      double sigma_r) {
   if (history_.empty()) return Status(StatusCode::kFailedPrecondition, "relocalize: no odometry yet");
   DG_RETURN_IF_ERROR(checkRigidTransform(world_T_odom, "relocalize: world_T_odom"));
+  if (monitor_.state() == TrackingState::kLost) ++counters_.relocalizations;
+  return startGraph(world_T_odom, since, sigma_t, sigma_r);
+}
+
+Result<double> Localizer::startGraph(const Eigen::Isometry3d& world_T_odom, double since, double sigma_t,
+                                     double sigma_r) {
   given_up_keyframes_ = keyframeTrajectory();
   given_up_graph_keyframes_ += main_->keyframes().size();
   given_up_graph_edges_ += main_->totalEdges();
@@ -339,7 +344,6 @@ Result<double> Localizer::relocalize(const Eigen::Isometry3d& world_T_odom, doub
   temporary_.clear();
   single_edges_.clear();
   single_observations_ = 0;
-  if (monitor_.state() == TrackingState::kLost) ++counters_.relocalizations;
   LocalizerParams in_frame = params_;
   in_frame.initial_world_T_odom = world_T_odom;
   if (sigma_t > 0.0 && sigma_r > 0.0 && std::isfinite(sigma_t) && std::isfinite(sigma_r)) {

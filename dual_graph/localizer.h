@@ -175,6 +175,9 @@ class Localizer {
   Status closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body, bool final_row);
   /// Optimises (and slides the window), fills `row` and appends it; `start_ms` is when the update began.
   void optimizeAndRecord(KeyframeStats& row, double start_ms);
+  /// `relocalize`'s work without its checks and counting: the main graph given up for a new one in `world_T_odom`
+  /// anchored at the sample at or before `since`; tracking. Returns the first keyframe's time.
+  Result<double> startGraph(const Eigen::Isometry3d& world_T_odom, double since, double sigma_t, double sigma_r);
   /// Forgets odometry before the keyframe at keyframe_t (tracking), or kept for `relocalize` (otherwise).
   void discardHistory(double keyframe_t);
   /// Time before which no observation can be used any more (the interval's or the node's start).

@@ -16,6 +16,7 @@
 #include "dualgraph/frontend/sequence_run.h"
 #include "dualgraph/frontend/simulation/race_profiles.h"
 #include "dualgraph/frontend/simulation/race_sequence.h"
+#include "test/frontend/simulated_flight.h"
 #include "test/testing/shared_data.h"
 
 namespace dualgraph {
@@ -23,21 +24,7 @@ namespace {
 
 Sequence realisticFlight(const std::string& track_name, std::uint64_t seed, int laps,
                          const std::function<void(RaceSimParams&)>& adjust = {}) {
-  auto track = loadTrackYaml(testing::sourcePath("data/tracks/" + track_name));
-  auto camera = loadCameraYaml(testing::sourcePath("data/cameras/ratm_piloted.yaml"));
-  EXPECT_TRUE(track.ok() && camera.ok());
-  RaceSimParams params;
-  params.seed = seed;
-  params.override_laps = true;
-  params.flight.laps = laps;
-  EXPECT_TRUE(applySimulationProfile("realistic", params).ok());
-  if (adjust) adjust(params);
-  auto race = simulateRace(*track, *camera, params);
-  EXPECT_TRUE(race.ok()) << race.status().message();
-  EXPECT_GT(race->world_T_odom.translation().norm(), 0.5);  // the VIO really is in its own frame
-  auto sequence = raceSequence(*race, params, track_name);
-  EXPECT_TRUE(sequence.ok());
-  return std::move(sequence).value();
+  return flighttest::simulatedFlight(track_name, "realistic", seed, laps, adjust);
 }
 
 // Measured (Release, 4 laps, default configuration): ATE reduction 61 % (seed 1) and 47 % (seed 2), frame

@@ -49,6 +49,17 @@ Flight ellipseFlight(double seconds) {
   return flight;
 }
 
+// The gates within 8 m and ahead of the body (x forward) at world_T_body: their ids and body_T_gate.
+std::vector<std::pair<int, Eigen::Isometry3d>> gatesInView(const GateMap& map, const Eigen::Isometry3d& world_T_body) {
+  std::vector<std::pair<int, Eigen::Isometry3d>> in_view;
+  for (const auto& [id, world_T_gate] : map.world_T_gate) {
+    const Eigen::Isometry3d body_T_gate = world_T_body.inverse() * world_T_gate;
+    if (body_T_gate.translation().x() < 0.5 || body_T_gate.translation().norm() > 8.0) continue;
+    in_view.emplace_back(id, body_T_gate);
+  }
+  return in_view;
+}
+
 // When the flight had seen two distinct gates (without ids, one gate seen again and again cannot tell which
 // gate it is, nor from which side it was flown) [s].
 double secondGateSeenAt = 0.0;
@@ -68,9 +79,7 @@ FrameInitialization run(const GateMap& map, const Eigen::Isometry3d& world_T_odo
   for (size_t k = 0; k < flight.t.size(); ++k) {
     const Eigen::Isometry3d odom_T_body = world_T_odom.inverse() * flight.world_T_body[k];
     std::vector<GateObservation> seen;
-    for (const auto& [id, world_T_gate] : map.world_T_gate) {
-      const Eigen::Isometry3d body_T_gate = flight.world_T_body[k].inverse() * world_T_gate;
-      if (body_T_gate.translation().x() < 0.5 || body_T_gate.translation().norm() > 8.0) continue;
+    for (const auto& [id, body_T_gate] : gatesInView(map, flight.world_T_body[k])) {
       Vector6d noise;
       noise << 0.05 * unit(rng), 0.05 * unit(rng), 0.05 * unit(rng), 0.035 * unit(rng), 0.035 * unit(rng),
           0.035 * unit(rng);
@@ -147,9 +156,7 @@ TEST(FrameInitializer, TheEstimateInUseIsJudgedWhereItPutTheDetections) {
     for (size_t k = 0; k < flight.t.size(); ++k) {
       const Eigen::Isometry3d odom_T_body = world_T_odom.inverse() * flight.world_T_body[k];
       std::vector<GateObservation> seen;
-      for (const auto& [id, world_T_gate] : map.world_T_gate) {
-        const Eigen::Isometry3d body_T_gate = flight.world_T_body[k].inverse() * world_T_gate;
-        if (body_T_gate.translation().x() < 0.5 || body_T_gate.translation().norm() > 8.0) continue;
+      for (const auto& [id, body_T_gate] : gatesInView(map, flight.world_T_body[k])) {
         seen.push_back(GateObservation::pose(flight.t[k], ids ? id : -1, body_T_gate, Matrix6d::Identity()));
       }
       detections += static_cast<int>(seen.size());

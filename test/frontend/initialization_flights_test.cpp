@@ -13,41 +13,25 @@
 #include <cmath>
 #include <cstdio>
 
-#include "dualgraph/frontend/io/camera_io.h"
-#include "dualgraph/frontend/io/track_io.h"
 #include "dualgraph/frontend/sequence_run.h"
-#include "dualgraph/frontend/simulation/race_profiles.h"
-#include "dualgraph/frontend/simulation/race_sequence.h"
 #include "dualgraph/types/se3_math.h"
-#include "test/testing/shared_data.h"
+#include "test/frontend/simulated_flight.h"
 
 namespace dualgraph {
 namespace {
 
 TEST(InitializationFlights, EveryTrackAndProfileLocksWithinTwoSecondsOnTheRightFrame) {
-  auto camera = loadCameraYaml(testing::sourcePath("data/cameras/ratm_piloted.yaml"));
-  ASSERT_TRUE(camera.ok());
   for (const char* profile : {"realistic", "harsh"}) {
     for (const char* track_name : {"ratm_ellipse.yaml", "ratm_lemniscate.yaml"}) {
-      auto track = loadTrackYaml(testing::sourcePath(std::string("data/tracks/") + track_name));
-      ASSERT_TRUE(track.ok());
       for (std::uint64_t seed : {1, 2, 3}) {
         SCOPED_TRACE(std::string(profile) + " " + track_name + " seed " + std::to_string(seed));
-        RaceSimParams params;
-        params.seed = seed;
-        params.override_laps = true;
-        params.flight.laps = 1;
-        ASSERT_TRUE(applySimulationProfile(profile, params).ok());
-        auto race = simulateRace(*track, *camera, params);
-        ASSERT_TRUE(race.ok());
-        auto sequence = raceSequence(*race, params, track_name);
-        ASSERT_TRUE(sequence.ok());
-        ASSERT_FALSE(sequence->corners.empty());
-        auto run = runSequence(*sequence, SequenceRunParams{});
+        const Sequence sequence = flighttest::simulatedFlight(track_name, profile, seed, 1);
+        ASSERT_FALSE(sequence.corners.empty());
+        auto run = runSequence(sequence, SequenceRunParams{});
         ASSERT_TRUE(run.ok()) << run.status().message();
         ASSERT_TRUE(run->initialization.has_value());
         ASSERT_TRUE(run->initialization->locked) << run->initialization->why_not;
-        const double after_first = run->initialization->locked_at - sequence->corners.front().t;
+        const double after_first = run->initialization->locked_at - sequence.corners.front().t;
         // The drone at the lock: odometry sample and ground truth at the first stamps at or after it.
         const double t = run->initialization->locked_at;
         auto atOrAfter = [t](const std::vector<OdometrySample>& samples) {
@@ -55,8 +39,8 @@ TEST(InitializationFlights, EveryTrackAndProfileLocksWithinTwoSecondsOnTheRightF
                                            [](const OdometrySample& sample, double time) { return sample.t < time; });
           return it == samples.end() ? samples.back().odom_T_body : it->odom_T_body;
         };
-        const Eigen::Isometry3d found = run->initialization->world_T_odom * atOrAfter(sequence->odometry.samples);
-        const Eigen::Isometry3d truth = atOrAfter(sequence->ground_truth->samples);
+        const Eigen::Isometry3d found = run->initialization->world_T_odom * atOrAfter(sequence.odometry.samples);
+        const Eigen::Isometry3d truth = atOrAfter(sequence.ground_truth->samples);
         const double apart = (found.translation() - truth.translation()).norm();
         const double turn = so3Log(found.linear().transpose() * truth.linear()).norm() * 180.0 / M_PI;
         std::printf("%s %s seed %d: locked %.2f s after the first detection, the drone %.3f m and %.2f deg from the "

@@ -12,11 +12,9 @@
 
 #include "dualgraph/frontend/calibration/self_calibration.h"
 #include "dualgraph/frontend/evaluation/run_metrics.h"
-#include "dualgraph/frontend/io/camera_io.h"
-#include "dualgraph/frontend/io/track_io.h"
+#include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/sequence_run.h"
-#include "dualgraph/frontend/simulation/race_profiles.h"
-#include "dualgraph/frontend/simulation/race_sequence.h"
+#include "test/frontend/simulated_flight.h"
 #include "test/testing/shared_data.h"
 
 namespace dualgraph::jumptest {
@@ -43,22 +41,10 @@ inline JumpOutcome runWithVioJump(const std::string& track_name, const std::stri
                                   const Eigen::Vector3d& jump, int laps = 4) {
   JumpOutcome outcome;
   auto config = loadRunConfig(testing::sourcePath("data/config/default.yaml"));
-  auto track = loadTrackYaml(testing::sourcePath("data/tracks/" + track_name));
-  auto camera = loadCameraYaml(testing::sourcePath("data/cameras/ratm_piloted.yaml"));
-  EXPECT_TRUE(config.ok() && track.ok() && camera.ok());
-  if (!config.ok() || !track.ok() || !camera.ok()) return outcome;
-  RaceSimParams params;
-  params.seed = seed;
-  params.override_laps = true;
-  params.flight.laps = laps;
-  EXPECT_TRUE(applySimulationProfile(profile, params).ok());
-  auto race = simulateRace(*track, *camera, params);
-  EXPECT_TRUE(race.ok());
-  if (!race.ok()) return outcome;
-  auto simulated = raceSequence(*race, params, track_name);
-  EXPECT_TRUE(simulated.ok());
-  if (!simulated.ok()) return outcome;
-  Sequence sequence = std::move(simulated).value();
+  EXPECT_TRUE(config.ok());
+  if (!config.ok()) return outcome;
+  Sequence sequence = flighttest::simulatedFlight(track_name, profile, seed, laps);
+  if (sequence.odometry.samples.empty()) return outcome;
   std::vector<OdometrySample>& samples = sequence.odometry.samples;
   const double t_jump = samples.front().t + 0.5 * (samples.back().t - samples.front().t);
   const Eigen::Isometry3d jumped(Eigen::Translation3d{jump});
