@@ -127,7 +127,6 @@ void BM_MainGraph_KeyframeUpdate(benchmark::State& state, double d_main, int mai
   std::vector<double> all, last50, temp;
   double iterations = 0.0;
   for (const KeyframeStats& row : stats) {
-    if (row.termination == "initial") continue;  // keyframe 0: nothing optimised
     all.push_back(row.optimize_ms);
     temp.push_back(row.temp_ms);
     iterations += row.iterations;

@@ -67,7 +67,6 @@ void BM_RaceMainGraphUpdate(benchmark::State& state, const std::string& track_na
   std::vector<double> update_ms;
   double iterations = 0.0;
   for (const KeyframeStats& row : run->stats) {
-    if (row.termination == "initial") continue;
     update_ms.push_back(row.optimize_ms);
     iterations += row.iterations;
   }

@@ -109,8 +109,19 @@ void Localizer::closeDueKeyframe() {
   const OdometrySample keyframe = history_.sampleAtOrBefore(*keyframe_due_);
   keyframe_due_.reset();
   const Status closed = closeInterval(keyframe);
-  if (!closed.ok()) counters_.last_error = closed.message();
+  if (!closed.ok()) {
+    ++counters_.keyframes_failed;
+    counters_.last_error = closed.message();
+  }
   processPending(history_.newest().t);  // what waited behind the keyframe
+}
+
+Result<Eigen::Isometry3d> Localizer::odometryPoseAt(double t, const OdometrySample* next) const {
+  if (next != nullptr && !history_.empty() && t > history_.newest().t && t <= next->t) {
+    return interpolateOdometry(history_.newest(), *next, t);
+  }
+  if (next != nullptr && history_.empty() && t == next->t) return next->odom_T_body;
+  return history_.poseAt(t);
 }
 
 Status Localizer::checkObservation(const GateObservation& observation) const {
@@ -271,9 +282,9 @@ void Localizer::optimizeAndRecord(KeyframeStats& row, double start_ms) {
   row.main_edges = static_cast<int>(given_up_graph_edges_ + main_->totalEdges());
   row.active_edges = static_cast<int>(main_->graph().numEdges());
   row.iterations = summary.iterations;
-  row.termination = terminationReasonName(summary.termination);
+  row.termination = summary.termination;
   if (!summary.usable() && summary.termination != TerminationReason::kNothingToOptimize) {
-    counters_.last_error = "main graph optimisation: " + row.termination + " " + summary.message;
+    counters_.last_error = "main graph optimisation: " + std::string(terminationReasonName(row.termination)) + " " + summary.message;
   }
   stats_.push_back(row);
   if (!params_.mapping) {

@@ -43,7 +43,7 @@ struct KeyframeStats {
   /// Main-graph update wall time: the new edges' χ² gate (its marginals), LM, and (fixed-lag) the
   /// marginalisation of the keyframe leaving the window. Not the temporary graph (temp_ms).
   double optimize_ms = 0.0;
-  std::string termination;
+  TerminationReason termination = TerminationReason::kNothingToOptimize;  ///< of the main graph's LM
   int gate_edges_added = 0;    ///< distilled (dual) or detection (single) edges that entered the main graph
   int gate_edges_rejected = 0; ///< by the χ² gate
   int observations_rejected = 0; ///< detections the rejected edges stood for
@@ -75,6 +75,9 @@ struct LocalizerCounters {
   int losses = 0;          ///< tracking turned lost (TrackingMonitor)
   int recoveries = 0;      ///< lost turned tracking without a new frame: gate edges accepted with no failure in lost_after_s, or resumeTracking
   int relocalizations = 0; ///< `relocalize` calls while lost (or after distrustFrame): a new frame, the main graph started again
+  /// Keyframe intervals that could not be closed (the keyframe or its update failed; `last_error` says why); the
+  /// Localizer goes on with the next interval.
+  int keyframes_failed = 0;
   int keyframes_conditioned = 0;  ///< fixed-lag: keyframes whose marginalisation failed, conditioned on instead
   int partial_used = 0;        ///< partial gates (corner rays) that became corner edges in a temporary graph
   int partial_unanchored = 0;  ///< partial gates left out: no pose observation of their gate in the interval
@@ -104,6 +107,11 @@ class Localizer {
   Status checkOdometry(const OdometrySample& sample) const;
   /// The corrected pose at this sample, or why the sample was rejected (the state is unchanged then).
   Result<CorrectedPose> addOdometry(const OdometrySample& sample);
+  /// odom_T_body at `t` [s] from the odometry the Localizer holds (the open keyframe interval; the last 5 s while
+  /// initialising or lost), interpolated along the geodesic; with `next` (a sample not given yet, newer than the
+  /// newest) also between the newest sample and it. The one odometry buffer of a run: a caller that associates a
+  /// detection before handing over the sample that covers it asks here. kFailedPrecondition outside that span.
+  Result<Eigen::Isometry3d> odometryPoseAt(double t, const OdometrySample* next = nullptr) const;
   /// OK when accepted (used now or queued until odometry covers its time).
   Status addObservation(const GateObservation& observation);
   /// Frontend evidence for the TrackingMonitor: the gate centres [m, world frame through the current estimate]

@@ -11,6 +11,7 @@
 #include "dualgraph/frontend/gates/gate_frontend.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/io/sequence_folder.h"
+#include "dualgraph/frontend/pipeline/pipeline_report.h"
 
 namespace dualgraph {
 
@@ -37,6 +38,7 @@ struct SequenceRunResult {
   /// With `auto_initialize`: how the first search found the VIO's frame (or why not: then no detection was
   /// used and every sample stayed initialising). The Localizer was relocalised at `initialization.world_T_odom`.
   std::optional<FrameInitialization> initialization;
+  PipelineCounters pipeline_counters;         ///< the pipeline's refusals by reason (the ints above among them)
   double wall_seconds = 0.0;                  ///< whole run
   /// With params.camera_switch: the odometry sample's time [s] at which the run switched to that camera.
   std::optional<double> camera_switched_at;

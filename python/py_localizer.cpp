@@ -57,7 +57,7 @@ py::list PyLocalizer::statsToList(const std::vector<KeyframeStats>& stats) {
     row["main_edges"] = s.main_edges;
     row["iterations"] = s.iterations;
     row["optimize_ms"] = s.optimize_ms;
-    row["termination"] = s.termination;
+    row["termination"] = terminationReasonName(s.termination);
     row["gate_edges_added"] = s.gate_edges_added;
     row["gate_edges_rejected"] = s.gate_edges_rejected;
     row["gates_skipped"] = s.gates_skipped;

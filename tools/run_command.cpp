@@ -126,10 +126,10 @@ int runRunCommand(const RunOptions& o) {
     return kExitNothingLocalised;
   }
   int exit_code = 0;
-  if (metrics->lost_share_pct > o.max_lost_share_pct || metrics->final_state == "lost") {
+  if (metrics->lost_share_pct > o.max_lost_share_pct || metrics->final_state == TrackingState::kLost) {
     std::cerr << "dualgraph run: lost for " << metrics->time_lost_s << " s, " << metrics->lost_share_pct
               << " % of the time after the VIO's frame was found (limit " << o.max_lost_share_pct << " %), ended "
-              << metrics->final_state << "; " << metrics->losses << " losses, " << metrics->relocalizations
+              << trackingStateName(metrics->final_state) << "; " << metrics->losses << " losses, " << metrics->relocalizations
               << " relocalisations: tracking_state.csv says when the estimate is not to be trusted; outputs written to "
               << o.out << "; exit " << kExitMostlyLost << "\n";
     exit_code = kExitMostlyLost;
@@ -163,7 +163,7 @@ int runRunCommand(const RunOptions& o) {
             << metrics->lost_share_pct << " %), initialising " << metrics->time_initialising_s << " s; "
             << metrics->losses << " losses, " << metrics->recoveries << " recovered, " << metrics->relocalizations
             << " relocalisations (" << metrics->frames_replaced << " of them a wrong frame replaced after "
-            << metrics->frame_checks << " checks); final state " << metrics->final_state << "\n";
+            << metrics->frame_checks << " checks); final state " << trackingStateName(metrics->final_state) << "\n";
   if (metrics->has_ground_truth) {
     std::cout << "  ATE (SE(3)-aligned) " << metrics->estimate.ate_se3_m << " m (VIO " << metrics->vio.ate_se3_m
               << " m, " << std::setprecision(3) << metrics->ate_reduction_pct << " % lower); unaligned "

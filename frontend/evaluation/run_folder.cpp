@@ -178,7 +178,7 @@ Status writeStats(const std::string& path, const std::vector<KeyframeStats>& sta
       out << r.t << ',' << r.keyframe << ',' << r.main_vertices << ',' << r.main_edges << ',' << r.iterations << ','
           << r.optimize_ms << ',' << r.gate_edges_added << ',' << r.gate_edges_rejected << ',' << r.gates_skipped << ','
           << r.observations << ',' << r.temp_nodes << ',' << r.temp_edges << ',' << r.temp_iterations << ','
-          << r.temp_ms << ',' << r.termination << '\n';
+          << r.temp_ms << ',' << terminationReasonName(r.termination) << '\n';
     }
     return Status();
   });
@@ -260,7 +260,7 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
         return total;
       }())
       .add("estimate_poses", static_cast<long>(mapPoses(run.estimate).size()))
-      .add("final_state", m.final_state)
+      .add("final_state", std::string(trackingStateName(m.final_state)))
       .add("time_initialising_s", m.time_initialising_s)
       .add("time_tracking_s", m.time_tracking_s)
       .add("time_lost_s", m.time_lost_s)

@@ -86,7 +86,7 @@ void addStateTimes(const SequenceRunResult& run, RunMetrics& m) {
   }
   const double after_lock = m.time_tracking_s + m.time_lost_s;
   m.lost_share_pct = after_lock > 0.0 ? 100.0 * m.time_lost_s / after_lock : 0.0;
-  m.final_state = e.empty() ? "" : trackingStateName(e.back().state);
+  m.final_state = e.empty() ? TrackingState::kInitialising : e.back().state;
   m.losses = run.localizer_counters.losses;
   m.recoveries = run.localizer_counters.recoveries;
   m.relocalizations = run.localizer_counters.relocalizations;

@@ -53,7 +53,8 @@ struct RunMetrics {
   int relocalizations = 0;           ///< a new frame found while lost, or replacing a wrong one (frames_replaced)
   int frame_checks = 0;              ///< checks of the frame in use while tracking (failures beside used gates)
   int frames_replaced = 0;           ///< of them, the frame found clearly better: counted as a loss and a relocalisation
-  std::string final_state;           ///< the last sample's state ("tracking", "lost", "initialising")
+  /// The last sample's state (initialising for a run without samples).
+  TrackingState final_state = TrackingState::kInitialising;
 };
 
 /// The samples of `estimate` that are map poses (state not initialising).

@@ -9,6 +9,7 @@
 #include <map>
 #include <string>
 
+#include "dualgraph/dual_graph/odometry_covariance.h"
 #include "dualgraph/types/se3_covariance.h"
 #include "dualgraph/frontend/io/delimited_text.h"
 
@@ -263,28 +264,17 @@ Result<RelativeCovarianceReport> toRelativeCovariances(OdometryLog& log, double 
                   "toRelativeCovariances: " + std::to_string(log.absolute_covariances.size()) +
                       " absolute covariances for " + std::to_string(log.samples.size()) + " samples");
   }
-  RelativeCovarianceReport report;
-  for (size_t k = 1; k < log.samples.size(); ++k) {
-    const Eigen::Isometry3d increment = log.samples[k - 1].odom_T_body.inverse() * log.samples[k].odom_T_body;
-    const Matrix6d adjoint = se3Adjoint(increment.inverse());
-    Matrix6d relative = log.absolute_covariances[k] - adjoint * log.absolute_covariances[k - 1] * adjoint.transpose();
-    relative = 0.5 * (relative + relative.transpose()).eval();
-    if (!relative.allFinite()) {  // the readers check their covariances; a log built by hand may not be
-      return Status(StatusCode::kNumericalError, "toRelativeCovariances: sample " + std::to_string(k) +
-                                                     ": non-finite covariance (absolute covariances not finite?)");
+  RelativeCovarianceStream stream(floor);
+  for (size_t k = 0; k < log.samples.size(); ++k) {
+    Result<std::optional<Matrix6d>> relative = stream.next(log.samples[k].odom_T_body, log.absolute_covariances[k]);
+    if (!relative.ok()) {  // the readers check their covariances; a log built by hand may not be
+      return Status(relative.status().code(), "toRelativeCovariances: sample " + std::to_string(k) + ": " +
+                                                  relative.status().message());
     }
-    Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(relative);
-    Vector6d values = eigen.eigenvalues();
-    const double lowest = std::max(floor, 1e-11 * values.maxCoeff());
-    for (int i = 0; i < 6; ++i) {
-      if (values[i] < lowest) {
-        values[i] = lowest;
-        ++report.clamped;
-      }
-    }
-    relative = eigen.eigenvectors() * values.asDiagonal() * eigen.eigenvectors().transpose();
-    log.samples[k].relative_covariance = 0.5 * (relative + relative.transpose());
+    if (k > 0) log.samples[k].relative_covariance = *relative;
   }
+  RelativeCovarianceReport report;
+  report.clamped = stream.clamped();
   return report;
 }
 

@@ -86,6 +86,8 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
     else if (key == "relocalization_global_after_s") status = readPositive(source, field, value, params.relocalization.global_after_s);
     else if (key == "relocalization_replace_ratio") status = readShare(source, field, value, params.relocalization.replace_ratio);
     else if (key == "time_offset") status = readTimeOffset(source, field, value, params.time_offset);
+    else if (key == "max_detection_lead_s") status = readPositive(source, field, value, params.max_detection_lead_s);
+    else if (key == "max_odometry_gap_s") status = readNumber(source, field, value, params.max_odometry_gap_s);
     else if (key == "self_calibration_after_s") status = readNumber(source, field, value, params.self_calibration_after_s);
     else return fieldError(source, entry.first.Mark(), field, "unknown key");
     DG_RETURN_IF_ERROR(status);
@@ -101,6 +103,9 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
   if (!(params.self_calibration_after_s >= 0.0)) {
     return fieldError(source, markOf("self_calibration_after_s"), "frontend.self_calibration_after_s",
                       "must be >= 0 [s] (0: off)");
+  }
+  if (!(params.max_odometry_gap_s >= 0.0) || !std::isfinite(params.max_odometry_gap_s)) {
+    return fieldError(source, markOf("max_odometry_gap_s"), "frontend.max_odometry_gap_s", "must be >= 0 [s] (0: off)");
   }
   if (pnp.min_corner_angle_deg < 0.0 || pnp.min_corner_angle_deg >= 90.0) {
     return fieldError(source, markOf("min_corner_angle_deg"), "frontend.min_corner_angle_deg", "must be in [0, 90)");

@@ -45,6 +45,14 @@ struct SequenceRunParams {
   /// the camera's clock offset and mount rotation are calibrated on the flight so far and the rest of the run
   /// uses that camera (frontend/calibration/self_calibration.h; corner sequences with a camera only) [s].
   double self_calibration_after_s = 0.0;
+  /// A detection instant stamped (on the odometry clock) more than this beyond the newest odometry sample is
+  /// refused and counted (`frontend.max_detection_lead_s`; a stamp from another clock would otherwise block every
+  /// later detection as out of order) [s], > 0.
+  double max_detection_lead_s = 1.0;
+  /// Consecutive odometry samples further apart than this are a gap (`frontend.max_odometry_gap_s`, 0: off): the
+  /// detections inside it are refused (no pose to place them at), the samples after it are lost until gates fit
+  /// again or a search finds the frame (counted, PipelineCounters::odometry_gaps) [s], >= 0.
+  double max_odometry_gap_s = 0.5;
   /// Set in code, not read: the camera the run switches to once the odometry reaches `t` [s] (its model, mount
   /// and time_offset for the detections handed over after that; params.time_offset no longer applies).
   struct CameraSwitch {

@@ -112,7 +112,7 @@ TEST(A2rlLikeCourse, TheRunPathTracksItOnTheRealisticProfile) {
                 with_ids ? "given" : "stripped", metrics->estimate.ate_m, metrics->vio.ate_m,
                 metrics->ate_reduction_pct, run->initialization->locked_at);
     EXPECT_GE(metrics->ate_reduction_pct, 80.0) << (with_ids ? "ids given" : "ids stripped");
-    EXPECT_EQ(metrics->final_state, "tracking");
+    EXPECT_EQ(metrics->final_state, TrackingState::kTracking);
   }
 }
 

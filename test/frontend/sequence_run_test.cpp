@@ -125,7 +125,7 @@ TEST(SequenceRun, DualAndSingleBeatTheVioOnTheEllipse) {
       // Every map pose (all but the initialising first half second) evaluated; the run ends tracking.
       EXPECT_EQ(m.estimate.associated, static_cast<long>(mapPoses(outcome.run.estimate).size())) << what;
       EXPECT_LT(m.time_initialising_s, 1.0) << what;
-      EXPECT_EQ(m.final_state, "tracking") << what;
+      EXPECT_EQ(m.final_state, TrackingState::kTracking) << what;
       EXPECT_EQ(m.losses, 0) << what;
       EXPECT_EQ(m.keyframes, static_cast<int>(outcome.run.keyframes.size()));
       EXPECT_GT(outcome.run.frontend_counters.reversed, 0) << what;  // gates 1 and 4 are flown through backwards

@@ -1,0 +1,155 @@
+// SPDX-License-Identifier: MIT
+#include "dualgraph/frontend/pipeline/frame_search.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace dualgraph {
+
+void FrameSearch::startInitial(const Eigen::Isometry3d& first_odom_T_body) {
+  FrameInitializerParams search = params_.initialization;
+  if (params_.localizer.initial_world_T_body) {
+    search.start_world_T_body = params_.localizer.initial_world_T_body;
+    search.start_sigma_t = params_.localizer.initial_sigma_t;
+    search.start_sigma_r = params_.localizer.initial_sigma_r;
+  }
+  start(search, first_odom_T_body, -1.0);
+  first_odom_T_body_ = first_odom_T_body;
+  initial_ = true;
+  initial_started_ = true;
+  if (!initialization_) initialization_ = FrameInitialization{};
+}
+
+void FrameSearch::startRelocalization(double t, const Eigen::Isometry3d& world_T_body,
+                                      const Eigen::Isometry3d& odom_T_body) {
+  FrameInitializerParams search = params_.initialization;
+  search.start_world_T_body = world_T_body;
+  search.start_sigma_t = params_.relocalization.sigma_t;
+  search.start_sigma_r = params_.relocalization.sigma_r;
+  start(search, odom_T_body, t);
+  initial_ = false;
+  checking_ = false;
+}
+
+void FrameSearch::startCheck(double t, const Eigen::Isometry3d& world_T_body, const Eigen::Isometry3d& odom_T_body) {
+  startRelocalization(t, world_T_body, odom_T_body);
+  checking_ = true;
+}
+
+void FrameSearch::restartAfterGap(double t, const Eigen::Isometry3d& world_T_body,
+                                  const Eigen::Isometry3d& odom_T_body) {
+  if (!initializer_) return;
+  if (initial_) {
+    const FrameInitialization so_far = initialization_.value_or(FrameInitialization{});
+    seen_.clear();
+    startInitial(first_odom_T_body_.value_or(odom_T_body));
+    initialization_ = so_far;
+    return;
+  }
+  const bool was_checking = checking_;
+  startRelocalization(t, world_T_body, odom_T_body);
+  checking_ = was_checking;
+}
+
+void FrameSearch::stop() {
+  initializer_.reset();
+  seen_.clear();
+}
+
+Result<FrameSearch::Outcome> FrameSearch::add(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body,
+                                              const std::vector<GateObservation>& solved, Localizer& localizer) {
+  Outcome outcome;
+  const Eigen::Isometry3d world_T_body = localizer.mapTOdom() * odom_T_body;  // where the estimate puts it
+  if (!initializer_) return outcome;
+  placed_ += solved.size();
+  if (initial_) {
+    seen_.push_back(Seen{instant, odom_T_body, solved});
+    while (seen_.front().instant.t < instant.t - params_.initialization.window_s) seen_.pop_front();
+  }
+  // A relocalisation or check also records where the estimate in use put each detection, to weigh it.
+  const FrameInitialization& found = initial_ ? initializer_->add(instant.t, odom_T_body, solved)
+                                              : initializer_->addInUse(instant.t, odom_T_body, world_T_body, solved);
+  if (initial_) initialization_ = found;
+  if (found.locked && !initial_) {
+    // The frame in use is kept when the found one is the same, or when the estimate in use explained, where it
+    // placed them at their instants, at least replace_ratio of the detections the found frame explains: the
+    // found frame is the best of many hypotheses from a short window, the estimate has the whole graph
+    // behind it (a loss among failures can be a false alarm).
+    const double ratio = params_.relocalization.replace_ratio;
+    const int in_use = initializer_->inUseInliers();
+    const bool same = sameFrame(found, localizer.mapTOdom(), odom_T_body);
+    if (same || (ratio > 0.0 && in_use >= ratio * found.inliers)) {
+      // Checking: nothing to do. Lost, and the estimate explained as many as the found frame: a false alarm,
+      // tracking on in the same graph. Lost, and it explained fewer (but not clearly fewer): the frame in use
+      // was about right, but its graph (its marginal prior confident in a pose that failed for lost_after_s)
+      // is dropped for a new one at the current estimate, held as the search's frame would be.
+      if (checking_) {
+        outcome.action = SearchAction::kCheckPassed;
+      } else if (same || in_use >= found.inliers) {
+        localizer.resumeTracking();
+        outcome.action = SearchAction::kResumed;
+      } else {
+        DG_RETURN_IF_ERROR(localizer.resumeWithNewGraph(foundSigmaT(found), params_.localizer.initial_sigma_r));
+        outcome.action = SearchAction::kResumedNewGraph;
+      }
+      stop();
+      return outcome;
+    }
+    if (checking_) {
+      localizer.distrustFrame();
+      ++checks_replaced_;
+    }
+  }
+  if (found.locked) {
+    const double since = seen_.empty() ? std::numeric_limits<double>::infinity() : seen_.front().instant.t;
+    // The found frame's position is held as well as its own inliers say (at least 0.1 m, no worse than the
+    // configured initial prior); its yaw keeps the configured σ (a few nearby gates fix it only to degrees).
+    Result<double> anchor =
+        localizer.relocalize(found.world_T_odom, since, foundSigmaT(found), params_.localizer.initial_sigma_r);
+    if (!anchor.ok()) return anchor.status();
+    for (Seen& seen : seen_) {
+      if (seen.instant.t >= *anchor) outcome.replay.push_back(std::move(seen));
+    }
+    outcome.action = SearchAction::kRelocalized;
+    stop();
+    return outcome;
+  }
+  if (!initial_ && !checking_ && started_t_ >= 0.0 && instant.t - started_t_ > params_.relocalization.global_after_s) {
+    start(params_.initialization, odom_T_body, -1.0);  // the estimate was no guide: anywhere in the map
+  }
+  return outcome;
+}
+
+void FrameSearch::explainNothingPlaced(size_t skipped) {
+  if (!initial_started_) return;
+  if (!initialization_) initialization_ = FrameInitialization{};
+  if (initialization_->locked || placed_ > 0) return;
+  initialization_->why_not = "none of the detections could be used: " + std::to_string(skipped) +
+                             " outside the odometry's time span, the others refused by PnP";
+}
+
+/// Whether a found frame is the one the Localizer uses: within 3 of its residual RMS (at least 0.5 m) in position
+/// where the drone is, and 5° in yaw.
+bool FrameSearch::sameFrame(const FrameInitialization& found, const Eigen::Isometry3d& current,
+                            const Eigen::Isometry3d& odom_T_body) {
+  const Eigen::Matrix3d difference = found.world_T_odom.linear().transpose() * current.linear();
+  const double yaw = std::atan2(difference(1, 0), difference(0, 0));
+  const double apart = ((found.world_T_odom * odom_T_body).translation() - (current * odom_T_body).translation()).norm();
+  return apart <= std::max(0.5, 3.0 * found.residual_rms_m) && std::abs(yaw) <= 5.0 * M_PI / 180.0;
+}
+
+/// A found frame's position σ: as well as its own inliers say, at least 0.1 m, no worse than the configured
+/// initial prior [m].
+double FrameSearch::foundSigmaT(const FrameInitialization& found) const {
+  return std::clamp(found.residual_rms_m, 0.1, std::max(0.1, params_.localizer.initial_sigma_t));
+}
+
+void FrameSearch::start(const FrameInitializerParams& search, const Eigen::Isometry3d& odom_T_body, double t) {
+  initializer_.emplace(search, map_);
+  initializer_->setStartOdometry(odom_T_body);
+  started_t_ = t;
+}
+
+}  // namespace dualgraph

@@ -1,0 +1,317 @@
+// SPDX-License-Identifier: MIT
+#include "dualgraph/frontend/pipeline/pipeline_core.h"
+
+#include <cmath>
+#include <string>
+
+#include "dualgraph/core/wall_clock.h"
+
+namespace dualgraph {
+namespace {
+
+/// Instants waiting for the odometry that covers them (a detector ahead of a stalled VIO fills it).
+constexpr size_t kMaxWaitingInstants = 4096;
+
+bool finiteCorner(const Eigen::Vector2d& corner) {
+  return (std::isfinite(corner.x()) && std::isfinite(corner.y())) || (std::isnan(corner.x()) && std::isnan(corner.y()));
+}
+
+Result<std::vector<GateObservation>> solveInstant(GateFrontend& frontend, const DetectionInstant& instant,
+                                                  bool learn_noise) {
+  if (instant.corners.empty()) return instant.poses;
+  return learn_noise ? frontend.solveCornersLearningNoise(instant.corners) : frontend.solveCorners(instant.corners);
+}
+
+Result<std::vector<GateObservation>> processInstant(GateFrontend& frontend, const DetectionInstant& instant,
+                                                    const Eigen::Isometry3d& world_T_body) {
+  if (!instant.corners.empty()) return frontend.processCorners(instant.corners, world_T_body);
+  return frontend.processPoses(instant.poses, world_T_body);
+}
+
+}  // namespace
+
+PipelineCore::PipelineCore(const SequenceRunParams& params, GateMap map) : params_(params), map_(std::move(map)) {}
+
+Result<std::unique_ptr<PipelineCore>> PipelineCore::create(const SequenceRunParams& params, const Track& map,
+                                                           std::optional<CameraModel> camera) {
+  if (params.camera_switch) {
+    if (!camera) return Status(StatusCode::kInvalidArgument, "a camera switch needs a camera to switch from");
+    const Status switched = params.camera_switch->camera.validate();
+    if (!switched.ok()) return Status(switched.code(), "the camera switched to: " + switched.message());
+  }
+  if (!(params.max_detection_lead_s > 0.0) || !(params.max_odometry_gap_s >= 0.0)) {
+    return Status(StatusCode::kInvalidArgument,
+                  "pipeline: max_detection_lead_s must be > 0 and max_odometry_gap_s >= 0 [s]");
+  }
+  auto known_map = map.gateMap();
+  if (!known_map.ok()) return known_map.status();
+  GateFrontendParams frontend_params = params.frontend;
+  frontend_params.mapping = params.localizer.mapping;
+  // Corner rays are used by the dual graph's temporary graph with SE(3) gates only; elsewhere they are counted.
+  if (params.localizer.mode != LocalizerMode::kDual || params.localizer.landmark != LandmarkModel::kPose) {
+    frontend_params.partial_gates = false;
+  }
+  const double time_offset = params.time_offset ? *params.time_offset : (camera ? camera->time_offset : 0.0);
+  auto frontend = GateFrontend::create(frontend_params, map, std::move(camera));
+  if (!frontend.ok()) return frontend.status();
+  const bool find_frame = params.auto_initialize && !params.localizer.mapping;
+  auto localizer = Localizer::create(params.localizer, params.localizer.mapping ? GateMap{} : *known_map,
+                                     find_frame ? TrackingState::kInitialising : TrackingState::kTracking);
+  if (!localizer.ok()) return localizer.status();
+  std::unique_ptr<PipelineCore> core(new PipelineCore(params, std::move(known_map).value()));
+  core->owned_localizer_ = std::move(localizer).value();
+  core->localizer_ = core->owned_localizer_.get();
+  core->owned_frontend_.emplace(std::move(frontend).value());
+  core->frontend_ = &*core->owned_frontend_;
+  core->time_offset_ = time_offset;
+  if (!params.localizer.mapping) core->search_.emplace(core->params_, core->map_);
+  return core;
+}
+
+Result<std::unique_ptr<PipelineCore>> PipelineCore::borrow(Localizer& localizer, GateFrontend& frontend,
+                                                           double time_offset) {
+  SequenceRunParams params;
+  params.localizer = localizer.params();
+  params.auto_initialize = false;
+  std::unique_ptr<PipelineCore> core(new PipelineCore(params, frontend.map()));
+  core->localizer_ = &localizer;
+  core->frontend_ = &frontend;
+  core->time_offset_ = time_offset;
+  return core;
+}
+
+const std::optional<FrameInitialization>& PipelineCore::initialization() const {
+  static const std::optional<FrameInitialization> none;
+  return search_ ? search_->initialization() : none;
+}
+
+void PipelineCore::refuse(int& counter, size_t detections) {
+  counter += static_cast<int>(detections);
+  report_.detections_refused += static_cast<int>(detections);
+}
+
+Status PipelineCore::checkInstant(const DetectionInstant& instant) {
+  const std::string what = "detection instant at t=" + formatTimestamp(instant.t);
+  if (!std::isfinite(instant.t)) return Status(StatusCode::kInvalidArgument, what + ": time is not finite");
+  if (!instant.corners.empty() && !instant.poses.empty()) {
+    return Status(StatusCode::kInvalidArgument, what + ": corners and poses in one instant (one detector each)");
+  }
+  for (const CornerDetection& detection : instant.corners) {
+    if (detection.t != instant.t) return Status(StatusCode::kInvalidArgument, what + ": a detection stamped otherwise");
+    for (const Eigen::Vector2d& corner : detection.corners) {
+      if (!finiteCorner(corner)) {
+        return Status(StatusCode::kInvalidArgument, what + ": a corner of gate " + std::to_string(detection.gate_id) +
+                                                        " is infinite or half NaN (an unseen corner is NaN, NaN)");
+      }
+    }
+  }
+  for (const GateObservation& detection : instant.poses) {
+    if (detection.t != instant.t) return Status(StatusCode::kInvalidArgument, what + ": a detection stamped otherwise");
+    const Status valid = validateGateObservation(detection);
+    if (!valid.ok()) return Status(valid.code(), what + ": " + valid.message());
+  }
+  return Status();
+}
+
+Status PipelineCore::addDetections(const DetectionInstant& instant) {
+  if (finished_) return Status(StatusCode::kFailedPrecondition, "pipeline: detections after finish");
+  if (instant.size() == 0) return Status();
+  const Status valid = checkInstant(instant);
+  if (!valid.ok()) {
+    counters_.detections_invalid += static_cast<int>(instant.size());
+    return valid;
+  }
+  if (instant.t < last_instant_t_) {
+    counters_.detections_backwards += static_cast<int>(instant.size());
+    return Status(StatusCode::kInvalidArgument, "detection instant at t=" + formatTimestamp(instant.t) +
+                                                    " is older than the one before it at t=" + formatTimestamp(last_instant_t_));
+  }
+  const double t = instant.t - time_offset_;
+  if (newest_odometry_t_ && t > *newest_odometry_t_ + params_.max_detection_lead_s) {
+    counters_.detections_too_far_ahead += static_cast<int>(instant.size());
+    return Status(StatusCode::kInvalidArgument,
+                  "detection instant at t=" + formatTimestamp(t) + " (odometry clock) is more than " +
+                      formatTimestamp(params_.max_detection_lead_s) + " s beyond the newest odometry sample at t=" +
+                      formatTimestamp(*newest_odometry_t_) + " (another clock? frontend.max_detection_lead_s)");
+  }
+  if (waiting_.size() >= kMaxWaitingInstants) {
+    counters_.detections_queue_full += static_cast<int>(instant.size());
+    return Status(StatusCode::kFailedPrecondition, "pipeline: " + std::to_string(waiting_.size()) +
+                                                      " detection instants wait for odometry; refused");
+  }
+  last_instant_t_ = instant.t;
+  waiting_.push_back(instant);
+  return Status();
+}
+
+Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
+  if (finished_) return Status(StatusCode::kFailedPrecondition, "pipeline: odometry after finish");
+  Localizer& localizer = *localizer_;
+  report_ = UpdateReport{};
+  report_.t = input.t;
+  report_.state_before = localizer.trackingState();
+  const size_t updates_before = localizer.keyframeStats().size();
+  const int failed_before = localizer.counters().keyframes_failed;
+  const std::optional<SequenceRunParams::CameraSwitch>& camera_switch = params_.camera_switch;
+  if (camera_switch && !camera_switched_at_ && input.t >= camera_switch->t) {  // what arrives from now on, with it
+    frontend_->setCamera(camera_switch->camera);
+    time_offset_ = camera_switch->camera.time_offset;
+    camera_switched_at_ = input.t;
+    report_.camera_switched = true;
+  }
+  OdometrySample sample{input.t, input.odom_T_body, input.relative_covariance};
+  const Status valid = localizer.checkOdometry(sample);
+  if (!valid.ok()) {
+    ++(validateOdometrySample(sample).ok() ? counters_.odometry_not_after_previous : counters_.odometry_invalid);
+    (void)localizer.addOdometry(sample);  // counted there too (LocalizerCounters::odometry_rejected)
+    return valid;
+  }
+  if (input.absolute_covariance || !input.relative_covariance) {
+    Result<std::optional<Matrix6d>> relative = covariances_.next(input.odom_T_body, input.absolute_covariance);
+    if (!relative.ok()) {
+      ++counters_.odometry_invalid;
+      return Status(relative.status().code(), "odometry sample at t=" + formatTimestamp(input.t) + ": " +
+                                                  relative.status().message());
+    }
+    sample.relative_covariance = *relative;
+    counters_.covariance_clamped = covariances_.clamped();
+  } else {
+    covariances_.reset();
+  }
+  const bool first = !newest_odometry_t_;
+  const bool gap = !first && params_.max_odometry_gap_s > 0.0 && input.t - *newest_odometry_t_ > params_.max_odometry_gap_s;
+  if (gap) {
+    gap_ = std::make_pair(*newest_odometry_t_, input.t);
+    ++counters_.odometry_gaps;
+    report_.odometry_gap = true;
+  }
+  const double latency = localizer.params().detection_latency;
+  // The detections that arrived by this sample go first: if it closes a keyframe interval, they are in it.
+  if (!first) DG_RETURN_IF_ERROR(handUpTo(input.t - latency, &sample));
+  if (first && params_.localizer.initial_world_T_body && owned_localizer_ && params_.auto_initialize &&
+      !params_.localizer.mapping) {
+    // Until the frame is found, the estimate is the odometry through the best guess there is: the start pose.
+    LocalizerParams guessed = params_.localizer;
+    guessed.initial_world_T_odom = *params_.localizer.initial_world_T_body * input.odom_T_body.inverse();
+    auto remade = Localizer::create(guessed, map_, TrackingState::kInitialising);
+    if (!remade.ok()) return remade.status();
+    owned_localizer_ = std::move(remade).value();
+    localizer_ = owned_localizer_.get();
+  }
+  Result<CorrectedPose> corrected = localizer_->addOdometry(sample);
+  if (!corrected.ok()) return corrected.status();
+  newest_odometry_t_ = input.t;
+  if (first) {  // the first accepted sample: the detections at its own instant (earlier ones cannot be placed)
+    first_odometry_t_ = input.t;
+    if (search_ && params_.auto_initialize) search_->startInitial(input.odom_T_body);
+    DG_RETURN_IF_ERROR(handUpTo(input.t - latency, nullptr));
+    corrected->state = localizer_->trackingState();
+  }
+  if (gap) {  // the odometry across the gap may have jumped: the frame is confirmed again before it is trusted
+    const Eigen::Isometry3d world_T_body = localizer_->mapTOdom() * input.odom_T_body;
+    if (localizer_->trackingState() == TrackingState::kTracking) localizer_->distrustFrame();
+    if (search_) search_->restartAfterGap(input.t, world_T_body, input.odom_T_body);
+    corrected->state = localizer_->trackingState();
+  }
+  const std::vector<KeyframeStats>& stats = localizer_->keyframeStats();
+  report_.updates.assign(stats.begin() + static_cast<long>(std::min(updates_before, stats.size())), stats.end());
+  report_.keyframe_failed = localizer_->counters().keyframes_failed > failed_before;
+  report_.state = corrected->state;
+  return PoseUpdate{*corrected, report_};
+}
+
+Status PipelineCore::handUpTo(double until, const OdometrySample* next) {
+  while (!waiting_.empty() && waiting_.front().t - time_offset_ <= until) {
+    const DetectionInstant instant = waiting_.front().shifted(time_offset_);
+    waiting_.pop_front();
+    if (!first_odometry_t_ || instant.t < *first_odometry_t_) {
+      refuse(counters_.detections_before_odometry, instant.size());
+      continue;
+    }
+    if (gap_ && instant.t > gap_->first && instant.t < gap_->second) {
+      refuse(counters_.detections_in_gap, instant.size());
+      continue;
+    }
+    Result<Eigen::Isometry3d> odom_T_body = localizer_->odometryPoseAt(instant.t, next);
+    if (!odom_T_body.ok()) {
+      refuse(counters_.detections_unplaced, instant.size());
+      continue;
+    }
+    ++report_.instants;
+    DG_RETURN_IF_ERROR(handInstant(instant, *odom_T_body));
+  }
+  return Status();
+}
+
+Status PipelineCore::searchWith(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body) {
+  // While initialising the instant reaches no other part of the frontend: its residuals teach the noise here.
+  const bool initialising = localizer_->trackingState() == TrackingState::kInitialising;
+  Result<std::vector<GateObservation>> solved = solveInstant(*frontend_, instant, initialising);
+  if (!solved.ok()) return Status();  // PnP's own failures are counted by the frontend when it sees them
+  Result<FrameSearch::Outcome> outcome = search_->add(instant, odom_T_body, *solved, *localizer_);
+  if (!outcome.ok()) return outcome.status();
+  if (outcome->action != SearchAction::kNone) report_.search = outcome->action;
+  counters_.frame_checks_replaced = search_->checksReplaced();
+  for (const FrameSearch::Seen& seen : outcome->replay) {
+    counters_.detections_frame_search_only -= static_cast<int>(seen.instant.size());
+    DG_RETURN_IF_ERROR(handInstant(seen.instant, seen.odom_T_body));
+  }
+  return Status();
+}
+
+Status PipelineCore::handInstant(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body) {
+  Localizer& localizer = *localizer_;
+  if (search_ && localizer.trackingState() == TrackingState::kInitialising) {
+    counters_.detections_frame_search_only += static_cast<int>(instant.size());
+    return searchWith(instant, odom_T_body);
+  }
+  const Eigen::Isometry3d world_T_body = localizer.mapTOdom() * odom_T_body;
+  Result<std::vector<GateObservation>> observations = processInstant(*frontend_, instant, world_T_body);
+  if (!observations.ok()) return observations.status();
+  for (const GateObservation& observation : *observations) {
+    if (localizer.addObservation(observation).ok()) {
+      ++report_.observations_added;
+    } else {
+      ++counters_.observations_rejected;
+      ++report_.observations_rejected;
+    }
+  }
+  if (!frontend_->lastUnmatched().empty()) DG_RETURN_IF_ERROR(localizer.reportUnmatched(instant.t, frontend_->lastUnmatched()));
+  if (!search_) return Status();
+  if (localizer.trackingState() == TrackingState::kTracking) {
+    const bool suspicious = search_->checksFrames() && localizer.frameSuspicious();
+    if (!suspicious) {
+      search_->stop();
+      return Status();
+    }
+    if (!search_->active()) {
+      search_->startCheck(instant.t, world_T_body, odom_T_body);
+      ++counters_.frame_checks;
+      report_.search_started = true;
+    }
+    return searchWith(instant, odom_T_body);
+  }
+  if (search_->checking()) search_->checkBecameRelocalization();
+  if (!search_->active()) {
+    search_->startRelocalization(instant.t, world_T_body, odom_T_body);
+    report_.search_started = true;
+  }
+  return searchWith(instant, odom_T_body);
+}
+
+Status PipelineCore::finish() {
+  if (finished_) return Status(StatusCode::kFailedPrecondition, "pipeline: finish called twice");
+  finished_ = true;
+  if (!newest_odometry_t_) return Status(StatusCode::kFailedPrecondition, "pipeline: no odometry sample was given");
+  report_ = UpdateReport{};
+  // What was still on its way when the odometry ended (taken within its span).
+  DG_RETURN_IF_ERROR(handUpTo(*newest_odometry_t_, nullptr));
+  for (const DetectionInstant& instant : waiting_) counters_.detections_after_odometry += static_cast<int>(instant.size());
+  waiting_.clear();
+  if (search_) {
+    search_->explainNothingPlaced(static_cast<size_t>(counters_.detections_before_odometry + counters_.detections_after_odometry));
+  }
+  return localizer_->finish();
+}
+
+}  // namespace dualgraph

@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: MIT
+// PipelineCore: the onboard policy on one thread — odometry and detection instants in, corrected poses out.
+#pragma once
+
+#include <deque>
+#include <memory>
+#include <optional>
+
+#include "dualgraph/core/status.h"
+#include "dualgraph/dual_graph/localizer.h"
+#include "dualgraph/dual_graph/odometry_covariance.h"
+#include "dualgraph/frontend/gates/gate_frontend.h"
+#include "dualgraph/frontend/io/run_config.h"
+#include "dualgraph/frontend/pipeline/frame_search.h"
+#include "dualgraph/frontend/pipeline/pipeline_report.h"
+
+namespace dualgraph {
+
+/// The whole onboard policy, single-threaded (StreamingLocalizer wraps it with threads; use that one). Detection
+/// instants wait in arrival order until the odometry covers their time plus LocalizerParams::detection_latency;
+/// each is then placed at the odometry interpolated at its instant (the Localizer's own odometry, the one
+/// buffer), solved by PnP, associated at the corrected pose and handed to the Localizer before the sample that
+/// covers it (so a keyframe that sample closes finds them), or given to the frame search while initialising,
+/// lost or checking the frame (FrameSearch). Times [s]: odometry clock; detections arrive on the camera clock and
+/// are moved by the camera's time_offset (or SequenceRunParams::time_offset) when handed over. Bad input is
+/// refused with a Status and counted (PipelineCounters); the pipeline goes on. Not thread-safe.
+class PipelineCore {
+ public:
+  /// kInvalidArgument for invalid parameters, an invalid camera or map, a camera switch without a camera.
+  static Result<std::unique_ptr<PipelineCore>> create(const SequenceRunParams& params, const Track& map,
+                                                      std::optional<CameraModel> camera);
+  /// Around a Localizer and a GateFrontend the caller made and keeps (benchmarks read the main graph afterwards):
+  /// no frame search, the frame is the Localizer's. Both must outlive the core.
+  static Result<std::unique_ptr<PipelineCore>> borrow(Localizer& localizer, GateFrontend& frontend, double time_offset);
+
+  /// The checks of an instant that need no pipeline state: finite values (an unseen corner is NaN, NaN), one
+  /// detector per instant, every detection at the instant's stamp. kInvalidArgument naming what is wrong.
+  static Status checkInstant(const DetectionInstant& instant);
+  /// Queues one instant (camera clock). Refused (and counted): non-finite values, corners and poses mixed,
+  /// older than an instant given before, more than max_detection_lead_s beyond the newest odometry
+  /// (kInvalidArgument), or a full queue (kFailedPrecondition). An empty instant is accepted and ignored.
+  Status addDetections(const DetectionInstant& instant);
+  /// One odometry sample: the instants it covers are handed over first, then the sample goes to the Localizer.
+  /// kInvalidArgument (counted) for a non-finite or non-rigid sample or one not after the newest.
+  Result<PoseUpdate> addOdometry(const OdometryInput& input);
+  /// End of input: the instants within the odometry's span are handed over, the Localizer finishes.
+  Status finish();
+
+  Localizer& localizer() { return *localizer_; }
+  const Localizer& localizer() const { return *localizer_; }
+  const GateFrontend& frontend() const { return *frontend_; }
+  const PipelineCounters& counters() const { return counters_; }
+  /// The first frame search's answer (unset without one).
+  const std::optional<FrameInitialization>& initialization() const;
+  /// The odometry time [s] at which a configured camera switch took effect.
+  std::optional<double> cameraSwitchedAt() const { return camera_switched_at_; }
+  /// The camera-to-odometry clock offset applied to the instants handed over now [s].
+  double timeOffset() const { return time_offset_; }
+  const SequenceRunParams& params() const { return params_; }
+
+ private:
+  PipelineCore(const SequenceRunParams& params, GateMap map);
+  /// Hands over the waiting instants with (t − offset) ≤ until; `next`: the sample about to be added.
+  Status handUpTo(double until, const OdometrySample* next);
+  Status handInstant(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body);
+  Status searchWith(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body);
+  void refuse(int& counter, size_t detections);
+
+  SequenceRunParams params_;
+  GateMap map_;
+  std::unique_ptr<Localizer> owned_localizer_;
+  std::optional<GateFrontend> owned_frontend_;
+  Localizer* localizer_ = nullptr;
+  GateFrontend* frontend_ = nullptr;
+  std::optional<FrameSearch> search_;
+  RelativeCovarianceStream covariances_;
+  std::deque<DetectionInstant> waiting_;  ///< camera clock, arrival (= time) order
+  double last_instant_t_ = -std::numeric_limits<double>::infinity();  ///< camera clock
+  std::optional<double> first_odometry_t_;
+  std::optional<double> newest_odometry_t_;
+  /// The last odometry gap (from, to) [s]: instants strictly inside it are refused.
+  std::optional<std::pair<double, double>> gap_;
+  double time_offset_ = 0.0;
+  std::optional<double> camera_switched_at_;
+  PipelineCounters counters_;
+  UpdateReport report_;  ///< the report of the call in progress
+  bool finished_ = false;
+};
+
+}  // namespace dualgraph

@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: MIT
+// What the onboard pipeline takes in and gives back: odometry input, per-sample output, update report, counters.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "dualgraph/dual_graph/localizer.h"
+#include "dualgraph/frontend/pipeline/frame_search.h"
+
+namespace dualgraph {
+
+/// One odometry sample as a VIO publishes it: time t [s] on the odometry clock, odom_T_body (body in the VIO's
+/// odometry frame, unit quaternion / rotation), and optionally the covariance of that pose itself (6×6, metric
+/// [t; θ] in m², rad², a right perturbation in the body frame, as OpenVINS reports it) — converted into the
+/// increment's covariance sample by sample (RelativeCovarianceStream). Without one, `relative_covariance` is used
+/// when set (a log converted already), else LocalizerParams' per-metre model. A plain value.
+struct OdometryInput {
+  double t = 0.0;
+  Eigen::Isometry3d odom_T_body = Eigen::Isometry3d::Identity();
+  std::optional<Matrix6d> absolute_covariance;
+  std::optional<Matrix6d> relative_covariance;
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+/// What one odometry sample did inside the pipeline (the work of that call, synchronous mode; in worker mode the
+/// report of the sample the worker finished last).
+struct UpdateReport {
+  double t = 0.0;                                           ///< the sample's time [s]
+  TrackingState state_before = TrackingState::kInitialising;
+  TrackingState state = TrackingState::kInitialising;       ///< after the sample
+  int instants = 0;             ///< detection instants handed over at this sample
+  int observations_added = 0;   ///< observations the Localizer accepted
+  int observations_rejected = 0;///< observations the Localizer refused (LocalizerCounters says why)
+  int detections_refused = 0;   ///< detections refused before the frontend (PipelineCounters says why)
+  /// Main-graph updates this sample caused (a keyframe closed, or a relocalisation's first keyframe), in order.
+  std::vector<KeyframeStats> updates;
+  bool keyframe_failed = false; ///< a keyframe interval could not be closed (LocalizerCounters::last_error)
+  SearchAction search = SearchAction::kNone;  ///< what a frame search did (the last action, when several)
+  bool search_started = false;  ///< a relocalisation search or a frame check began
+  bool odometry_gap = false;    ///< this sample came after a gap longer than max_odometry_gap_s
+  bool camera_switched = false; ///< the camera switched (self-calibration) before this sample's detections
+};
+
+/// The corrected pose at one odometry sample: world_T_body = map_T_odom · odom_T_body(t) through the newest
+/// optimised keyframe (the last result in worker mode), its tracking state, and what the sample did.
+struct PoseUpdate {
+  CorrectedPose pose;
+  UpdateReport report;
+};
+
+/// Inputs the pipeline did not use, by reason, on top of LocalizerCounters and GateFrontendCounters (never
+/// silently: every refused input lands in one counter).
+struct PipelineCounters {
+  int odometry_invalid = 0;            ///< non-finite or non-rigid samples
+  int odometry_not_after_previous = 0; ///< time not after the newest accepted sample (backwards or repeated)
+  int odometry_gaps = 0;               ///< gaps longer than max_odometry_gap_s (each marks the samples after it lost)
+  int detections_invalid = 0;          ///< non-finite values, or corners and poses in one instant
+  int detections_backwards = 0;        ///< older than an instant given before
+  int detections_too_far_ahead = 0;    ///< beyond the newest odometry by more than max_detection_lead_s
+  int detections_queue_full = 0;       ///< more instants waiting than the queue holds (no odometry arriving)
+  int detections_before_odometry = 0;  ///< earlier than the first odometry sample: not usable
+  int detections_after_odometry = 0;   ///< later than the last odometry sample at `finish`
+  int detections_in_gap = 0;           ///< inside an odometry gap: no pose to place them at
+  int detections_unplaced = 0;         ///< older than the odometry the Localizer still holds
+  /// While initialising: given to the frame search alone (PnP), not to the association or the Localizer.
+  int detections_frame_search_only = 0;
+  int observations_rejected = 0;       ///< refused by the Localizer (LocalizerCounters says why)
+  int frame_checks = 0;                ///< checks of the frame in use started while tracking
+  int frame_checks_replaced = 0;       ///< of them: a clearly better frame found, relocalised
+  int covariance_clamped = 0;          ///< eigenvalues RelativeCovarianceStream raised to its floor
+};
+
+}  // namespace dualgraph

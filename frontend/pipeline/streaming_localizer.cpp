@@ -1,0 +1,175 @@
+// SPDX-License-Identifier: MIT
+#include "dualgraph/frontend/pipeline/streaming_localizer.h"
+
+namespace dualgraph {
+namespace {
+
+/// Events the worker may fall behind by before inputs are refused (≈ 80 s of 200 Hz odometry with detections).
+constexpr size_t kMaxQueuedEvents = 1 << 15;
+
+}  // namespace
+
+StreamingLocalizer::StreamingLocalizer(std::unique_ptr<PipelineCore> core, PipelineThreading threading)
+    : core_(std::move(core)), threading_(threading) {
+  snapshot_.map_T_odom = core_->localizer().mapTOdom();
+  snapshot_.state = core_->localizer().trackingState();
+  if (threading_ == PipelineThreading::kWorker) worker_ = std::thread([this] { workerLoop(); });
+}
+
+StreamingLocalizer::~StreamingLocalizer() {
+  if (worker_.joinable()) {
+    {
+      std::lock_guard<std::mutex> lock(queue_mutex_);
+      stopping_ = true;
+      queue_.clear();  // destroyed without finish: what was queued is dropped
+    }
+    queue_ready_.notify_one();
+    worker_.join();
+  }
+}
+
+Result<std::unique_ptr<StreamingLocalizer>> StreamingLocalizer::create(const SequenceRunParams& params,
+                                                                       const Track& map,
+                                                                       std::optional<CameraModel> camera,
+                                                                       PipelineThreading threading) {
+  auto core = PipelineCore::create(params, map, std::move(camera));
+  if (!core.ok()) return core.status();
+  return std::unique_ptr<StreamingLocalizer>(new StreamingLocalizer(std::move(core).value(), threading));
+}
+
+Result<std::unique_ptr<StreamingLocalizer>> StreamingLocalizer::borrow(Localizer& localizer, GateFrontend& frontend,
+                                                                       double time_offset) {
+  auto core = PipelineCore::borrow(localizer, frontend, time_offset);
+  if (!core.ok()) return core.status();
+  return std::unique_ptr<StreamingLocalizer>(
+      new StreamingLocalizer(std::move(core).value(), PipelineThreading::kCallerThread));
+}
+
+void StreamingLocalizer::publish(const PoseUpdate& update) {
+  const Localizer& localizer = core_->localizer();
+  PipelineSnapshot next;
+  next.t = update.pose.t;
+  next.map_T_odom = localizer.mapTOdom();
+  next.world_T_body = update.pose.world_T_body;
+  next.state = update.pose.state;
+  next.updates = static_cast<long>(localizer.keyframeStats().size());
+  std::lock_guard<std::mutex> lock(snapshot_mutex_);
+  next.samples = snapshot_.samples + 1;
+  snapshot_ = next;
+  if (threading_ == PipelineThreading::kWorker) last_report_ = update.report;
+}
+
+PipelineSnapshot StreamingLocalizer::snapshot() const {
+  std::lock_guard<std::mutex> lock(snapshot_mutex_);
+  return snapshot_;
+}
+
+Status StreamingLocalizer::addDetections(const DetectionInstant& instant) {
+  if (threading_ == PipelineThreading::kCallerThread) {
+    std::lock_guard<std::mutex> lock(work_mutex_);
+    return core_->addDetections(instant);
+  }
+  if (instant.size() == 0) return Status();
+  DG_RETURN_IF_ERROR(PipelineCore::checkInstant(instant));
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    if (stopping_) return Status(StatusCode::kFailedPrecondition, "pipeline: detections after finish");
+    if (queue_.size() >= kMaxQueuedEvents) {
+      return Status(StatusCode::kFailedPrecondition, "pipeline: the worker is " + std::to_string(queue_.size()) +
+                                                         " inputs behind; detection instant refused");
+    }
+    Event event;
+    event.detections = instant;
+    queue_.push_back(std::move(event));
+  }
+  queue_ready_.notify_one();
+  return Status();
+}
+
+Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
+  if (threading_ == PipelineThreading::kCallerThread) {
+    Result<PoseUpdate> update = [&] {
+      std::lock_guard<std::mutex> lock(work_mutex_);
+      return core_->addOdometry(input);
+    }();
+    if (update.ok()) publish(*update);
+    return update;
+  }
+  // Worker mode: refused here what the core would refuse without its state, so the caller hears of it.
+  const OdometrySample sample{input.t, input.odom_T_body, input.relative_covariance};
+  const Status valid = validateOdometrySample(sample);
+  if (!valid.ok() || !(input.t > last_submitted_t_)) {
+    ++(valid.ok() ? refused_on_submit_ : invalid_on_submit_);
+    if (!valid.ok()) return valid;
+    return Status(StatusCode::kInvalidArgument, "odometry sample at t=" + formatTimestamp(input.t) +
+                                                    " is not after the previous one at t=" + formatTimestamp(last_submitted_t_));
+  }
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    if (stopping_) return Status(StatusCode::kFailedPrecondition, "pipeline: odometry after finish");
+    if (queue_.size() >= kMaxQueuedEvents) {
+      return Status(StatusCode::kFailedPrecondition, "pipeline: the worker is " + std::to_string(queue_.size()) +
+                                                         " inputs behind; odometry sample refused");
+    }
+    Event event;
+    event.odometry = input;
+    queue_.push_back(std::move(event));
+  }
+  last_submitted_t_ = input.t;
+  queue_ready_.notify_one();
+  PoseUpdate update;
+  std::lock_guard<std::mutex> lock(snapshot_mutex_);
+  update.pose = CorrectedPose{input.t, snapshot_.map_T_odom * input.odom_T_body, snapshot_.state};
+  update.report = last_report_;
+  return update;
+}
+
+void StreamingLocalizer::workerLoop() {
+  for (;;) {
+    std::deque<Event, Eigen::aligned_allocator<Event>> batch;
+    {
+      std::unique_lock<std::mutex> lock(queue_mutex_);
+      queue_ready_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+      if (queue_.empty() && stopping_) return;
+      batch.swap(queue_);
+    }
+    for (const Event& event : batch) {
+      if (event.odometry) {
+        Result<PoseUpdate> update = core_->addOdometry(*event.odometry);  // refusals are counted by the core
+        if (update.ok()) publish(*update);
+      } else {
+        (void)core_->addDetections(event.detections);  // likewise
+      }
+    }
+  }
+}
+
+Result<PipelineResults> StreamingLocalizer::finish() {
+  if (finished_) return Status(StatusCode::kFailedPrecondition, "pipeline: finish called twice");
+  finished_ = true;
+  if (worker_.joinable()) {
+    {
+      std::lock_guard<std::mutex> lock(queue_mutex_);
+      stopping_ = true;  // the worker drains what is queued, then stops
+    }
+    queue_ready_.notify_one();
+    worker_.join();
+  }
+  std::lock_guard<std::mutex> lock(work_mutex_);
+  DG_RETURN_IF_ERROR(core_->finish());
+  const Localizer& localizer = core_->localizer();
+  PipelineResults results;
+  results.keyframes = localizer.keyframeTrajectory();
+  results.stats = localizer.keyframeStats();
+  results.localizer_counters = localizer.counters();
+  results.frontend_counters = core_->frontend().counters();
+  results.pipeline_counters = core_->counters();
+  results.pipeline_counters.odometry_invalid += invalid_on_submit_;
+  results.pipeline_counters.odometry_not_after_previous += refused_on_submit_;
+  results.localizer_counters.odometry_rejected += invalid_on_submit_ + refused_on_submit_;
+  results.initialization = core_->initialization();
+  results.camera_switched_at = core_->cameraSwitchedAt();
+  return results;
+}
+
+}  // namespace dualgraph

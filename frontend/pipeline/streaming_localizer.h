@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: MIT
+// StreamingLocalizer: the tested field pipeline as a drone runs it — odometry and detections as they arrive, threads.
+#pragma once
+
+#include <condition_variable>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "dualgraph/core/status.h"
+#include "dualgraph/frontend/pipeline/pipeline_core.h"
+
+namespace dualgraph {
+
+/// Where StreamingLocalizer does its work.
+enum class PipelineThreading {
+  /// Everything inside addOdometry, on the caller's thread: deterministic (`dualgraph run` replays this way), but a
+  /// sample that closes a keyframe or runs a frame search takes that long (≈ 1 ms at 11 gates).
+  kCallerThread,
+  /// addOdometry and addDetections only queue (microseconds) and answer from the last finished result; a worker
+  /// thread does the work in arrival order. The graph sees the same inputs in the same order as kCallerThread when
+  /// every detection arrives before the odometry passes its time plus detection_latency.
+  kWorker,
+};
+
+/// A consistent view of the pipeline for any thread: the frame map_T_odom (world_T_odom) of the newest optimised
+/// keyframe, the tracking state and the corrected pose world_T_body at the newest processed odometry sample t [s].
+/// Frames: world = the gate map's, odom = the VIO's. Before any sample: t = −∞, state initialising.
+struct PipelineSnapshot {
+  double t = -std::numeric_limits<double>::infinity();
+  Eigen::Isometry3d map_T_odom = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d world_T_body = Eigen::Isometry3d::Identity();
+  TrackingState state = TrackingState::kInitialising;
+  long samples = 0;   ///< odometry samples processed so far
+  long updates = 0;   ///< main-graph updates so far
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+/// What a finished run holds.
+struct PipelineResults {
+  std::vector<CorrectedPose> keyframes;   ///< the keyframes' final estimates (those of graphs given up first)
+  std::vector<KeyframeStats> stats;       ///< one row per main-graph update
+  LocalizerCounters localizer_counters;
+  GateFrontendCounters frontend_counters;
+  PipelineCounters pipeline_counters;
+  std::optional<FrameInitialization> initialization;  ///< the first frame search's answer (auto_initialize)
+  std::optional<double> camera_switched_at;           ///< [s], a configured camera switch
+};
+
+/// The onboard pipeline (frontend/pipeline/README.md): built from the run configuration, the gate map and the
+/// camera; fed odometry samples (OdometryInput: t [s] on the odometry clock, odom_T_body, optional absolute
+/// covariance) and detection instants (DetectionInstant, camera clock) as they arrive; gives the corrected pose
+/// world_T_body and its tracking state at each odometry sample at once. Inside: the VIO's frame search, association
+/// at the corrected pose, loss and relocalisation, frame checks, adaptive pixel noise, a configured camera switch,
+/// detection latency (PipelineCore). Bad input is refused with a Status naming it and counted
+/// (PipelineCounters); the pipeline goes on.
+///
+/// Threads: addOdometry from one thread (the VIO callback), addDetections from one other (the detector callback),
+/// snapshot() from any number of threads at any rate. The inputs never wait for each other's graph work in
+/// kWorker mode; in kCallerThread mode addDetections may wait while an odometry sample is processed. snapshot()
+/// holds a lock only for a copy of a few hundred bytes, never while graph work runs. finish() once, from the
+/// odometry thread, after the inputs stopped; results after it.
+class StreamingLocalizer {
+ public:
+  /// kInvalidArgument for invalid parameters, map or camera (PipelineCore::create).
+  static Result<std::unique_ptr<StreamingLocalizer>> create(const SequenceRunParams& params, const Track& map,
+                                                            std::optional<CameraModel> camera,
+                                                            PipelineThreading threading = PipelineThreading::kCallerThread);
+  /// Around a Localizer and a GateFrontend the caller keeps (no frame search); caller-thread mode.
+  static Result<std::unique_ptr<StreamingLocalizer>> borrow(Localizer& localizer, GateFrontend& frontend,
+                                                            double time_offset);
+  ~StreamingLocalizer();
+  StreamingLocalizer(const StreamingLocalizer&) = delete;
+  StreamingLocalizer& operator=(const StreamingLocalizer&) = delete;
+
+  /// One detection instant (camera clock). Caller-thread mode: the PipelineCore's checks and their Status. Worker
+  /// mode: the checks that need no pipeline state (finite values, one detector per instant) answered here; the
+  /// others (order, lead over the odometry) counted when the worker takes it.
+  Status addDetections(const DetectionInstant& instant);
+  /// One odometry sample; kInvalidArgument (counted) for a non-finite or non-rigid sample or one not after the
+  /// previous. Caller-thread mode: this sample's work and its report. Worker mode: the pose through the last
+  /// finished result's map_T_odom, its state, and the report of the sample the worker finished last.
+  Result<PoseUpdate> addOdometry(const OdometryInput& input);
+  /// The last published view (any thread).
+  PipelineSnapshot snapshot() const;
+  /// End of input: the worker drains its queue and stops; the detections within the odometry's span are used;
+  /// the Localizer finishes. kFailedPrecondition when called twice or without any odometry.
+  Result<PipelineResults> finish();
+  /// The camera-to-odometry clock offset applied to detections handed over now [s] (changes at a camera switch).
+  /// Caller-thread mode, odometry thread only.
+  double timeOffset() const { return core_->timeOffset(); }
+
+ private:
+  struct Event {
+    std::optional<OdometryInput> odometry;
+    DetectionInstant detections;
+    EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+  };
+  StreamingLocalizer(std::unique_ptr<PipelineCore> core, PipelineThreading threading);
+  void publish(const PoseUpdate& update);
+  void workerLoop();
+
+  std::unique_ptr<PipelineCore> core_;
+  const PipelineThreading threading_;
+  std::mutex work_mutex_;  ///< guards core_ (caller-thread mode; the worker owns it otherwise)
+  mutable std::mutex snapshot_mutex_;
+  PipelineSnapshot snapshot_;
+  UpdateReport last_report_;  ///< worker mode: the report of the sample finished last (under snapshot_mutex_)
+  // Worker mode.
+  std::mutex queue_mutex_;
+  std::condition_variable queue_ready_;
+  std::deque<Event, Eigen::aligned_allocator<Event>> queue_;
+  bool stopping_ = false;
+  double last_submitted_t_ = -std::numeric_limits<double>::infinity();  ///< odometry thread only
+  int refused_on_submit_ = 0;  ///< worker mode: odometry refused before queueing (odometry thread only)
+  int invalid_on_submit_ = 0;
+  std::thread worker_;
+  bool finished_ = false;
+};
+
+}  // namespace dualgraph

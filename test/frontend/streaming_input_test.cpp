@@ -1,0 +1,229 @@
+// SPDX-License-Identifier: MIT
+// StreamingLocalizer's inputs as a drone gives them, bad ones included: each refused with a counted reason, the
+// run going on as it would without them; an odometry gap marks the samples after it instead of a blind `tracking`.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "dualgraph/frontend/evaluation/run_metrics.h"
+#include "test/frontend/simulated_flight.h"
+#include "test/frontend/streaming_flight.h"
+
+namespace dualgraph {
+namespace {
+
+struct SerialRun {
+  std::vector<PoseUpdate> updates;
+  PipelineResults results;
+};
+
+// Caller-thread mode, one thread: before each odometry sample, the instants stamped up to it (camera clock less
+// the camera's offset). `before_sample(k, pipeline)` may add bad input first.
+SerialRun streamSerially(const Sequence& sequence, const SequenceRunParams& params,
+                         const std::function<void(size_t, StreamingLocalizer&)>& before_sample = {}) {
+  SerialRun out;
+  auto pipeline = StreamingLocalizer::create(params, sequence.map, sequence.camera);
+  EXPECT_TRUE(pipeline.ok()) << pipeline.status().message();
+  if (!pipeline.ok()) return out;
+  const std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
+  const double offset = sequence.camera ? sequence.camera->time_offset : 0.0;
+  size_t next = 0;
+  for (size_t k = 0; k < sequence.odometry.samples.size(); ++k) {
+    if (before_sample) before_sample(k, **pipeline);
+    const double t = sequence.odometry.samples[k].t;
+    while (next < instants.size() && instants[next].t - offset <= t) (void)(*pipeline)->addDetections(instants[next++]);
+    Result<PoseUpdate> update = (*pipeline)->addOdometry(flighttest::odometryInput(sequence, k));
+    if (update.ok()) out.updates.push_back(*update);
+  }
+  Result<PipelineResults> results = (*pipeline)->finish();
+  EXPECT_TRUE(results.ok()) << results.status().message();
+  if (results.ok()) out.results = std::move(results).value();
+  return out;
+}
+
+bool sameKeyframes(const SerialRun& a, const SerialRun& b) {
+  if (a.results.keyframes.size() != b.results.keyframes.size()) return false;
+  for (size_t k = 0; k < a.results.keyframes.size(); ++k) {
+    if (a.results.keyframes[k].t != b.results.keyframes[k].t ||
+        !a.results.keyframes[k].world_T_body.isApprox(b.results.keyframes[k].world_T_body, 1e-12)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+class StreamingInput : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    flight_ = new Sequence(flighttest::simulatedFlight("ratm_ellipse.yaml", "realistic", 2, 2));
+    clean_ = new SerialRun(streamSerially(*flight_, SequenceRunParams{}));
+  }
+  static void TearDownTestSuite() {
+    delete flight_;
+    delete clean_;
+  }
+  static Sequence* flight_;
+  static SerialRun* clean_;
+};
+Sequence* StreamingInput::flight_ = nullptr;
+SerialRun* StreamingInput::clean_ = nullptr;
+
+TEST_F(StreamingInput, ADetectionFromAnotherClockIsRefusedAndTheRestOfTheFlightIsUntouched) {
+  // Before the fix: accepted, every later real detection refused as "older than the previous observation", the
+  // state still `tracking`.
+  DetectionInstant stray = flighttest::detectionInstants(*flight_)[40];
+  stray.t += 1000.0;
+  for (CornerDetection& detection : stray.corners) detection.t = stray.t;
+  Status refused;
+  const SerialRun run = streamSerially(*flight_, SequenceRunParams{}, [&](size_t k, StreamingLocalizer& pipeline) {
+    if (k == 600) refused = pipeline.addDetections(stray);
+  });
+  EXPECT_EQ(refused.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(refused.message().find("beyond the newest odometry"), std::string::npos) << refused.message();
+  EXPECT_EQ(run.results.pipeline_counters.detections_too_far_ahead, static_cast<int>(stray.size()));
+  EXPECT_TRUE(sameKeyframes(run, *clean_));
+  EXPECT_EQ(run.results.frontend_counters.used, clean_->results.frontend_counters.used);
+}
+
+TEST_F(StreamingInput, NonFiniteOrMixedOrBackwardsDetectionsAreRefusedByReason) {
+  const std::vector<DetectionInstant> instants = flighttest::detectionInstants(*flight_);
+  DetectionInstant infinite = instants[50];
+  infinite.corners.front().corners[0].x() = INFINITY;
+  DetectionInstant half_nan = instants[50];
+  half_nan.corners.front().corners[1].y() = NAN;  // x finite, y NaN: not an unseen corner
+  DetectionInstant mixed = instants[50];
+  mixed.poses.push_back(GateObservation{});
+  DetectionInstant restamped = instants[50];
+  restamped.t += 1e-3;  // its detections keep the old stamp
+  std::vector<Status> answers;
+  const SerialRun run = streamSerially(*flight_, SequenceRunParams{}, [&](size_t k, StreamingLocalizer& pipeline) {
+    if (k != 900) return;
+    for (const DetectionInstant* bad : {&infinite, &half_nan, &mixed, &restamped}) answers.push_back(pipeline.addDetections(*bad));
+    answers.push_back(pipeline.addDetections(instants[5]));  // long past: older than the instants given already
+  });
+  ASSERT_EQ(answers.size(), 5u);
+  for (const Status& answer : answers) EXPECT_EQ(answer.code(), StatusCode::kInvalidArgument) << answer.message();
+  const PipelineCounters& c = run.results.pipeline_counters;
+  EXPECT_EQ(c.detections_invalid, static_cast<int>(infinite.size() + half_nan.size() + mixed.size() + restamped.size()));
+  EXPECT_EQ(c.detections_backwards, static_cast<int>(instants[5].size()));
+  EXPECT_TRUE(sameKeyframes(run, *clean_));
+}
+
+TEST_F(StreamingInput, BadOdometryIsRefusedAndCountedAndTheRunGoesOn) {
+  const SerialRun run = streamSerially(*flight_, SequenceRunParams{}, [&](size_t k, StreamingLocalizer& pipeline) {
+    if (k != 700) return;
+    OdometryInput nan = flighttest::odometryInput(*flight_, k);
+    nan.odom_T_body.linear()(0, 0) = NAN;
+    EXPECT_EQ(pipeline.addOdometry(nan).status().code(), StatusCode::kInvalidArgument);
+    OdometryInput old = flighttest::odometryInput(*flight_, k - 10);
+    EXPECT_EQ(pipeline.addOdometry(old).status().code(), StatusCode::kInvalidArgument);
+    OdometryInput bad_covariance = flighttest::odometryInput(*flight_, k);
+    bad_covariance.absolute_covariance = Matrix6d::Constant(NAN);
+    EXPECT_FALSE(pipeline.addOdometry(bad_covariance).ok());
+  });
+  const PipelineCounters& c = run.results.pipeline_counters;
+  EXPECT_EQ(c.odometry_invalid, 2);
+  EXPECT_EQ(c.odometry_not_after_previous, 1);
+  EXPECT_EQ(run.updates.size(), clean_->updates.size());
+}
+
+TEST_F(StreamingInput, AnOdometryGapMarksTheSamplesAfterItUntilTheFrameIsConfirmed) {
+  // 2 s without odometry in the middle of the flight (a VIO that stalled). Before: unnoticed, detections in the
+  // hole placed on a straight line across it, 1.4 m errors labelled `tracking`.
+  Sequence holed = *flight_;
+  std::vector<OdometrySample> kept;
+  std::vector<Matrix6d> kept_covariances;
+  const double from = 9.0, to = 11.0;
+  for (size_t k = 0; k < holed.odometry.samples.size(); ++k) {
+    const double t = holed.odometry.samples[k].t;
+    if (t > from && t < to) continue;
+    kept.push_back(holed.odometry.samples[k]);
+    kept_covariances.push_back(holed.odometry.absolute_covariances[k]);
+  }
+  holed.odometry.samples = kept;
+  holed.odometry.absolute_covariances = kept_covariances;
+  const auto errors_while_tracking = [&](const SerialRun& run, double* worst) {
+    *worst = 0.0;
+    for (const PoseUpdate& update : run.updates) {
+      if (update.pose.state != TrackingState::kTracking || update.pose.t < to) continue;
+      auto truth = odometryPoseAt(holed.ground_truth->samples, update.pose.t);
+      if (!truth.ok()) continue;
+      *worst = std::max(*worst, (truth->translation() - update.pose.world_T_body.translation()).norm());
+    }
+  };
+  const SerialRun run = streamSerially(holed, SequenceRunParams{});
+  const PipelineCounters& c = run.results.pipeline_counters;
+  EXPECT_EQ(c.odometry_gaps, 1);
+  EXPECT_GT(c.detections_in_gap, 0);
+  const auto after = std::find_if(run.updates.begin(), run.updates.end(), [&](const PoseUpdate& u) { return u.pose.t >= to; });
+  ASSERT_NE(after, run.updates.end());
+  EXPECT_TRUE(after->report.odometry_gap);
+  EXPECT_EQ(after->pose.state, TrackingState::kLost);
+  EXPECT_EQ(run.updates.back().pose.state, TrackingState::kTracking);  // confirmed again
+  double worst = 0.0;
+  errors_while_tracking(run, &worst);
+  EXPECT_LT(worst, 0.6) << "worst error labelled tracking after the gap [m]";
+
+  SequenceRunParams unguarded;
+  unguarded.max_odometry_gap_s = 0.0;  // off: the control, what the test would see without the check
+  const SerialRun blind = streamSerially(holed, unguarded);
+  EXPECT_EQ(blind.results.pipeline_counters.odometry_gaps, 0);
+  double blind_worst = 0.0;
+  errors_while_tracking(blind, &blind_worst);
+  EXPECT_GT(blind_worst, worst) << "the gap check changed nothing here";
+}
+
+TEST_F(StreamingInput, EachSampleReportsWhatItDid) {
+  int updates = 0, searches = 0;
+  bool relocalised = false;
+  for (const PoseUpdate& update : clean_->updates) {
+    updates += static_cast<int>(update.report.updates.size());
+    for (const KeyframeStats& row : update.report.updates) {
+      EXPECT_NE(row.termination, TerminationReason::kInvalidInput);
+    }
+    if (update.report.search == SearchAction::kRelocalized) relocalised = true;
+    if (update.report.search_started) ++searches;
+    EXPECT_EQ(update.report.state, update.pose.state);
+  }
+  EXPECT_TRUE(relocalised);  // the first lock
+  // Every main-graph update of the run was reported by the sample that caused it (finish adds the last one).
+  EXPECT_EQ(updates + 1, static_cast<int>(clean_->results.stats.size()));
+  EXPECT_GE(searches, 0);
+}
+
+TEST(StreamingInputEmpty, FinishWithoutOdometryAndInputsAfterFinishAreRefused) {
+  const Sequence flight = flighttest::simulatedFlight("ratm_ellipse.yaml", "clean", 1, 1);
+  auto pipeline = StreamingLocalizer::create(SequenceRunParams{}, flight.map, flight.camera);
+  ASSERT_TRUE(pipeline.ok());
+  EXPECT_TRUE((*pipeline)->addDetections(flighttest::detectionInstants(flight)[0]).ok());  // waits for odometry
+  EXPECT_EQ((*pipeline)->finish().status().code(), StatusCode::kFailedPrecondition);
+  EXPECT_EQ((*pipeline)->addOdometry(flighttest::odometryInput(flight, 0)).status().code(),
+            StatusCode::kFailedPrecondition);
+}
+
+TEST(RelativeCovarianceStreamTest, EqualsTheWholeLogConversionAndSkipsSamplesWithoutCovariance) {
+  const Sequence flight = flighttest::simulatedFlight("ratm_ellipse.yaml", "clean", 1, 1);
+  OdometryLog log = flight.odometry;
+  ASSERT_TRUE(toRelativeCovariances(log).ok());
+  RelativeCovarianceStream stream;
+  for (size_t k = 0; k < 50; ++k) {
+    auto relative = stream.next(log.samples[k].odom_T_body, log.absolute_covariances[k]);
+    ASSERT_TRUE(relative.ok());
+    ASSERT_EQ(relative->has_value(), k > 0);
+    if (k > 0) {
+      EXPECT_TRUE(relative->value() == *log.samples[k].relative_covariance);
+    }
+  }
+  auto missing = stream.next(log.samples[50].odom_T_body, std::nullopt);
+  ASSERT_TRUE(missing.ok());
+  EXPECT_FALSE(missing->has_value());
+  auto after = stream.next(log.samples[51].odom_T_body, log.absolute_covariances[51]);  // no previous covariance
+  ASSERT_TRUE(after.ok());
+  EXPECT_FALSE(after->has_value());
+  auto nan = stream.next(log.samples[52].odom_T_body, Matrix6d::Constant(NAN));
+  EXPECT_EQ(nan.status().code(), StatusCode::kNumericalError);
+}
+
+}  // namespace
+}  // namespace dualgraph

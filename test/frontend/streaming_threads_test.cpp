@@ -1,0 +1,158 @@
+// SPDX-License-Identifier: MIT
+// StreamingLocalizer fed as a drone feeds it: odometry from one thread, detections from another, a publisher
+// reading snapshots from a third; the graph equals the replay's and the streamed poses hold its accuracy.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <thread>
+
+#include "dualgraph/frontend/evaluation/run_metrics.h"
+#include "dualgraph/frontend/sequence_run.h"
+#include "test/frontend/simulated_flight.h"
+#include "test/frontend/streaming_flight.h"
+
+namespace dualgraph {
+namespace {
+
+struct Streamed {
+  std::vector<CorrectedPose> estimate;
+  PipelineResults results;
+  long snapshots_read = 0;
+  bool snapshots_consistent = true;
+};
+
+// Feeds `sequence` from two producer threads into a pipeline in `threading` mode while a publisher reads
+// snapshots. The detector delivers an instant once the odometry is within 0.2 s of it (never far ahead); the
+// odometry thread waits for the instants up to its sample's time (so every detection arrives on time, as with
+// a detector faster than detection_latency) and, in worker mode, for the worker to be within 10 samples.
+Streamed streamFlight(const Sequence& sequence, const SequenceRunParams& params, PipelineThreading threading) {
+  Streamed out;
+  auto created = StreamingLocalizer::create(params, sequence.map, sequence.camera, threading);
+  EXPECT_TRUE(created.ok()) << created.status().message();
+  if (!created.ok()) return out;
+  StreamingLocalizer& pipeline = **created;
+  const std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
+  const double offset = sequence.camera ? sequence.camera->time_offset : 0.0;
+  std::atomic<double> odometry_t{-1e300};
+  std::atomic<size_t> delivered{0};
+  std::atomic<bool> done{false};
+
+  std::thread detector([&] {
+    for (size_t i = 0; i < instants.size(); ++i) {
+      while (odometry_t.load() < instants[i].t - offset - 0.2 && !done.load()) std::this_thread::yield();
+      EXPECT_TRUE(pipeline.addDetections(instants[i]).ok());
+      delivered.store(i + 1);
+    }
+  });
+  std::thread publisher([&] {
+    double last_t = -std::numeric_limits<double>::infinity();
+    while (!done.load()) {
+      const PipelineSnapshot snapshot = pipeline.snapshot();
+      ++out.snapshots_read;
+      if (snapshot.t < last_t || !snapshot.map_T_odom.matrix().allFinite() ||
+          !snapshot.world_T_body.matrix().allFinite()) {
+        out.snapshots_consistent = false;
+      }
+      last_t = snapshot.t;
+    }
+  });
+  size_t next_instant = 0;
+  for (size_t k = 0; k < sequence.odometry.samples.size(); ++k) {
+    const double t = sequence.odometry.samples[k].t;
+    while (next_instant < instants.size() && instants[next_instant].t - offset <= t) ++next_instant;
+    while (delivered.load() < next_instant) std::this_thread::yield();
+    Result<PoseUpdate> update = pipeline.addOdometry(flighttest::odometryInput(sequence, k));
+    EXPECT_TRUE(update.ok()) << update.status().message();
+    if (update.ok()) out.estimate.push_back(update->pose);
+    odometry_t.store(t);
+    // The VIO's pace: the worker keeps up with 100 Hz odometry in real time (bench/README: per-sample figures);
+    // here the samples come as fast as the loop goes, so the producer lets it stay at most 10 samples behind.
+    while (threading == PipelineThreading::kWorker && static_cast<long>(k) + 1 - pipeline.snapshot().samples > 10) {
+      std::this_thread::yield();
+    }
+  }
+  detector.join();
+  Result<PipelineResults> results = pipeline.finish();
+  done.store(true);
+  publisher.join();
+  EXPECT_TRUE(results.ok()) << results.status().message();
+  if (results.ok()) out.results = std::move(results).value();
+  return out;
+}
+
+double ateOf(const Sequence& sequence, const std::vector<CorrectedPose>& estimate, const PipelineResults& results) {
+  SequenceRunResult run;
+  run.estimate = estimate;
+  run.keyframes = results.keyframes;
+  run.stats = results.stats;
+  run.localizer_counters = results.localizer_counters;
+  run.frontend_counters = results.frontend_counters;
+  auto metrics = computeRunMetrics(sequence, run);
+  EXPECT_TRUE(metrics.ok()) << metrics.status().message();
+  return metrics.ok() ? metrics->estimate.ate_m : INFINITY;
+}
+
+TEST(StreamingThreads, TwoProducersAndAPublisherGiveTheReplaysGraphAndItsAccuracy) {
+  const Sequence sequence = flighttest::simulatedFlight("ratm_ellipse.yaml", "realistic", 1, 12);  // the demo's race
+  const SequenceRunParams params;  // the frame found from the detections, no start pose
+  auto replayed = runSequence(sequence, params);
+  ASSERT_TRUE(replayed.ok()) << replayed.status().message();
+  auto replay_metrics = computeRunMetrics(sequence, *replayed);
+  ASSERT_TRUE(replay_metrics.ok());
+  ASSERT_GT(replay_metrics->ate_reduction_pct, 80.0);
+
+  for (PipelineThreading threading : {PipelineThreading::kCallerThread, PipelineThreading::kWorker}) {
+    const std::string what = threading == PipelineThreading::kWorker ? "worker" : "caller thread";
+    const Streamed streamed = streamFlight(sequence, params, threading);
+    EXPECT_TRUE(streamed.snapshots_consistent) << what;
+    EXPECT_GT(streamed.snapshots_read, 0) << what;
+    // Every detection arrived before the odometry passed it: the graph saw what the replay's saw.
+    ASSERT_EQ(streamed.results.keyframes.size(), replayed->keyframes.size()) << what;
+    for (size_t k = 0; k < replayed->keyframes.size(); ++k) {
+      ASSERT_EQ(streamed.results.keyframes[k].t, replayed->keyframes[k].t) << what;
+      ASSERT_TRUE(streamed.results.keyframes[k].world_T_body.isApprox(replayed->keyframes[k].world_T_body, 1e-9)) << what;
+    }
+    EXPECT_EQ(streamed.results.frontend_counters.used, replayed->frontend_counters.used) << what;
+    ASSERT_EQ(streamed.estimate.size(), replayed->estimate.size()) << what;
+    // The poses given at each sample: the replay's exactly in caller-thread mode; through the last finished result
+    // in worker mode (a few samples behind at most), within 10 % of the replay's ATE.
+    const double ate = ateOf(sequence, streamed.estimate, streamed.results);
+    if (threading == PipelineThreading::kCallerThread) {
+      EXPECT_EQ(ate, replay_metrics->estimate.ate_m);
+    } else {
+      EXPECT_LT(ate, 1.1 * replay_metrics->estimate.ate_m + 0.005) << ate << " against " << replay_metrics->estimate.ate_m;
+    }
+  }
+}
+
+TEST(StreamingThreads, DestroyedWithoutFinishTheWorkerStops) {
+  const Sequence sequence = flighttest::simulatedFlight("ratm_ellipse.yaml", "clean", 2, 1);
+  auto pipeline = StreamingLocalizer::create(SequenceRunParams{}, sequence.map, sequence.camera, PipelineThreading::kWorker);
+  ASSERT_TRUE(pipeline.ok());
+  for (size_t k = 0; k < 200 && k < sequence.odometry.samples.size(); ++k) {
+    ASSERT_TRUE((*pipeline)->addOdometry(flighttest::odometryInput(sequence, k)).ok());
+  }
+  pipeline->reset();  // joins the worker; nothing leaks (ASan, TSan)
+}
+
+TEST(StreamingThreads, WorkerModeRefusesBadOdometryAtOnceAndCountsIt) {
+  const Sequence sequence = flighttest::simulatedFlight("ratm_ellipse.yaml", "clean", 2, 1);
+  auto pipeline = StreamingLocalizer::create(SequenceRunParams{}, sequence.map, sequence.camera, PipelineThreading::kWorker);
+  ASSERT_TRUE(pipeline.ok());
+  ASSERT_TRUE((*pipeline)->addOdometry(flighttest::odometryInput(sequence, 0)).ok());
+  OdometryInput bad = flighttest::odometryInput(sequence, 1);
+  bad.odom_T_body.translation().x() = NAN;
+  EXPECT_EQ((*pipeline)->addOdometry(bad).status().code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ((*pipeline)->addOdometry(flighttest::odometryInput(sequence, 0)).status().code(), StatusCode::kInvalidArgument);
+  ASSERT_TRUE((*pipeline)->addOdometry(flighttest::odometryInput(sequence, 1)).ok());
+  auto results = (*pipeline)->finish();
+  ASSERT_TRUE(results.ok()) << results.status().message();
+  EXPECT_EQ(results->pipeline_counters.odometry_invalid, 1);
+  EXPECT_EQ(results->pipeline_counters.odometry_not_after_previous, 1);
+  EXPECT_EQ(results->localizer_counters.odometry_accepted, 2);
+  EXPECT_EQ((*pipeline)->finish().status().code(), StatusCode::kFailedPrecondition);
+}
+
+}  // namespace
+}  // namespace dualgraph
