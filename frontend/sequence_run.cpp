@@ -84,6 +84,7 @@ Result<SequenceRunResult> replay(StreamingLocalizer& pipeline, const Sequence& s
   result.frame_checks_replaced = c.frame_checks_replaced;
   result.initialization = finished->initialization;
   result.camera_switched_at = finished->camera_switched_at;
+  result.self_calibration = finished->self_calibration;
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

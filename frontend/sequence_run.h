@@ -38,6 +38,8 @@ struct SequenceRunResult {
   /// With `auto_initialize`: how the first search found the VIO's frame (or why not: then no detection was
   /// used and every sample stayed initialising). The Localizer was relocalised at `initialization.world_T_odom`.
   std::optional<FrameInitialization> initialization;
+  /// Self-calibration (SequenceRunParams::self_calibration_after_s): what it did, or why not.
+  SelfCalibrationReport self_calibration;
   PipelineCounters pipeline_counters;         ///< the pipeline's refusals by reason (the ints above among them)
   double wall_seconds = 0.0;                  ///< whole run
   /// With params.camera_switch: the odometry sample's time [s] at which the run switched to that camera.

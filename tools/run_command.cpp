@@ -154,7 +154,7 @@ int runRunCommand(const RunOptions& o) {
   }
   if (self_calibration.applied) {
     std::cout << "  self-calibrated on the first " << params->self_calibration_after_s << " s (" << self_calibration.iterations
-              << " runs): camera clock offset " << 1e3 * self_calibration.time_offset_before << " -> "
+              << " iterations): camera clock offset " << 1e3 * self_calibration.time_offset_before << " -> "
               << 1e3 * self_calibration.time_offset_after << " ms (1 sigma " << 1e3 * self_calibration.time_offset_sigma
               << " ms), mount rotation corrected by " << self_calibration.mount_change_deg << " deg; used from t="
               << self_calibration.at_s << " s\n";

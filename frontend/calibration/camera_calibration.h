@@ -78,4 +78,14 @@ using CalibrationObserver = std::function<void(const CalibrationIteration&, cons
 Result<CameraCalibration> calibrateCamera(const Sequence& sequence, const SequenceRunParams& run_params,
                                           const CalibrationParams& params, const CalibrationObserver& observer = {});
 
+/// calibrateCamera without runs, for a flight so far held in memory (the streaming pipeline's self-calibration):
+/// `corners` (camera clock), the `odometry` and the `keyframes` the run made of it so far give the first drift
+/// knots (VioDriftTrack::knotsFromKeyframes); then match → solve → update, each next match at the solve's refined
+/// knots and the updated camera (no run again), until the steps are within the tolerances or max_iterations.
+/// `camera.time_offset` is the start. Errors as calibrateCamera's (`source` names the flight in them).
+Result<CameraCalibration> calibrateCameraOnRun(const std::vector<CornerDetection>& corners, const Track& map,
+                                               const CameraModel& camera, const std::vector<OdometrySample>& odometry,
+                                               const std::vector<CorrectedPose>& keyframes,
+                                               const CalibrationParams& params, const std::string& source);
+
 }  // namespace dualgraph

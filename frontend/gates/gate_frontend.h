@@ -82,6 +82,8 @@ class GateFrontend {
   const std::vector<Eigen::Vector3d>& lastUnmatched() const { return last_unmatched_; }
   /// The map as the frontend knows it (grows in mapping mode).
   const GateMap& map() const { return map_; }
+  /// The camera the detections are solved with now (unset for a pose-detection frontend).
+  const std::optional<CameraModel>& camera() const { return camera_; }
   /// Replaces the camera for the detections to come (a self-calibrated one: mount, intrinsics, time_offset).
   void setCamera(const CameraModel& camera) { camera_ = camera; }
 

@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/frontend/pipeline/pipeline_core.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "dualgraph/core/wall_clock.h"
+#include "dualgraph/frontend/calibration/camera_calibration.h"
 
 namespace dualgraph {
 namespace {
@@ -64,7 +66,19 @@ Result<std::unique_ptr<PipelineCore>> PipelineCore::create(const SequenceRunPara
   core->owned_frontend_.emplace(std::move(frontend).value());
   core->frontend_ = &*core->owned_frontend_;
   core->time_offset_ = time_offset;
+  core->track_ = map;
   if (!params.localizer.mapping) core->search_.emplace(core->params_, core->map_);
+  SelfCalibrationReport& self = core->self_calibration_;
+  self.time_offset_before = time_offset;
+  if (!(params.self_calibration_after_s > 0.0)) {
+    self.why_not = "off (frontend.self_calibration_after_s: 0)";
+  } else if (params.localizer.mapping) {
+    self.why_not = "not in mapping mode (no map to calibrate against)";
+  } else if (!core->frontend_->camera()) {
+    self.why_not = "needs corner detections and a camera (no camera given)";
+  } else {
+    core->self_calibration_pending_ = true;
+  }
   return core;
 }
 
@@ -140,6 +154,7 @@ Status PipelineCore::addDetections(const DetectionInstant& instant) {
                                                       " detection instants wait for odometry; refused");
   }
   last_instant_t_ = instant.t;
+  if (self_calibration_pending_) flight_corners_.insert(flight_corners_.end(), instant.corners.begin(), instant.corners.end());
   waiting_.push_back(instant);
   return Status();
 }
@@ -179,6 +194,10 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
     covariances_.reset();
   }
   const bool first = !newest_odometry_t_;
+  if (self_calibration_pending_) {
+    if (first) self_calibration_.at_s = input.t + params_.self_calibration_after_s;
+    if (input.t >= self_calibration_.at_s) selfCalibrate(input.t);
+  }
   const bool gap = !first && params_.max_odometry_gap_s > 0.0 && input.t - *newest_odometry_t_ > params_.max_odometry_gap_s;
   if (gap) {
     gap_ = std::make_pair(*newest_odometry_t_, input.t);
@@ -201,6 +220,7 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
   Result<CorrectedPose> corrected = localizer_->addOdometry(sample);
   if (!corrected.ok()) return corrected.status();
   newest_odometry_t_ = input.t;
+  if (self_calibration_pending_) flight_odometry_.push_back(sample);
   if (first) {  // the first accepted sample: the detections at its own instant (earlier ones cannot be placed)
     first_odometry_t_ = input.t;
     if (search_ && params_.auto_initialize) search_->startInitial(input.odom_T_body);
@@ -299,9 +319,52 @@ Status PipelineCore::handInstant(const DetectionInstant& instant, const Eigen::I
   return searchWith(instant, odom_T_body);
 }
 
+void PipelineCore::selfCalibrate(double t) {
+  self_calibration_pending_ = false;
+  SelfCalibrationReport& self = self_calibration_;
+  std::vector<CornerDetection> corners;
+  corners.swap(flight_corners_);
+  std::vector<OdometrySample> odometry;
+  odometry.swap(flight_odometry_);
+  const double until = self.at_s;
+  corners.erase(std::remove_if(corners.begin(), corners.end(), [&](const CornerDetection& d) { return d.t > until; }),
+                corners.end());
+  if (corners.empty()) {
+    self.why_not = "no corner detections by t = " + formatTimestamp(until) + " s (a pose detector has no pixels to calibrate)";
+    return;
+  }
+  self.attempted = true;
+  CameraModel camera = *frontend_->camera();
+  camera.time_offset = time_offset_;
+  Result<CameraCalibration> calibrated = calibrateCameraOnRun(corners, track_, camera, odometry,
+                                                              localizer_->keyframeTrajectory(), CalibrationParams{},
+                                                              "the flight so far");
+  if (!calibrated.ok()) {
+    self.why_not = "the calibration failed: " + calibrated.status().message();
+    return;
+  }
+  self.iterations = static_cast<int>(calibrated->iterations.size());
+  self.time_offset_after = calibrated->camera.time_offset;
+  self.time_offset_sigma = calibrated->time_offset_sigma;
+  self.mount_change_deg = calibrated->mount_correction.norm() * 180.0 / M_PI;
+  if (!calibrated->converged) {
+    self.why_not = "the calibration did not converge in " + std::to_string(self.iterations) + " iterations";
+    return;
+  }
+  frontend_->setCamera(calibrated->camera);
+  time_offset_ = calibrated->camera.time_offset;
+  camera_switched_at_ = t;
+  self.applied = true;
+  report_.camera_switched = true;
+}
+
 Status PipelineCore::finish() {
   if (finished_) return Status(StatusCode::kFailedPrecondition, "pipeline: finish called twice");
   finished_ = true;
+  if (self_calibration_pending_ && newest_odometry_t_) {
+    self_calibration_pending_ = false;
+    self_calibration_.why_not = "the flight ends before t = " + std::to_string(self_calibration_.at_s) + " s";
+  }
   if (!newest_odometry_t_) return Status(StatusCode::kFailedPrecondition, "pipeline: no odometry sample was given");
   report_ = UpdateReport{};
   // What was still on its way when the odometry ended (taken within its span).

@@ -3,12 +3,26 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "dualgraph/dual_graph/localizer.h"
 #include "dualgraph/frontend/pipeline/frame_search.h"
 
 namespace dualgraph {
+
+/// What a self-calibrating run did (metrics.json `self_calibration_*`).
+struct SelfCalibrationReport {
+  bool attempted = false;            ///< the flight lasted past the calibration time and had corners and a camera
+  bool applied = false;              ///< the rest of the run used the calibrated camera
+  double at_s = 0.0;                 ///< t_c: the flight so far ends there; the camera switched there [s]
+  double time_offset_before = 0.0;   ///< the clock offset the run started with [s]
+  double time_offset_after = 0.0;    ///< the calibrated one [s]
+  double time_offset_sigma = 0.0;    ///< its formal 1σ [s]
+  double mount_change_deg = 0.0;     ///< the angle of the mount rotation's correction [deg]
+  int iterations = 0;                ///< match-and-solve iterations
+  std::string why_not;               ///< when not applied: why (empty when applied)
+};
 
 /// One odometry sample as a VIO publishes it: time t [s] on the odometry clock, odom_T_body (body in the VIO's
 /// odometry frame, unit quaternion / rotation), and optionally the covariance of that pose itself (6×6, metric

@@ -169,6 +169,7 @@ Result<PipelineResults> StreamingLocalizer::finish() {
   results.localizer_counters.odometry_rejected += invalid_on_submit_ + refused_on_submit_;
   results.initialization = core_->initialization();
   results.camera_switched_at = core_->cameraSwitchedAt();
+  results.self_calibration = core_->selfCalibration();
   return results;
 }
 

@@ -47,7 +47,8 @@ struct PipelineResults {
   GateFrontendCounters frontend_counters;
   PipelineCounters pipeline_counters;
   std::optional<FrameInitialization> initialization;  ///< the first frame search's answer (auto_initialize)
-  std::optional<double> camera_switched_at;           ///< [s], a configured camera switch
+  std::optional<double> camera_switched_at;           ///< [s], self-calibration's or a configured camera switch
+  SelfCalibrationReport self_calibration;
 };
 
 /// The onboard pipeline (frontend/pipeline/README.md): built from the run configuration, the gate map and the
