@@ -1,10 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include "bench/race_fixture.h"
 
+#include <map>
+#include <utility>
+
 #include "bench/bench_data.h"
 #include "dualgraph/frontend/io/camera_io.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/io/track_io.h"
+#include "dualgraph/frontend/simulation/race_profiles.h"
 #include "dualgraph/frontend/simulation/race_sequence.h"
 
 namespace dualgraph::bench {
@@ -50,6 +54,26 @@ Result<std::unique_ptr<Localizer>> runRaceLocalizer(const Sequence& sequence, co
   Result<SequenceRunResult> run = runSequenceWith(**localizer, *frontend, sequence);
   if (!run.ok()) return run.status();
   return localizer;
+}
+
+const Result<Sequence>& realisticRace(const std::string& track_name, std::uint64_t seed) {
+  static std::map<std::pair<std::string, std::uint64_t>, Result<Sequence>> cache;
+  const auto key = std::make_pair(track_name, seed);
+  auto found = cache.find(key);
+  if (found != cache.end()) return found->second;
+  auto simulate = [&]() -> Result<Sequence> {
+    Result<Track> track = loadTrackYaml(bench::repositoryDataPath("tracks/" + track_name + ".yaml"));
+    if (!track.ok()) return track.status();
+    Result<CameraModel> camera = loadCameraYaml(bench::repositoryDataPath("cameras/ratm_piloted.yaml"));
+    if (!camera.ok()) return camera.status();
+    RaceSimParams params;
+    params.seed = seed;
+    DG_RETURN_IF_ERROR(applySimulationProfile("realistic", params));
+    Result<SimulatedRace> race = simulateRace(*track, *camera, params);
+    if (!race.ok()) return race.status();
+    return raceSequence(*race, params, track_name + " seed " + std::to_string(seed) + " (simulated, realistic)");
+  };
+  return cache.emplace(key, simulate()).first->second;
 }
 
 }  // namespace dualgraph::bench

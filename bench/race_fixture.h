@@ -5,6 +5,7 @@
 // in memory (raceSequence).
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -23,6 +24,10 @@ constexpr double kDMain1800 = 0.225;
 
 /// The sequence, simulated on first use (kept for the process).
 const Result<Sequence>& ratmSequence();
+
+/// `dualgraph simulate --track data/tracks/<track>.yaml --profile realistic --seed <seed>` in memory (the
+/// track's own laps), made once per process and per (track, seed).
+const Result<Sequence>& realisticRace(const std::string& track_name, std::uint64_t seed);
 
 /// `dualgraph run`'s configuration (data/config/default.yaml) with d_main set, and main_window set when
 /// `main_window` ≥ 0 (−1 keeps the configuration's).

@@ -13,7 +13,7 @@
 #include "bench/race_fixture.h"
 #include "dualgraph/core/sparse_system.h"
 #include "dualgraph/dual_graph/marginal_prior.h"
-#include "dualgraph/frontend/calibration/self_calibration.h"
+#include "dualgraph/frontend/self_calibration.h"
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "dualgraph/frontend/io/camera_io.h"
 #include "dualgraph/frontend/io/run_config.h"
@@ -25,28 +25,6 @@
 namespace dualgraph {
 namespace {
 
-/// `dualgraph simulate --track data/tracks/<track>.yaml --profile realistic --seed <seed>` in memory (the
-/// track's own laps), made once per process and per (track, seed).
-const Result<Sequence>& realisticRace(const std::string& track_name, std::uint64_t seed) {
-  static std::map<std::pair<std::string, std::uint64_t>, Result<Sequence>> cache;
-  const auto key = std::make_pair(track_name, seed);
-  auto found = cache.find(key);
-  if (found != cache.end()) return found->second;
-  auto simulate = [&]() -> Result<Sequence> {
-    Result<Track> track = loadTrackYaml(bench::repositoryDataPath("tracks/" + track_name + ".yaml"));
-    if (!track.ok()) return track.status();
-    Result<CameraModel> camera = loadCameraYaml(bench::repositoryDataPath("cameras/ratm_piloted.yaml"));
-    if (!camera.ok()) return camera.status();
-    RaceSimParams params;
-    params.seed = seed;
-    DG_RETURN_IF_ERROR(applySimulationProfile("realistic", params));
-    Result<SimulatedRace> race = simulateRace(*track, *camera, params);
-    if (!race.ok()) return race.status();
-    return raceSequence(*race, params, track_name + " seed " + std::to_string(seed) + " (simulated, realistic)");
-  };
-  return cache.emplace(key, simulate()).first->second;
-}
-
 /// `dualgraph run` with data/config/default.yaml over the race (runSequenceSelfCalibrating: frame search,
 /// self-calibration on the first 15 s, frontend and Localizer as onboard). Counters: the main-graph update per keyframe (KeyframeStats::optimize_ms:
 /// χ² gate marginals, LM, marginalisation of the keyframe leaving the window) P50/P95/max, its LM
@@ -54,7 +32,7 @@ const Result<Sequence>& realisticRace(const std::string& track_name, std::uint64
 /// marginal prior's rows and vertices), and the ATE.
 /// The iteration time is the whole run.
 void BM_RaceMainGraphUpdate(benchmark::State& state, const std::string& track_name, std::uint64_t seed) {
-  const Result<Sequence>& sequence = realisticRace(track_name, seed);
+  const Result<Sequence>& sequence = bench::realisticRace(track_name, seed);
   if (!sequence.ok()) return state.SkipWithError(sequence.status().message().c_str());
   Result<SequenceRunParams> params = loadRunConfig(bench::repositoryDataPath("config/default.yaml"));
   if (!params.ok()) return state.SkipWithError(params.status().message().c_str());

@@ -8,7 +8,7 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "errors.h"
-#include "dualgraph/frontend/calibration/self_calibration.h"
+#include "dualgraph/frontend/self_calibration.h"
 #include "dualgraph/frontend/gates/gate_frontend.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/io/sequence_folder.h"

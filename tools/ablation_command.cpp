@@ -7,7 +7,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "dualgraph/frontend/calibration/self_calibration.h"
+#include "dualgraph/frontend/self_calibration.h"
 #include "dualgraph/frontend/io/camera_io.h"
 #include "dualgraph/frontend/simulation/race_profiles.h"
 #include "dualgraph/frontend/simulation/race_sequence.h"

@@ -104,6 +104,22 @@ int runRunCommand(const RunOptions& o) {
     warn(std::to_string(unknown_gates_skipped) + " detections name a gate that is not in the map: skipped (--skip-unknown-gates)");
   }
   warnOutsideOdometry(*sequence, *run);
+  const PipelineCounters& refused = run->pipeline_counters;
+  if (refused.odometry_gaps > 0) {
+    warn(std::to_string(refused.odometry_gaps) + " gaps in the odometry longer than frontend.max_odometry_gap_s (" +
+         std::to_string(params->max_odometry_gap_s) + " s): the samples after each are marked lost until the frame is " +
+         "confirmed again (tracking_state.csv); " + std::to_string(refused.detections_in_gap) +
+         " detections inside them were not used");
+  }
+  if (refused.detections_too_far_ahead + refused.detections_unplaced > 0) {
+    warn(std::to_string(refused.detections_too_far_ahead) + " detections stamped more than frontend.max_detection_lead_s " +
+         "beyond the newest odometry and " + std::to_string(refused.detections_unplaced) +
+         " older than the odometry still held were not used");
+  }
+  if (run->localizer_counters.keyframes_failed > 0) {
+    warn(std::to_string(run->localizer_counters.keyframes_failed) + " keyframe intervals could not be closed (last: " +
+         run->localizer_counters.last_error + ")");
+  }
   if (sequence->covariance_clamped > 0) {
     warn(std::to_string(sequence->covariance_clamped) + " eigenvalues of the odometry's relative covariances were raised to "
          "the floor: " + sequence->vio_path + "'s absolute covariances do not grow as a random walk everywhere (a reset or "

@@ -6,7 +6,6 @@
 #include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
-namespace {
 
 Status validateCalibrationParams(const CalibrationParams& p) {
   const auto bad = [](const std::string& field, const std::string& why) {
@@ -23,9 +22,7 @@ Status validateCalibrationParams(const CalibrationParams& p) {
   return Status();
 }
 
-Status unusable(const Sequence& sequence, const std::string& why) {
-  return Status(StatusCode::kFailedPrecondition, sequence.dir + ": " + why);
-}
+namespace {
 
 // RMS corner distance of the matches at matching time [px].
 double matchRms(const std::vector<GateCornerMatch>& matches) {
@@ -34,9 +31,11 @@ double matchRms(const std::vector<GateCornerMatch>& matches) {
   return matches.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(matches.size()));
 }
 
+}  // namespace
+
 /// One match → solve → update step at `knots`: fills `record` from the solution, updates `camera`, returns the
 /// solution (its refined knots for the next step).
-Result<CalibrationSolution> solveStep(const std::vector<CornerDetection>& corners, const Track& map,
+Result<CalibrationSolution> calibrationStep(const std::vector<CornerDetection>& corners, const Track& map,
                                       const std::vector<OdometrySample>& odometry, const DriftKnots& knots,
                                       const Eigen::Matrix3d& input_body_R_camera, const CalibrationParams& params,
                                       const std::string& source, CameraModel& camera, CalibrationIteration& record) {
@@ -71,12 +70,12 @@ Result<CalibrationSolution> solveStep(const std::vector<CornerDetection>& corner
   return solution;
 }
 
-bool stepConverged(const CalibrationIteration& record, const CalibrationParams& params) {
+bool calibrationStepConverged(const CalibrationIteration& record, const CalibrationParams& params) {
   return record.time_offset_step < params.converged_time_offset &&
          record.rotation_step_deg < params.converged_rotation_deg;
 }
 
-void finishCalibration(const CameraModel& camera, CameraCalibration& result) {
+void finishCameraCalibration(const CameraModel& camera, CameraCalibration& result) {
   const CalibrationIteration& last = result.iterations.back();
   result.camera = camera;
   result.mount_correction = last.mount_correction;
@@ -84,51 +83,6 @@ void finishCalibration(const CameraModel& camera, CameraCalibration& result) {
   result.rotation_sigma = last.rotation_sigma;
 }
 
-}  // namespace
-
-Result<CameraCalibration> calibrateCamera(const Sequence& sequence, const SequenceRunParams& run_params,
-                                          const CalibrationParams& params, const CalibrationObserver& observer) {
-  DG_RETURN_IF_ERROR(validateCalibrationParams(params));
-  if (!sequence.has_corners || sequence.corners.empty()) {
-    return unusable(sequence, "calibration needs corner detections (corners.csv); pose detections carry no pixels");
-  }
-  if (!sequence.camera) return unusable(sequence, "calibration needs the camera (camera.yaml)");
-  if (sequence.odometry.samples.size() < 2) return unusable(sequence, "calibration needs at least 2 odometry samples");
-  DG_RETURN_IF_ERROR(sequence.camera->validate());
-
-  Sequence working = sequence;
-  CameraModel camera = *sequence.camera;
-  camera.time_offset = detectionTimeOffset(sequence, run_params);
-  const Eigen::Matrix3d input_body_R_camera = camera.body_T_camera.linear();
-  const std::vector<OdometrySample>& odometry = sequence.odometry.samples;
-  CameraCalibration result;
-  for (int iteration = 1; iteration <= params.max_iterations && !result.converged; ++iteration) {
-    working.camera = camera;
-    SequenceRunParams run_with = run_params;
-    run_with.time_offset = camera.time_offset;
-    run_with.self_calibration_after_s = 0.0;  // each run with the camera as it is now
-    auto run = runSequence(working, run_with);
-    if (!run.ok()) return run.status();
-    CalibrationIteration record;
-    record.iteration = iteration;
-    record.detections_used_by_run = run->frontend_counters.used;
-    record.run_initialized = !run->initialization || run->initialization->locked;
-    if (!record.run_initialized) {
-      return unusable(sequence, "the run could not find the VIO's frame in the map (" + run->initialization->why_not +
-                                    "), so no detection can be matched");
-    }
-    auto knots = VioDriftTrack::knotsFromKeyframes(run->keyframes, odometry, params.knot_spacing);
-    if (!knots.ok()) return unusable(sequence, "the run made no keyframe to start from: " + knots.status().message());
-    auto solved = solveStep(sequence.corners, sequence.map, odometry, *knots, input_body_R_camera, params, sequence.dir,
-                            camera, record);
-    if (!solved.ok()) return solved.status();
-    result.converged = stepConverged(record, params);
-    result.iterations.push_back(record);
-    if (observer) observer(record, *run);
-  }
-  finishCalibration(camera, result);
-  return result;
-}
 
 Result<CameraCalibration> calibrateCameraOnRun(const std::vector<CornerDetection>& corners, const Track& map,
                                                const CameraModel& camera, const std::vector<OdometrySample>& odometry,
@@ -150,13 +104,13 @@ Result<CameraCalibration> calibrateCameraOnRun(const std::vector<CornerDetection
     CalibrationIteration record;
     record.iteration = iteration;
     record.run_initialized = true;
-    auto solved = solveStep(corners, map, odometry, knots, input_body_R_camera, params, source, working, record);
+    auto solved = calibrationStep(corners, map, odometry, knots, input_body_R_camera, params, source, working, record);
     if (!solved.ok()) return solved.status();
     if (params.solver.refine_trajectory) knots = solved->knots;  // the next match at the refined drift
-    result.converged = stepConverged(record, params);
+    result.converged = calibrationStepConverged(record, params);
     result.iterations.push_back(record);
   }
-  finishCalibration(working, result);
+  finishCameraCalibration(working, result);
   return result;
 }
 

@@ -1,16 +1,18 @@
 // SPDX-License-Identifier: MIT
-// calibrateCamera: the camera-to-VIO clock offset and the camera-mount rotation estimated from a flight.
+// calibrateCameraOnRun: the camera-to-VIO clock offset and the camera-mount rotation from a flight so far.
 #pragma once
 
 #include <Eigen/Core>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "dualgraph/core/status.h"
 #include "dualgraph/frontend/calibration/calibration_solver.h"
-#include "dualgraph/frontend/io/run_config.h"
-#include "dualgraph/frontend/io/sequence_folder.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/gates/corner_detection.h"
+#include "dualgraph/frontend/gates/track.h"
+#include "dualgraph/frontend/calibration/vio_drift_track.h"
+#include "dualgraph/frontend/calibration/gate_corner_matching.h"
 
 namespace dualgraph {
 
@@ -62,21 +64,21 @@ struct CameraCalibration {
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
-/// Called after each iteration with its record and the run it solved from (e.g. to measure the run's ATE).
-using CalibrationObserver = std::function<void(const CalibrationIteration&, const SequenceRunResult&)>;
+/// kInvalidArgument naming the field of `params` out of range.
+Status validateCalibrationParams(const CalibrationParams& params);
 
-/// Estimates the camera-to-VIO clock offset δ (CameraModel::time_offset) and the camera-mount rotation
-/// (body_T_camera's rotation; its translation is kept) from a flight's gate corners against the known map:
-/// repeat { runSequence with the current camera (δ as run_params.time_offset) → the VIO's drift correction
-/// from the run's keyframes (VioDriftTrack::knotsFromKeyframes) → matchGateCorners → solveCameraCalibration
-/// (δ, mount rotation and the drift correction together) → the camera updated } until δ moved less than
-/// converged_time_offset and the rotation less than converged_rotation_deg, or max_iterations.
-/// The start: run_params.time_offset when set, else the camera's time_offset.
-/// Errors: kFailedPrecondition naming the folder for a sequence without corner detections or camera, a run
-/// that found no frame, fewer than min_matches matched detections; kInvalidArgument for bad params;
-/// runSequence's and the solver's errors.
-Result<CameraCalibration> calibrateCamera(const Sequence& sequence, const SequenceRunParams& run_params,
-                                          const CalibrationParams& params, const CalibrationObserver& observer = {});
+/// One match → solve → update step at `knots` (the steps of calibrateCameraOnRun and of calibrateCamera): the
+/// corners matched at `camera` (its time_offset the start), solved, `record` filled and `camera` updated; the
+/// solution returned (its refined knots). kFailedPrecondition (`source` named) for fewer than min_matches matches;
+/// the solver's errors.
+Result<CalibrationSolution> calibrationStep(const std::vector<CornerDetection>& corners, const Track& map,
+                                            const std::vector<OdometrySample>& odometry, const DriftKnots& knots,
+                                            const Eigen::Matrix3d& input_body_R_camera, const CalibrationParams& params,
+                                            const std::string& source, CameraModel& camera, CalibrationIteration& record);
+/// Whether a step moved less than the tolerances.
+bool calibrationStepConverged(const CalibrationIteration& record, const CalibrationParams& params);
+/// `result` completed from its last iteration and the final `camera`.
+void finishCameraCalibration(const CameraModel& camera, CameraCalibration& result);
 
 /// calibrateCamera without runs, for a flight so far held in memory (the streaming pipeline's self-calibration):
 /// `corners` (camera clock), the `odometry` and the `keyframes` the run made of it so far give the first drift

@@ -243,6 +243,11 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
       .add("detections_before_odometry", run.detections_before_odometry)
       .add("detections_after_odometry", run.detections_after_odometry)
       .add("observations_too_late", run.localizer_counters.observations_too_late)
+      .add("odometry_gaps", run.pipeline_counters.odometry_gaps)
+      .add("detections_in_gap", run.pipeline_counters.detections_in_gap)
+      .add("detections_too_far_ahead", run.pipeline_counters.detections_too_far_ahead)
+      .add("detections_unplaced", run.pipeline_counters.detections_unplaced)
+      .add("keyframes_failed", run.localizer_counters.keyframes_failed)
       .add("pixel_sigma_px", run.frontend_counters.pixel_sigma)
       .add("initialized", run.initialization ? (run.initialization->locked ? 1L : 0L) : -1L)
       .add("initialized_at_s", run.initialization && run.initialization->locked ? run.initialization->locked_at

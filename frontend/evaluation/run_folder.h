@@ -9,7 +9,7 @@
 
 #include "dualgraph/core/status.h"
 #include "dualgraph/dual_graph/localizer_params.h"
-#include "dualgraph/frontend/calibration/self_calibration.h"
+#include "dualgraph/frontend/self_calibration.h"
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "dualgraph/frontend/evaluation/trajectory_metrics.h"
 #include "dualgraph/frontend/gates/track.h"

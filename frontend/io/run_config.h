@@ -43,7 +43,7 @@ struct SequenceRunParams {
   std::optional<double> time_offset;
   /// Self-calibration (`frontend.self_calibration_after_s`, 0: off): once this much odometry time has passed,
   /// the camera's clock offset and mount rotation are calibrated on the flight so far and the rest of the run
-  /// uses that camera (frontend/calibration/self_calibration.h; corner sequences with a camera only) [s].
+  /// uses that camera (frontend/self_calibration.h; corner sequences with a camera only) [s].
   double self_calibration_after_s = 0.0;
   /// A detection instant stamped (on the odometry clock) more than this beyond the newest odometry sample is
   /// refused and counted (`frontend.max_detection_lead_s`; a stamp from another clock would otherwise block every
@@ -80,7 +80,7 @@ struct SequenceRunParams {
 ///                                      #   [rad], allow_reversed, mapping_min_sightings, mapping_consistency [m]
 ///       pose_detection_sigma_t: 0.1  # SequenceRunParams [m], [rad] (_r)
 ///       time_offset: 0.015           # optional [s]: overrides the camera file's time_offset
-///       self_calibration_after_s: 15 # [s], >= 0 (0: off): self-calibration (frontend/calibration/self_calibration.h)
+///       self_calibration_after_s: 15 # [s], >= 0 (0: off): self-calibration (frontend/self_calibration.h)
 ///       relocalization_sigma_t: 2.0  # RelocalizationParams [m]; likewise _sigma_r [rad], _global_after_s [s], _replace_ratio
 ///
 /// Either section may be missing (defaults). Errors are "source:LINE: field 'NAME': why": kParseError

@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <set>
 
-#include "dualgraph/frontend/calibration/self_calibration.h"
+#include "dualgraph/frontend/self_calibration.h"
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "dualgraph/frontend/io/camera_io.h"
 #include "dualgraph/frontend/io/run_config.h"

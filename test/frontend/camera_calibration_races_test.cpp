@@ -6,7 +6,7 @@
 
 #include <cstdio>
 
-#include "dualgraph/frontend/calibration/camera_calibration.h"
+#include "dualgraph/frontend/flight_calibration.h"
 #include "test/frontend/calibration_fixtures.h"
 
 namespace dualgraph {

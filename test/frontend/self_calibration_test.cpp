@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-#include "dualgraph/frontend/calibration/self_calibration.h"
+#include "dualgraph/frontend/self_calibration.h"
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "test/frontend/calibration_fixtures.h"
 

@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <string>
 
-#include "dualgraph/frontend/calibration/self_calibration.h"
+#include "dualgraph/frontend/self_calibration.h"
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/sequence_run.h"

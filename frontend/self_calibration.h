@@ -5,7 +5,7 @@
 #include <string>
 
 #include "dualgraph/core/status.h"
-#include "dualgraph/frontend/calibration/camera_calibration.h"
+#include "dualgraph/frontend/flight_calibration.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/io/sequence_folder.h"
 #include "dualgraph/frontend/sequence_run.h"
