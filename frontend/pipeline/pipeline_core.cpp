@@ -154,6 +154,7 @@ Status PipelineCore::addDetections(const DetectionInstant& instant) {
                                                       " detection instants wait for odometry; refused");
   }
   last_instant_t_ = instant.t;
+  if (!instant.poses.empty()) pose_detections_seen_ = true;
   if (self_calibration_pending_) flight_corners_.insert(flight_corners_.end(), instant.corners.begin(), instant.corners.end());
   waiting_.push_back(instant);
   return Status();
@@ -329,11 +330,15 @@ void PipelineCore::selfCalibrate(double t) {
   const double until = self.at_s;
   corners.erase(std::remove_if(corners.begin(), corners.end(), [&](const CornerDetection& d) { return d.t > until; }),
                 corners.end());
-  if (corners.empty()) {
-    self.why_not = "no corner detections by t = " + formatTimestamp(until) + " s (a pose detector has no pixels to calibrate)";
+  if (corners.empty() && pose_detections_seen_) {
+    self.why_not = "needs corner detections and a camera (pose detections carry no pixels)";
     return;
   }
   self.attempted = true;
+  if (corners.empty()) {
+    self.why_not = "the calibration failed: no corner detections by t = " + formatTimestamp(until) + " s";
+    return;
+  }
   CameraModel camera = *frontend_->camera();
   camera.time_offset = time_offset_;
   Result<CameraCalibration> calibrated = calibrateCameraOnRun(corners, track_, camera, odometry,

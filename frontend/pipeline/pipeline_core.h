@@ -94,6 +94,7 @@ class PipelineCore {
   std::vector<CornerDetection> flight_corners_;
   std::vector<OdometrySample> flight_odometry_;
   SelfCalibrationReport self_calibration_;
+  bool pose_detections_seen_ = false;
   PipelineCounters counters_;
   UpdateReport report_;  ///< the report of the call in progress
   bool finished_ = false;
