@@ -102,6 +102,9 @@ BENCHMARK_CAPTURE(BM_OnboardPerSample, ellipse_caller, std::string("ratm_ellipse
     ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_OnboardPerSample, ellipse_worker_4x, std::string("ratm_ellipse"), PipelineThreading::kWorker, 4.0)
     ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Real time: 95 s per run (not in the default filter's quick set; run it with --benchmark_filter=real_time).
+BENCHMARK_CAPTURE(BM_OnboardPerSample, ellipse_worker_real_time, std::string("ratm_ellipse"), PipelineThreading::kWorker, 1.0)
+    ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_OnboardPerSample, a2rl_caller, std::string("a2rl_like"), PipelineThreading::kCallerThread, 1.0)
     ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_OnboardPerSample, a2rl_worker_4x, std::string("a2rl_like"), PipelineThreading::kWorker, 4.0)

@@ -75,39 +75,69 @@ GatePnpParams GateFrontend::pnpParams() const {
   return pnp;
 }
 
-Result<std::vector<GateObservation>> GateFrontend::processCorners(const std::vector<CornerDetection>& image,
-                                                                  const Eigen::Isometry3d& world_T_body) {
+Result<SolvedDetections> GateFrontend::solveImage(const std::vector<CornerDetection>& image,
+                                                  PixelNoiseEstimator* noise) const {
   if (!camera_) return Status(StatusCode::kFailedPrecondition, "gate frontend: corner detections need a camera");
-  std::vector<GateObservation> solved;
-  std::vector<CornerDetection> partials;
+  SolvedDetections solved;
   for (const CornerDetection& detection : image) {
-    ++counters_.detections;
+    ++solved.detections;
     if (!detection.complete()) {
-      ++counters_.partial;
+      ++solved.partial;
       if (params_.partial_gates && !params_.mapping) {
-        partials.push_back(detection);
+        solved.partials.push_back(detection);
       } else {
-        ++counters_.partial_skipped;
+        ++solved.partial_skipped;
       }
       continue;
     }
-    const GatePnpParams pnp = pnpParams();
-    counters_.pixel_sigma = pnp.pixel_sigma;
+    const GatePnpParams pnp = pnpParams();  // the noise may have learnt from the gate before
+    solved.pixel_sigma = pnp.pixel_sigma;
     GateCornerPixels pixels;
     for (int i = 0; i < 4; ++i) pixels.col(i) = detection.corners[static_cast<size_t>(i)];
     const GatePnpSolution solution = solveGatePnp(pixels, *camera_, GateSide::kFront, pnp);
-    if (params_.adaptive_pixel_sigma && tellsTheNoise(solution)) noise_.add(solution.reprojection_rms);
+    if (noise != nullptr && tellsTheNoise(solution)) noise->add(solution.reprojection_rms);
     if (!solution.ok()) {
-      ++counters_.pnp_rejected;
-      ++counters_.pnp_rejected_by_reason[static_cast<int>(solution.rejection)];
+      ++solved.pnp_rejected;
+      ++solved.pnp_rejected_by_reason[static_cast<int>(solution.rejection)];
       continue;
     }
-    solved.push_back(solution.observation(detection.t, detection.gate_id));
+    solved.poses.push_back(solution.observation(detection.t, detection.gate_id));
   }
-  Result<std::vector<GateObservation>> observations = associate(std::move(solved), world_T_body);
-  if (!observations.ok() || partials.empty()) return observations;
-  DG_RETURN_IF_ERROR(matchPartials(partials, world_T_body, *observations));
+  return solved;
+}
+
+Result<SolvedDetections> GateFrontend::solve(const std::vector<CornerDetection>& image, bool learn_noise) {
+  Result<SolvedDetections> solved = solveImage(image, learn_noise && params_.adaptive_pixel_sigma ? &noise_ : nullptr);
+  if (solved.ok()) counters_.pnp_fits += solved->detections - solved->partial;
+  return solved;
+}
+
+SolvedDetections GateFrontend::fromPoses(const std::vector<GateObservation>& detections) {
+  SolvedDetections solved;
+  solved.poses = detections;
+  solved.detections = static_cast<int>(detections.size());
+  return solved;
+}
+
+Result<std::vector<GateObservation>> GateFrontend::associateSolved(const SolvedDetections& solved,
+                                                                   const Eigen::Isometry3d& world_T_body) {
+  counters_.detections += solved.detections;
+  counters_.partial += solved.partial;
+  counters_.partial_skipped += solved.partial_skipped;
+  counters_.pnp_rejected += solved.pnp_rejected;
+  for (int i = 0; i < 8; ++i) counters_.pnp_rejected_by_reason[i] += solved.pnp_rejected_by_reason[i];
+  if (solved.pixel_sigma > 0.0) counters_.pixel_sigma = solved.pixel_sigma;
+  Result<std::vector<GateObservation>> observations = associate(solved.poses, world_T_body);
+  if (!observations.ok() || solved.partials.empty()) return observations;
+  DG_RETURN_IF_ERROR(matchPartials(solved.partials, world_T_body, *observations));
   return observations;
+}
+
+Result<std::vector<GateObservation>> GateFrontend::processCorners(const std::vector<CornerDetection>& image,
+                                                                  const Eigen::Isometry3d& world_T_body) {
+  Result<SolvedDetections> solved = solve(image, true);
+  if (!solved.ok()) return solved.status();
+  return associateSolved(*solved, world_T_body);
 }
 
 Status GateFrontend::matchPartials(const std::vector<CornerDetection>& partials, const Eigen::Isometry3d& world_T_body,
@@ -132,32 +162,14 @@ Status GateFrontend::matchPartials(const std::vector<CornerDetection>& partials,
 }
 
 Result<std::vector<GateObservation>> GateFrontend::solveCorners(const std::vector<CornerDetection>& image) const {
-  return solveWholeGates(image, nullptr);
-}
-
-Result<std::vector<GateObservation>> GateFrontend::solveCornersLearningNoise(const std::vector<CornerDetection>& image) {
-  return solveWholeGates(image, params_.adaptive_pixel_sigma ? &noise_ : nullptr);
-}
-
-Result<std::vector<GateObservation>> GateFrontend::solveWholeGates(const std::vector<CornerDetection>& image,
-                                                                   PixelNoiseEstimator* noise) const {
-  if (!camera_) return Status(StatusCode::kFailedPrecondition, "gate frontend: corner detections need a camera");
-  std::vector<GateObservation> solved;
-  for (const CornerDetection& detection : image) {
-    if (!detection.complete()) continue;
-    GateCornerPixels pixels;
-    for (int i = 0; i < 4; ++i) pixels.col(i) = detection.corners[static_cast<size_t>(i)];
-    const GatePnpSolution solution = solveGatePnp(pixels, *camera_, GateSide::kFront, pnpParams());
-    if (noise != nullptr && tellsTheNoise(solution)) noise->add(solution.reprojection_rms);
-    if (solution.ok()) solved.push_back(solution.observation(detection.t, detection.gate_id));
-  }
-  return solved;
+  Result<SolvedDetections> solved = solveImage(image, nullptr);
+  if (!solved.ok()) return solved.status();
+  return std::move(solved->poses);
 }
 
 Result<std::vector<GateObservation>> GateFrontend::processPoses(const std::vector<GateObservation>& detections,
                                                                 const Eigen::Isometry3d& world_T_body) {
-  counters_.detections += static_cast<int>(detections.size());
-  return associate(detections, world_T_body);
+  return associateSolved(fromPoses(detections), world_T_body);
 }
 
 Result<std::vector<GateObservation>> GateFrontend::associate(std::vector<GateObservation> detections,

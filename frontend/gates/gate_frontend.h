@@ -45,6 +45,24 @@ struct GateFrontendCounters {
   int partial = 0;              ///< of the detections: partial ones (2–3 corners), wherever they went
   int pnp_rejected_by_reason[8] = {0, 0, 0, 0, 0, 0, 0, 0};  ///< indexed by GatePnpRejection
   double pixel_sigma = 0.0;     ///< the corner noise σ PnP used last [px] (estimated when adaptive)
+  /// PnP fits run by `solve` (and so processCorners), whatever became of them: one per whole gate of an instant
+  /// that is solved once and reused (solveCorners, a read-only helper, is not counted).
+  int pnp_fits = 0;
+};
+
+/// One instant's detections after PnP, before association (GateFrontend::solve): the whole gates PnP accepted as
+/// pose observations in the body frame (detector ids kept; pose detections as given), the partial gates as they
+/// came, and what PnP refused — counted in GateFrontendCounters only when the instant is associated, so an instant
+/// solved once for the frame search and associated later is counted once. A plain value.
+struct SolvedDetections {
+  std::vector<GateObservation> poses;
+  std::vector<CornerDetection> partials;  ///< 2–3 corners seen, kept for association by projection
+  int detections = 0;                     ///< every detection of the instant
+  int partial = 0;                        ///< of them: partial ones
+  int partial_skipped = 0;                ///< partial ones not kept (partial_gates false, or mapping)
+  int pnp_rejected = 0;
+  int pnp_rejected_by_reason[8] = {0, 0, 0, 0, 0, 0, 0, 0};  ///< indexed by GatePnpRejection
+  double pixel_sigma = 0.0;               ///< the σ PnP used last [px] (0: no whole gate solved)
 };
 
 /// Turns raw gate detections into Localizer observations: corners → PnP (camera frame → body via
@@ -59,6 +77,16 @@ class GateFrontend {
   /// an empty map outside mapping mode, or an invalid camera.
   static Result<GateFrontend> create(const GateFrontendParams& params, const Track& map,
                                      std::optional<CameraModel> camera);
+  /// PnP on the whole gates of one image (all at the same t); with `learn_noise` every fitted pose's reprojection
+  /// RMS also teaches the pixel-noise estimate (adaptive_pixel_sigma). Nothing is counted until associateSolved.
+  /// kFailedPrecondition without a camera.
+  Result<SolvedDetections> solve(const std::vector<CornerDetection>& image, bool learn_noise);
+  /// Pose detections of one instant as a SolvedDetections (nothing to solve).
+  static SolvedDetections fromPoses(const std::vector<GateObservation>& detections);
+  /// An instant solved before (solve, fromPoses) → observations with map ids at the current corrected pose
+  /// world_T_body (association as the class brief says; partial gates by projection); counts the instant.
+  Result<std::vector<GateObservation>> associateSolved(const SolvedDetections& solved,
+                                                       const Eigen::Isometry3d& world_T_body);
   /// Corner detections of one image (all at the same t) → observations with map ids: the whole gates
   /// (pose observations) in input order of the accepted ones, then the partial ones (kCorners, when
   /// `partial_gates`). kFailedPrecondition without a camera; other errors are counted, not returned.
@@ -68,10 +96,6 @@ class GateFrontend {
   /// observations keeping the detector's gate ids (for FrameInitializer); partial detections are left out
   /// (PnP needs four corners). kFailedPrecondition without a camera.
   Result<std::vector<GateObservation>> solveCorners(const std::vector<CornerDetection>& image) const;
-  /// As solveCorners, and every fitted pose's reprojection RMS goes to the pixel-noise estimate (as in
-  /// processCorners): for detections that go to the frame search alone while the frame is unknown, so the
-  /// noise is learnt before the first lock (else the prior σ refuses most gates of a noisy detector there).
-  Result<std::vector<GateObservation>> solveCornersLearningNoise(const std::vector<CornerDetection>& image);
   /// Pose detections of one instant → observations with map ids (association as above).
   Result<std::vector<GateObservation>> processPoses(const std::vector<GateObservation>& detections,
                                                     const Eigen::Isometry3d& world_T_body);
@@ -94,8 +118,7 @@ class GateFrontend {
     counters_.pixel_sigma = params.pnp.pixel_sigma;
   }
   /// PnP on the complete detections of one image; every fitted pose's RMS goes to `noise` when not null.
-  Result<std::vector<GateObservation>> solveWholeGates(const std::vector<CornerDetection>& image,
-                                                       PixelNoiseEstimator* noise) const;
+  Result<SolvedDetections> solveImage(const std::vector<CornerDetection>& image, PixelNoiseEstimator* noise) const;
   /// The PnP parameters now: the map's gate size, and σ and the gate from the noise estimate when adaptive.
   GatePnpParams pnpParams() const;
   Result<std::vector<GateObservation>> associate(std::vector<GateObservation> detections,

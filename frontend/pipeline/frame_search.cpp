@@ -59,18 +59,18 @@ void FrameSearch::stop() {
 }
 
 Result<FrameSearch::Outcome> FrameSearch::add(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body,
-                                              const std::vector<GateObservation>& solved, Localizer& localizer) {
+                                              const SolvedDetections& solved, Localizer& localizer) {
   Outcome outcome;
   const Eigen::Isometry3d world_T_body = localizer.mapTOdom() * odom_T_body;  // where the estimate puts it
   if (!initializer_) return outcome;
-  placed_ += solved.size();
+  placed_ += solved.poses.size();
   if (initial_) {
     seen_.push_back(Seen{instant, odom_T_body, solved});
     while (seen_.front().instant.t < instant.t - params_.initialization.window_s) seen_.pop_front();
   }
   // A relocalisation or check also records where the estimate in use put each detection, to weigh it.
-  const FrameInitialization& found = initial_ ? initializer_->add(instant.t, odom_T_body, solved)
-                                              : initializer_->addInUse(instant.t, odom_T_body, world_T_body, solved);
+  const FrameInitialization& found = initial_ ? initializer_->add(instant.t, odom_T_body, solved.poses)
+                                              : initializer_->addInUse(instant.t, odom_T_body, world_T_body, solved.poses);
   if (initial_) initialization_ = found;
   if (found.locked && !initial_) {
     // The frame in use is kept when the found one is the same, or when the estimate in use explained, where it

@@ -9,6 +9,7 @@
 #include "dualgraph/core/status.h"
 #include "dualgraph/dual_graph/localizer.h"
 #include "dualgraph/frontend/gates/frame_initializer.h"
+#include "dualgraph/frontend/gates/gate_frontend.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/pipeline/detection_instant.h"
 
@@ -41,7 +42,7 @@ class FrameSearch {
   struct Seen {
     DetectionInstant instant;            ///< on the odometry clock
     Eigen::Isometry3d odom_T_body;       ///< the odometry at its instant
-    std::vector<GateObservation> solved; ///< its PnP solutions (reused: PnP runs once per instant)
+    SolvedDetections solved;             ///< its PnP solutions (reused on replay: PnP runs once per instant)
     EIGEN_MAKE_ALIGNED_OPERATOR_NEW
   };
   struct Outcome {
@@ -66,10 +67,10 @@ class FrameSearch {
   void checkBecameRelocalization() { checking_ = false; }
   void stop();
 
-  /// One instant's PnP solutions `solved` (detector ids kept) at odom_T_body, the estimate in use at
+  /// One instant's PnP solutions `solved` (their pose observations, detector ids kept) at odom_T_body, the estimate in use at
   /// localizer.mapTOdom(). On a find the Localizer is relocalised or resumed as the class brief says.
   Result<Outcome> add(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body,
-                      const std::vector<GateObservation>& solved, Localizer& localizer);
+                      const SolvedDetections& solved, Localizer& localizer);
 
   /// The first search's answer so far (unset before it started).
   const std::optional<FrameInitialization>& initialization() const { return initialization_; }

@@ -18,16 +18,10 @@ bool finiteCorner(const Eigen::Vector2d& corner) {
   return (std::isfinite(corner.x()) && std::isfinite(corner.y())) || (std::isnan(corner.x()) && std::isnan(corner.y()));
 }
 
-Result<std::vector<GateObservation>> solveInstant(GateFrontend& frontend, const DetectionInstant& instant,
-                                                  bool learn_noise) {
-  if (instant.corners.empty()) return instant.poses;
-  return learn_noise ? frontend.solveCornersLearningNoise(instant.corners) : frontend.solveCorners(instant.corners);
-}
-
-Result<std::vector<GateObservation>> processInstant(GateFrontend& frontend, const DetectionInstant& instant,
-                                                    const Eigen::Isometry3d& world_T_body) {
-  if (!instant.corners.empty()) return frontend.processCorners(instant.corners, world_T_body);
-  return frontend.processPoses(instant.poses, world_T_body);
+/// An instant through PnP (pose detections as they are), the noise learning from it.
+Result<SolvedDetections> solveInstant(GateFrontend& frontend, const DetectionInstant& instant) {
+  if (instant.corners.empty()) return GateFrontend::fromPoses(instant.poses);
+  return frontend.solve(instant.corners, true);
 }
 
 }  // namespace
@@ -130,6 +124,11 @@ Status PipelineCore::checkInstant(const DetectionInstant& instant) {
 Status PipelineCore::addDetections(const DetectionInstant& instant) {
   if (finished_) return Status(StatusCode::kFailedPrecondition, "pipeline: detections after finish");
   if (instant.size() == 0) return Status();
+  if (!instant.corners.empty() && !frontend_->camera()) {
+    counters_.detections_invalid += static_cast<int>(instant.size());
+    return Status(StatusCode::kFailedPrecondition, "detection instant at t=" + formatTimestamp(instant.t) +
+                                                       ": corner detections need a camera (none was given)");
+  }
   const Status valid = checkInstant(instant);
   if (!valid.ok()) {
     counters_.detections_invalid += static_cast<int>(instant.size());
@@ -259,35 +258,42 @@ Status PipelineCore::handUpTo(double until, const OdometrySample* next) {
       continue;
     }
     ++report_.instants;
-    DG_RETURN_IF_ERROR(handInstant(instant, *odom_T_body));
+    const Status handed = handInstant(instant, *odom_T_body);
+    if (!handed.ok()) {  // the instant is lost, not the sample: counted, the run goes on
+      ++counters_.instants_failed;
+      counters_.last_error = handed.message();
+    }
   }
   return Status();
 }
 
-Status PipelineCore::searchWith(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body) {
-  // While initialising the instant reaches no other part of the frontend: its residuals teach the noise here.
-  const bool initialising = localizer_->trackingState() == TrackingState::kInitialising;
-  Result<std::vector<GateObservation>> solved = solveInstant(*frontend_, instant, initialising);
-  if (!solved.ok()) return Status();  // PnP's own failures are counted by the frontend when it sees them
-  Result<FrameSearch::Outcome> outcome = search_->add(instant, odom_T_body, *solved, *localizer_);
+Status PipelineCore::searchWith(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body,
+                                const SolvedDetections& solved) {
+  Result<FrameSearch::Outcome> outcome = search_->add(instant, odom_T_body, solved, *localizer_);
   if (!outcome.ok()) return outcome.status();
   if (outcome->action != SearchAction::kNone) report_.search = outcome->action;
   counters_.frame_checks_replaced = search_->checksReplaced();
-  for (const FrameSearch::Seen& seen : outcome->replay) {
+  for (const FrameSearch::Seen& seen : outcome->replay) {  // solved already: only associated now
     counters_.detections_frame_search_only -= static_cast<int>(seen.instant.size());
-    DG_RETURN_IF_ERROR(handInstant(seen.instant, seen.odom_T_body));
+    DG_RETURN_IF_ERROR(handInstant(seen.instant, seen.odom_T_body, &seen.solved));
   }
   return Status();
 }
 
-Status PipelineCore::handInstant(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body) {
+Status PipelineCore::handInstant(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body,
+                                 const SolvedDetections* solved_before) {
   Localizer& localizer = *localizer_;
+  // PnP once per instant: solved here (the noise learning from it) unless the frame search solved it before.
+  Result<SolvedDetections> solved = solved_before != nullptr ? Result<SolvedDetections>(*solved_before)
+                                                             : solveInstant(*frontend_, instant);
+  if (!solved.ok()) return solved.status();
   if (search_ && localizer.trackingState() == TrackingState::kInitialising) {
+    // The frame is not known yet: the instant reaches the search alone (counted by the frontend if replayed).
     counters_.detections_frame_search_only += static_cast<int>(instant.size());
-    return searchWith(instant, odom_T_body);
+    return searchWith(instant, odom_T_body, *solved);
   }
   const Eigen::Isometry3d world_T_body = localizer.mapTOdom() * odom_T_body;
-  Result<std::vector<GateObservation>> observations = processInstant(*frontend_, instant, world_T_body);
+  Result<std::vector<GateObservation>> observations = frontend_->associateSolved(*solved, world_T_body);
   if (!observations.ok()) return observations.status();
   for (const GateObservation& observation : *observations) {
     if (localizer.addObservation(observation).ok()) {
@@ -310,14 +316,14 @@ Status PipelineCore::handInstant(const DetectionInstant& instant, const Eigen::I
       ++counters_.frame_checks;
       report_.search_started = true;
     }
-    return searchWith(instant, odom_T_body);
+    return searchWith(instant, odom_T_body, *solved);
   }
   if (search_->checking()) search_->checkBecameRelocalization();
   if (!search_->active()) {
     search_->startRelocalization(instant.t, world_T_body, odom_T_body);
     report_.search_started = true;
   }
-  return searchWith(instant, odom_T_body);
+  return searchWith(instant, odom_T_body, *solved);
 }
 
 void PipelineCore::selfCalibrate(double t) {

@@ -64,8 +64,12 @@ class PipelineCore {
   PipelineCore(const SequenceRunParams& params, GateMap map);
   /// Hands over the waiting instants with (t − offset) ≤ until; `next`: the sample about to be added.
   Status handUpTo(double until, const OdometrySample* next);
-  Status handInstant(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body);
-  Status searchWith(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body);
+  /// One instant at odom_T_body: solved (unless `solved_before`), associated at the corrected pose and handed to
+  /// the Localizer, or to the frame search alone while initialising; the search also while lost or checking.
+  Status handInstant(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body,
+                     const SolvedDetections* solved_before = nullptr);
+  Status searchWith(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body,
+                    const SolvedDetections& solved);
   void refuse(int& counter, size_t detections);
   /// At the first sample at or after t_c: the camera's clock offset and mount calibrated on the flight so far
   /// (calibrateCameraOnRun over the corners and odometry kept until then and the keyframes so far) and, when it

@@ -80,6 +80,9 @@ struct PipelineCounters {
   /// While initialising: given to the frame search alone (PnP), not to the association or the Localizer.
   int detections_frame_search_only = 0;
   int observations_rejected = 0;       ///< refused by the Localizer (LocalizerCounters says why)
+  /// Instants whose handling failed after they were accepted (a relocalisation refused, say); `last_error` says why.
+  int instants_failed = 0;
+  std::string last_error;
   int frame_checks = 0;                ///< checks of the frame in use started while tracking
   int frame_checks_replaced = 0;       ///< of them: a clearly better frame found, relocalised
   int covariance_clamped = 0;          ///< eigenvalues RelativeCovarianceStream raised to its floor

@@ -7,6 +7,7 @@
 #include <functional>
 
 #include "dualgraph/frontend/evaluation/run_metrics.h"
+#include "dualgraph/frontend/sequence_run.h"
 #include "test/frontend/simulated_flight.h"
 #include "test/frontend/streaming_flight.h"
 
@@ -223,6 +224,27 @@ TEST(RelativeCovarianceStreamTest, EqualsTheWholeLogConversionAndSkipsSamplesWit
   EXPECT_FALSE(after->has_value());
   auto nan = stream.next(log.samples[52].odom_T_body, Matrix6d::Constant(NAN));
   EXPECT_EQ(nan.status().code(), StatusCode::kNumericalError);
+}
+
+}  // namespace
+}  // namespace dualgraph
+
+namespace dualgraph {
+namespace {
+
+TEST(StreamingPnp, EachWholeGateIsFittedOnceEvenThroughSearchesAndLosses) {
+  // Before: an instant given to the first search was fitted again when replayed after the lock, and while lost
+  // or checking every instant was fitted twice (once to associate, once for the search).
+  const Sequence flight = flighttest::simulatedFlight("ratm_lemniscate.yaml", "harsh", 3, 4);
+  auto run = runSequence(flight, SequenceRunParams{});
+  ASSERT_TRUE(run.ok()) << run.status().message();
+  int whole_gates = 0;
+  for (const CornerDetection& detection : flight.corners) whole_gates += detection.complete() ? 1 : 0;
+  const GateFrontendCounters& f = run->frontend_counters;
+  ASSERT_TRUE(run->initialization && run->initialization->locked);
+  EXPECT_GT(run->localizer_counters.losses + run->frame_checks, 0) << "the flight should exercise a search while tracking";
+  EXPECT_GT(f.pnp_fits, 0);
+  EXPECT_LE(f.pnp_fits, whole_gates);
 }
 
 }  // namespace
