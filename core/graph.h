@@ -18,6 +18,8 @@ namespace dualgraph {
 /// order) and the parameters of one factor graph. Every mutation that changes the structure of
 /// the linear system (vertices, edges, fixed flags) bumps `structureVersion()`, so an optimiser
 /// knows when to rebuild its sparsity pattern.
+/// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
+/// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class Graph {
  public:
   Graph() = default;

@@ -141,6 +141,8 @@ struct SolverSummary {
 /// relative and a linear problem ends at its optimum to round-off. The sparsity pattern and the solver's symbolic analysis are cached and
 /// rebuilt only when the graph's structure (vertices, edges, fixed flags) changed, so repeated
 /// calls on a growing graph pay only for numeric work. The optimiser never prints.
+/// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
+/// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class Optimizer {
  public:
   /// `solver` must not be null.

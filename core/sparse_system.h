@@ -20,6 +20,8 @@ namespace dualgraph {
 /// pattern is laid out column by column, and every edge records where each of its blocks lands in
 /// the value array. `assemble()` then only refills values; `setDamping(λ)` adds λ to the diagonal
 /// without re-assembling.
+/// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
+/// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class SparseSystem {
  public:
   /// Builds the structure for the current graph. Fails when an edge's vertices are missing.

@@ -93,7 +93,8 @@ struct LocalizerCounters {
 /// d_single/theta_single; every detection becomes an edge from its node (motion-compensated; or only those
 /// of the node's own instant, `single_all_detections` false); the graph
 /// is optimised at every node. Bad input is rejected with a Status and counted; the Localizer goes on.
-/// Not thread-safe.
+/// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
+/// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class Localizer {
  public:
   /// kInvalidArgument for invalid parameters, or localization mode with an empty map, or `initial` lost.
@@ -101,6 +102,8 @@ class Localizer {
   /// the frame is unknown, no observation is used until `relocalize` gives it (mapping mode: always tracking).
   static Result<std::unique_ptr<Localizer>> create(const LocalizerParams& params, GateMap map,
                                                    TrackingState initial = TrackingState::kTracking);
+
+  // Inputs: odometry and gate observations in time order.
 
   /// OK when addOdometry would accept `sample` (valid, and newer than the newest accepted sample);
   /// otherwise the Status it would reject it with. Changes nothing.
@@ -114,6 +117,10 @@ class Localizer {
   Result<Eigen::Isometry3d> odometryPoseAt(double t, const OdometrySample* next = nullptr) const;
   /// OK when accepted (used now or queued until odometry covers its time).
   Status addObservation(const GateObservation& observation);
+  // Loss and the frame: the evidence the TrackingMonitor judges, and a frame search's result applied. The onboard
+  // pipeline (frontend/pipeline/, FrameSearch) makes these calls; each checks the state it applies to (a no-op or
+  // a Status otherwise), so a caller driving the Localizer itself may make them in any order.
+
   /// Frontend evidence for the TrackingMonitor: the gate centres [m, world frame through the current estimate]
   /// of the detections at time t [s] that passed PnP but matched no map gate near the estimate.
   /// kInvalidArgument for a non-finite time or position.
@@ -148,6 +155,8 @@ class Localizer {
   /// `relocalize` that follows counts as a relocalisation. No-op unless tracking.
   void distrustFrame();
 
+  // End and reading.
+
   /// End of input: uses what is still collected (dual: distils into a keyframe at the newest sample;
   /// single: commits the newest node's edges) and optimises once more.
   Status finish();
@@ -160,11 +169,10 @@ class Localizer {
   const std::vector<KeyframeStats>& keyframeStats() const { return stats_; }
   const LocalizerCounters& counters() const { return counters_; }
   const MainGraph& mainGraph() const { return *main_; }
-  /// The current main graph, for fault injection in tests (MainGraph::setMarginalizerForTesting).
-  MainGraph& mainGraphForTesting() { return *main_; }
   const LocalizerParams& params() const { return params_; }
 
  private:
+  friend class LocalizerTestAccess;  ///< tests only (fault injection into the main graph); defined by the tests
   Localizer(const LocalizerParams& params, GateMap map, std::shared_ptr<const RobustKernel> kernel,
             TrackingState initial);
   Status checkObservation(const GateObservation& observation) const;

@@ -40,6 +40,8 @@ struct GateEdgeOutcome {
 /// odometry edges between consecutive keyframes (VIO increment, metric covariance converted to g2o
 /// units), gate landmarks (VertexSE3 `world_T_gate` or VertexPointXYZ `p_world`) with the known map as
 /// priors (or fixed), and gate edges from keyframes. A persistent optimiser keeps warm starts.
+/// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
+/// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class MainGraph {
  public:
   /// `map` must outlive the graph (may be empty in mapping mode); `kernel` may be null.

@@ -47,6 +47,8 @@ struct OdometryNoiseModel {
 /// The VIO samples of the current keyframe interval, in increasing time: poses at any instant between
 /// the first and the newest sample (geodesic interpolation) and the covariance of the motion between
 /// two instants. The caller checks time order and validity before `push`.
+/// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
+/// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class OdometryHistory {
  public:
   void push(const OdometrySample& sample) { samples_.push_back(sample); }

@@ -42,6 +42,8 @@ struct DistillationResult {
 /// node to the gate, when the gate also has a pose observation in the interval (else it is counted unanchored).
 /// The graph is optimised by `BlockLmSolver` (6×6 blocks, the default) or the generic
 /// Optimizer (`temp_solver: graph` or `linear_solver: cholmod`); both give the same edges to round-off.
+/// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
+/// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class TemporaryGraph {
  public:
   TemporaryGraph(const LocalizerParams& params, std::shared_ptr<const RobustKernel> kernel);

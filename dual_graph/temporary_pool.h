@@ -28,6 +28,8 @@ Eigen::Isometry3d gatePoseOf(const VertexBase* vertex);
 /// (m⁻²) or EdgeSE3CornerProjection (a partial gate's corner), as the dual graph's factories build them (dual_graph/edge_factories.h). Vertex ids must be
 /// 0 … numVertices()−1, each added once (TemporaryGraph assigns them so). `copyTo` builds the same graph as a
 /// `Graph` for the generic Optimizer (`temp_solver: graph`, the oracle).
+/// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
+/// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class TemporaryPool {
  public:
   /// Forgets the graph; the objects are kept for the next one.

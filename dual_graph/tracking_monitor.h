@@ -35,6 +35,8 @@ const char* trackingStateName(TrackingState state);
 /// `suspicious()`: at least `min_failures` failures in the last `lost_after_s` even while successes keep
 /// tracking alive — the cue for a frame search that checks the frame in use (a VIO jump onto a neighbouring
 /// gate's place keeps some gates matched, wrongly, and leaves the others unmatched).
+/// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
+/// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class TrackingMonitor {
  public:
   TrackingMonitor(TrackingState initial, double lost_after_s, int min_failures)

@@ -43,6 +43,8 @@ namespace dualgraph {
 /// Result<Eigen::MatrixXd> sigma = marginals.jointBlock({3, 7});   // 12×12 for two VertexSE3
 /// Result<std::vector<Eigen::MatrixXd>> all = marginals.blocks(ids);  // one 6×6 per VertexSE3
 /// ```
+/// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
+/// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class MarginalCovariance {
  public:
   /// Linearises and factorises through `optimizer.factorizeAtCurrentEstimate()` (reusing the

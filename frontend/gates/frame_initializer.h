@@ -50,6 +50,8 @@ struct FrameInitialization {
 /// (a layout with a symmetry, such as the RATM ellipse's half turn, without ids or a start pose never
 /// locks and says so). The locked hypothesis is refined on its inliers (least squares in yaw and
 /// translation). Deterministic; never prints.
+/// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
+/// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class FrameInitializer {
  public:
   FrameInitializer(const FrameInitializerParams& params, GateMap map);

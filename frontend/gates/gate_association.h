@@ -77,6 +77,8 @@ struct AssociationResult {
 /// an empty map) and as pose the mean of its sightings (centres averaged; rotations of pose sightings,
 /// each turned by Rz(π) when seen from the other side, averaged as quaternions; identity when all were
 /// positions). Candidates are kept until confirmed or `resetMapping()`.
+/// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
+/// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class GateAssociator {
  public:
   explicit GateAssociator(const AssociationParams& params = AssociationParams()) : params_(params) {}

@@ -71,6 +71,8 @@ struct SolvedDetections {
 /// 90° turns about its normal and front/back (frontend/io/FORMATS.md): association settles front/back
 /// (GateAssociator, Rz(π)); the 90° turn whose orientation is closest to the map gate's is then picked
 /// and the covariance turned with it.
+/// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
+/// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class GateFrontend {
  public:
   /// kInvalidArgument for invalid association parameters, gates of different sizes (PnP needs one),

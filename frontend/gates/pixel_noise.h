@@ -14,6 +14,8 @@ namespace dualgraph {
 /// `window` solutions: the median ignores up to half of them being outliers (displaced corners, wrong
 /// solutions). Until `min_samples` solutions were seen it is the prior σ, widened (never narrowed) by the
 /// estimate from the solutions so far once there are three. Clamped to [min_sigma, max_sigma].
+/// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
+/// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class PixelNoiseEstimator {
  public:
   /// `prior_sigma` [px] > 0; window ≥ min_samples ≥ 1.

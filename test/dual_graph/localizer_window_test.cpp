@@ -107,6 +107,16 @@ TEST(LocalizerWindow, MappingModeKeepsItsFixedFirstKeyframeOutOfTheCount) {
 // A keyframe whose marginalisation fails (here every third, by fault injection) is conditioned on instead: fixed
 // where it is. The window of free keyframes stays at its size, the failures are counted and said, and the
 // trajectory stays close to full batch.
+}  // namespace
+
+/// The Localizer's test door (a friend): its current main graph, for fault injection.
+class LocalizerTestAccess {
+ public:
+  static MainGraph& mainGraph(Localizer& localizer) { return *localizer.main_; }
+};
+
+namespace {
+
 TEST(LocalizerWindow, AKeyframeThatCannotBeMarginalisedIsConditionedOnAndTheWindowStaysBounded) {
   SyntheticRaceOptions options;
   options.laps = 3;
@@ -116,7 +126,7 @@ TEST(LocalizerWindow, AKeyframeThatCannotBeMarginalisedIsConditionedOnAndTheWind
   std::unique_ptr<Localizer> localizer = makeLocalizer(params, race.map);
   ASSERT_TRUE(localizer);
   int calls = 0;
-  localizer->mainGraphForTesting().setMarginalizerForTesting([&calls](Graph& graph, int id) -> Result<MarginalizationOutcome> {
+  LocalizerTestAccess::mainGraph(*localizer).setMarginalizerForTesting([&calls](Graph& graph, int id) -> Result<MarginalizationOutcome> {
     if (++calls % 3 == 0) return Status(StatusCode::kNotPositiveDefinite, "injected failure");
     return marginalizeVertex(graph, id);
   });
