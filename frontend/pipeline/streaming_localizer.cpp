@@ -71,15 +71,19 @@ Status StreamingLocalizer::addDetections(const DetectionInstant& instant) {
   }
   if (instant.size() == 0) return Status();
   DG_RETURN_IF_ERROR(PipelineCore::checkInstant(instant));
+  Event event;
+  event.detections = instant;
+  return enqueue(std::move(event), "detection instant");
+}
+
+Status StreamingLocalizer::enqueue(Event event, const char* what) {
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
-    if (stopping_) return Status(StatusCode::kFailedPrecondition, "pipeline: detections after finish");
+    if (stopping_) return Status(StatusCode::kFailedPrecondition, std::string("pipeline: ") + what + " after finish");
     if (queue_.size() >= kMaxQueuedEvents) {
       return Status(StatusCode::kFailedPrecondition, "pipeline: the worker is " + std::to_string(queue_.size()) +
-                                                         " inputs behind; detection instant refused");
+                                                         " inputs behind; " + what + " refused");
     }
-    Event event;
-    event.detections = instant;
     queue_.push_back(std::move(event));
   }
   queue_ready_.notify_one();
@@ -104,19 +108,10 @@ Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
     return Status(StatusCode::kInvalidArgument, "odometry sample at t=" + formatTimestamp(input.t) +
                                                     " is not after the previous one at t=" + formatTimestamp(last_submitted_t_));
   }
-  {
-    std::lock_guard<std::mutex> lock(queue_mutex_);
-    if (stopping_) return Status(StatusCode::kFailedPrecondition, "pipeline: odometry after finish");
-    if (queue_.size() >= kMaxQueuedEvents) {
-      return Status(StatusCode::kFailedPrecondition, "pipeline: the worker is " + std::to_string(queue_.size()) +
-                                                         " inputs behind; odometry sample refused");
-    }
-    Event event;
-    event.odometry = input;
-    queue_.push_back(std::move(event));
-  }
+  Event event;
+  event.odometry = input;
+  DG_RETURN_IF_ERROR(enqueue(std::move(event), "odometry sample"));
   last_submitted_t_ = input.t;
-  queue_ready_.notify_one();
   PoseUpdate update;
   std::lock_guard<std::mutex> lock(snapshot_mutex_);
   update.pose = CorrectedPose{input.t, snapshot_.map_T_odom * input.odom_T_body, snapshot_.state};

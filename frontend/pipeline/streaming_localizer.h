@@ -102,6 +102,8 @@ class StreamingLocalizer {
   };
   StreamingLocalizer(std::unique_ptr<PipelineCore> core, PipelineThreading threading);
   void publish(const PoseUpdate& update);
+  /// Worker mode: `event` queued for the worker (refused after finish or with the queue full).
+  Status enqueue(Event event, const char* what);
   void workerLoop();
 
   std::unique_ptr<PipelineCore> core_;
