@@ -35,7 +35,8 @@ std::vector<DetectionInstant> instantsOf(const Sequence& sequence) {
 /// addOdometry call timed on its own (steady_clock). Worker mode is paced at `speed` × real time (the samples'
 /// own stamps), so the worker works beside the feed as onboard; the caller-thread mode runs unpaced (its calls
 /// do the work). Counters [µs]: per odometry sample P50 / P99 / max; worker mode also the worker's lag behind the
-/// feed in samples (P99, max) and the ATE of the poses given at each sample.
+/// feed in samples (P99, max) and the ATE of the poses given at each sample; per main-graph update, the time of the
+/// newest keyframe's marginal covariance (KeyframeStats::covariance_ms, P50 / P95) [ms].
 void BM_OnboardPerSample(benchmark::State& state, const std::string& track_name, PipelineThreading threading,
                          double speed) {
   const Result<Sequence>& sequence = bench::realisticRace(track_name, 1);
@@ -94,6 +95,10 @@ void BM_OnboardPerSample(benchmark::State& state, const std::string& track_name,
     state.counters["lag_p99"] = bench::percentile(lag, 0.99);
     state.counters["lag_max"] = bench::percentile(lag, 1.0);
   }
+  std::vector<double> covariance_ms;
+  for (const KeyframeStats& row : results->stats) covariance_ms.push_back(row.covariance_ms);
+  state.counters["cov_ms_p50"] = bench::percentile(covariance_ms, 0.50);
+  state.counters["cov_ms_p95"] = bench::percentile(covariance_ms, 0.95);
   state.counters["ate_m"] = metrics->estimate.ate_m;
   state.counters["self_cal"] = results->self_calibration.applied ? 1.0 : 0.0;
 }

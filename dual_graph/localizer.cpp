@@ -73,6 +73,15 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
     return valid;
   }
   ++counters_.odometry_accepted;
+  if (pose_covariance_ && !history_.empty() && sample.t > pose_covariance_t_) {  // carried by this increment
+    const Eigen::Isometry3d increment = history_.newest().odom_T_body.inverse() * sample.odom_T_body;
+    const Matrix6d step = sample.relative_covariance && params_.use_input_covariance
+                              ? *sample.relative_covariance
+                              : odometryModelCovariance(increment, params_.odom_sigma_t, params_.odom_sigma_r,
+                                                        params_.odom_min_distance);
+    pose_covariance_ = composeRelativeCovariance(*pose_covariance_, increment, step);
+    pose_covariance_t_ = sample.t;
+  }
   history_.push(sample);
   if (monitor_.state() == TrackingState::kInitialising) {  // no graph until the frame is known
     history_.discardBefore(sample.t - kSearchHistorySeconds);
@@ -91,7 +100,9 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
     keyframe_due_ = sample.t;
   }
   if (keyframe_due_ && sample.t >= *keyframe_due_ + params_.detection_latency) closeDueKeyframe();
-  return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body, monitor_.state()};
+  CorrectedPose corrected{sample.t, mapTOdom() * sample.odom_T_body, monitor_.state(), std::nullopt};
+  if (corrected.state == TrackingState::kTracking && pose_covariance_t_ == sample.t) corrected.covariance = pose_covariance_;
+  return corrected;
 }
 
 void Localizer::processPending(double until) {
@@ -233,6 +244,7 @@ Status Localizer::closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body
   single_edges_.clear();
   single_observations_ = 0;
   optimizeAndRecord(row, start);
+  refreshPoseCovariance(stats_.back());
   discardHistory(main_->keyframes().back().t);
   return Status();
 }
@@ -262,8 +274,24 @@ Status Localizer::closeInterval(const OdometrySample& newest) {
   if (!distilled.skip_reason.empty()) counters_.last_error = distilled.skip_reason;
   if (!outcome.message.empty()) counters_.last_error = outcome.message;
   optimizeAndRecord(row, start);
+  refreshPoseCovariance(stats_.back());
   discardHistory(newest.t);
   return Status();
+}
+
+void Localizer::refreshPoseCovariance(KeyframeStats& row) {
+  const double start = nowMs();
+  pose_covariance_.reset();
+  const size_t index = main_->keyframes().size() - 1;
+  const Keyframe& keyframe = main_->keyframes()[index];
+  Result<Matrix6d> marginal = main_->keyframeCovariance(index);
+  Result<Matrix6d> since = history_.relativeCovariance(keyframe.t, history_.newest().t, noiseModelOf(params_));
+  if (marginal.ok() && since.ok() && keyframe.t <= history_.newest().t) {
+    pose_covariance_ = composeRelativeCovariance(*marginal, keyframe.odom_T_body.inverse() * history_.newest().odom_T_body,
+                                                 *since);
+    pose_covariance_t_ = history_.newest().t;
+  }
+  row.covariance_ms = nowMs() - start;
 }
 
 void Localizer::optimizeAndRecord(KeyframeStats& row, double start_ms) {
@@ -362,6 +390,7 @@ Result<double> Localizer::startGraph(const Eigen::Isometry3d& world_T_odom, doub
     in_frame.initial_sigma_r = sigma_r;
   }
   main_ = std::make_unique<MainGraph>(in_frame, map_, kernel_);
+  pose_covariance_.reset();
   const OdometrySample anchor = history_.sampleAtOrBefore(std::min(since, history_.newest().t));
   history_.discardBefore(anchor.t);
   monitor_.locked(history_.newest().t);

@@ -26,6 +26,10 @@ struct CorrectedPose {
   double t = 0.0;
   Eigen::Isometry3d world_T_body = Eigen::Isometry3d::Identity();
   TrackingState state = TrackingState::kTracking;
+  /// While tracking, after the first main-graph update: the covariance of world_T_body, metric [t; θ] (m², rad²),
+  /// a right perturbation in the body frame — the newest optimised keyframe's marginal composed with the odometry
+  /// increment's covariance since it (first order). Unset where not known (initialising, lost, before an update).
+  std::optional<Matrix6d> covariance;
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
@@ -53,6 +57,7 @@ struct KeyframeStats {
   int temp_edges = 0;
   int temp_iterations = 0;
   double temp_ms = 0.0;        ///< temporary graph: build, LM and marginals
+  double covariance_ms = 0.0;  ///< the newest keyframe's marginal covariance, after the update (CorrectedPose::covariance)
 };
 
 /// Inputs that were not used, by reason (never silently).
@@ -194,6 +199,9 @@ class Localizer {
   /// `relocalize`'s work without its checks and counting: the main graph given up for a new one in `world_T_odom`
   /// anchored at the sample at or before `since`; tracking. Returns the first keyframe's time.
   Result<double> startGraph(const Eigen::Isometry3d& world_T_odom, double since, double sigma_t, double sigma_r);
+  /// The pose covariance at the newest sample from the newest keyframe's marginal (after an update); unset when it
+  /// cannot be had (a failed factorisation, no odometry covariance).
+  void refreshPoseCovariance(KeyframeStats& row);
   /// Forgets odometry before the keyframe at keyframe_t (tracking), or kept for `relocalize` (otherwise).
   void discardHistory(double keyframe_t);
   /// Time before which no observation can be used any more (the interval's or the node's start).
@@ -212,6 +220,9 @@ class Localizer {
   int single_observations_ = 0;
   double last_observation_t_ = -std::numeric_limits<double>::infinity();
   std::vector<KeyframeStats> stats_;
+  /// CorrectedPose::covariance at the newest sample (pose_covariance_t_), carried forward sample by sample.
+  std::optional<Matrix6d> pose_covariance_;
+  double pose_covariance_t_ = 0.0;
   LocalizerCounters counters_;
   TrackingMonitor monitor_;
   std::vector<CorrectedPose> given_up_keyframes_;

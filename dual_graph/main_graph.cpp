@@ -259,6 +259,17 @@ Status MainGraph::slideWindow() {
   return Status();
 }
 
+Result<Matrix6d> MainGraph::keyframeCovariance(size_t index) {
+  if (index >= keyframes_.size() || keyframes_[index].marginalized) {
+    return Status(StatusCode::kFailedPrecondition, "keyframe " + std::to_string(index) + " is not in the graph");
+  }
+  MarginalCovariance marginals;
+  DG_RETURN_IF_ERROR(marginals.compute(optimizer_, graph_));
+  Result<Eigen::MatrixXd> block = marginals.block(keyframes_[index].vertex_id);
+  if (!block.ok()) return block.status();
+  return covarianceG2oToMetric(Matrix6d(*block));  // VertexSE3's [δt; δq] chart, right perturbation
+}
+
 SolverSummary MainGraph::optimize() {
   OptimizerParams lm;
   lm.max_iterations = params_.main_max_iterations;

@@ -81,6 +81,9 @@ class MainGraph {
   size_t totalVertices() const { return graph_.numVertices() + marginalized_keyframes_; }
 
   const std::vector<Keyframe, Eigen::aligned_allocator<Keyframe>>& keyframes() const { return keyframes_; }
+  /// Marginal covariance of keyframe `index` (free, in the graph), metric [t; θ], a right perturbation of
+  /// world_T_body in the body frame; zero when it is fixed. The factorisation's errors (a free gauge, say).
+  Result<Matrix6d> keyframeCovariance(size_t index);
   /// Current estimate of keyframe `index` (the frozen one once marginalised).
   const Eigen::Isometry3d& keyframePose(size_t index) const;
   const Graph& graph() const { return graph_; }

@@ -236,6 +236,7 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
   const std::vector<KeyframeStats>& stats = localizer_->keyframeStats();
   report_.updates.assign(stats.begin() + static_cast<long>(std::min(updates_before, stats.size())), stats.end());
   report_.keyframe_failed = localizer_->counters().keyframes_failed > failed_before;
+  if (corrected->state != TrackingState::kTracking) corrected->covariance.reset();  // a gap made it lost
   report_.state = corrected->state;
   return PoseUpdate{*corrected, report_};
 }

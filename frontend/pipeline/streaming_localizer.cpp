@@ -52,6 +52,7 @@ void StreamingLocalizer::publish(const PoseUpdate& update) {
   next.map_T_odom = localizer.mapTOdom();
   next.world_T_body = update.pose.world_T_body;
   next.state = update.pose.state;
+  next.covariance = update.pose.covariance;
   next.updates = static_cast<long>(localizer.keyframeStats().size());
   std::lock_guard<std::mutex> lock(snapshot_mutex_);
   next.samples = snapshot_.samples + 1;
@@ -114,7 +115,7 @@ Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
   last_submitted_t_ = input.t;
   PoseUpdate update;
   std::lock_guard<std::mutex> lock(snapshot_mutex_);
-  update.pose = CorrectedPose{input.t, snapshot_.map_T_odom * input.odom_T_body, snapshot_.state};
+  update.pose = CorrectedPose{input.t, snapshot_.map_T_odom * input.odom_T_body, snapshot_.state, std::nullopt};
   update.report = last_report_;
   return update;
 }

@@ -34,6 +34,8 @@ struct PipelineSnapshot {
   Eigen::Isometry3d map_T_odom = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d world_T_body = Eigen::Isometry3d::Identity();
   TrackingState state = TrackingState::kInitialising;
+  /// Covariance of world_T_body at t (CorrectedPose::covariance: metric [t; θ], right perturbation), where known.
+  std::optional<Matrix6d> covariance;
   long samples = 0;   ///< odometry samples processed so far
   long updates = 0;   ///< main-graph updates so far
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
@@ -82,8 +84,9 @@ class StreamingLocalizer {
   /// others (order, lead over the odometry) counted when the worker takes it.
   Status addDetections(const DetectionInstant& instant);
   /// One odometry sample; kInvalidArgument (counted) for a non-finite or non-rigid sample or one not after the
-  /// previous. Caller-thread mode: this sample's work and its report. Worker mode: the pose through the last
-  /// finished result's map_T_odom, its state, and the report of the sample the worker finished last.
+  /// previous. Caller-thread mode: this sample's work, its pose with the covariance where known, and its report.
+  /// Worker mode: the pose through the last finished result's map_T_odom, its state, no covariance (the snapshot
+  /// has the one at its own sample), and the report of the sample the worker finished last.
   Result<PoseUpdate> addOdometry(const OdometryInput& input);
   /// The last published view (any thread).
   PipelineSnapshot snapshot() const;
