@@ -73,15 +73,7 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
     return valid;
   }
   ++counters_.odometry_accepted;
-  if (pose_covariance_ && !history_.empty() && sample.t > pose_covariance_t_) {  // carried by this increment
-    const Eigen::Isometry3d increment = history_.newest().odom_T_body.inverse() * sample.odom_T_body;
-    const Matrix6d step = sample.relative_covariance && params_.use_input_covariance
-                              ? *sample.relative_covariance
-                              : odometryModelCovariance(increment, params_.odom_sigma_t, params_.odom_sigma_r,
-                                                        params_.odom_min_distance);
-    pose_covariance_ = composeRelativeCovariance(*pose_covariance_, increment, step);
-    pose_covariance_t_ = sample.t;
-  }
+  if (!history_.empty()) pose_covariance_.advance(history_.newest(), sample, params_);
   history_.push(sample);
   if (monitor_.state() == TrackingState::kInitialising) {  // no graph until the frame is known
     history_.discardBefore(sample.t - kSearchHistorySeconds);
@@ -100,9 +92,9 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
     keyframe_due_ = sample.t;
   }
   if (keyframe_due_ && sample.t >= *keyframe_due_ + params_.detection_latency) closeDueKeyframe();
-  CorrectedPose corrected{sample.t, mapTOdom() * sample.odom_T_body, monitor_.state(), std::nullopt};
-  if (corrected.state == TrackingState::kTracking && pose_covariance_t_ == sample.t) corrected.covariance = pose_covariance_;
-  return corrected;
+  const TrackingState state = monitor_.state();
+  return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body, state,
+                       state == TrackingState::kTracking ? pose_covariance_.at(sample.t) : std::nullopt};
 }
 
 void Localizer::processPending(double until) {
@@ -125,14 +117,6 @@ void Localizer::closeDueKeyframe() {
     counters_.last_error = closed.message();
   }
   processPending(history_.newest().t);  // what waited behind the keyframe
-}
-
-Result<Eigen::Isometry3d> Localizer::odometryPoseAt(double t, const OdometrySample* next) const {
-  if (next != nullptr && !history_.empty() && t > history_.newest().t && t <= next->t) {
-    return interpolateOdometry(history_.newest(), *next, t);
-  }
-  if (next != nullptr && history_.empty() && t == next->t) return next->odom_T_body;
-  return history_.poseAt(t);
 }
 
 Status Localizer::checkObservation(const GateObservation& observation) const {
@@ -244,7 +228,7 @@ Status Localizer::closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body
   single_edges_.clear();
   single_observations_ = 0;
   optimizeAndRecord(row, start);
-  refreshPoseCovariance(stats_.back());
+  stats_.back().covariance_ms = pose_covariance_.refresh(*main_, history_, params_);
   discardHistory(main_->keyframes().back().t);
   return Status();
 }
@@ -274,25 +258,11 @@ Status Localizer::closeInterval(const OdometrySample& newest) {
   if (!distilled.skip_reason.empty()) counters_.last_error = distilled.skip_reason;
   if (!outcome.message.empty()) counters_.last_error = outcome.message;
   optimizeAndRecord(row, start);
-  refreshPoseCovariance(stats_.back());
+  stats_.back().covariance_ms = pose_covariance_.refresh(*main_, history_, params_);
   discardHistory(newest.t);
   return Status();
 }
 
-void Localizer::refreshPoseCovariance(KeyframeStats& row) {
-  const double start = nowMs();
-  pose_covariance_.reset();
-  const size_t index = main_->keyframes().size() - 1;
-  const Keyframe& keyframe = main_->keyframes()[index];
-  Result<Matrix6d> marginal = main_->keyframeCovariance(index);
-  Result<Matrix6d> since = history_.relativeCovariance(keyframe.t, history_.newest().t, noiseModelOf(params_));
-  if (marginal.ok() && since.ok() && keyframe.t <= history_.newest().t) {
-    pose_covariance_ = composeRelativeCovariance(*marginal, keyframe.odom_T_body.inverse() * history_.newest().odom_T_body,
-                                                 *since);
-    pose_covariance_t_ = history_.newest().t;
-  }
-  row.covariance_ms = nowMs() - start;
-}
 
 void Localizer::optimizeAndRecord(KeyframeStats& row, double start_ms) {
   const SolverSummary summary = main_->optimize();

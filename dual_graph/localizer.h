@@ -14,6 +14,7 @@
 #include "dualgraph/dual_graph/main_graph.h"
 #include "dualgraph/dual_graph/measurements.h"
 #include "dualgraph/dual_graph/odometry_history.h"
+#include "dualgraph/dual_graph/pose_covariance.h"
 #include "dualgraph/dual_graph/temporary_graph.h"
 #include "dualgraph/dual_graph/tracking_monitor.h"
 
@@ -119,7 +120,9 @@ class Localizer {
   /// initialising or lost), interpolated along the geodesic; with `next` (a sample not given yet, newer than the
   /// newest) also between the newest sample and it. The one odometry buffer of a run: a caller that associates a
   /// detection before handing over the sample that covers it asks here. kFailedPrecondition outside that span.
-  Result<Eigen::Isometry3d> odometryPoseAt(double t, const OdometrySample* next = nullptr) const;
+  Result<Eigen::Isometry3d> odometryPoseAt(double t, const OdometrySample* next = nullptr) const {
+    return history_.poseAt(t, next);
+  }
   /// OK when accepted (used now or queued until odometry covers its time).
   Status addObservation(const GateObservation& observation);
   // Loss and the frame: the evidence the TrackingMonitor judges, and a frame search's result applied. The onboard
@@ -199,9 +202,6 @@ class Localizer {
   /// `relocalize`'s work without its checks and counting: the main graph given up for a new one in `world_T_odom`
   /// anchored at the sample at or before `since`; tracking. Returns the first keyframe's time.
   Result<double> startGraph(const Eigen::Isometry3d& world_T_odom, double since, double sigma_t, double sigma_r);
-  /// The pose covariance at the newest sample from the newest keyframe's marginal (after an update); unset when it
-  /// cannot be had (a failed factorisation, no odometry covariance).
-  void refreshPoseCovariance(KeyframeStats& row);
   /// Forgets odometry before the keyframe at keyframe_t (tracking), or kept for `relocalize` (otherwise).
   void discardHistory(double keyframe_t);
   /// Time before which no observation can be used any more (the interval's or the node's start).
@@ -220,9 +220,7 @@ class Localizer {
   int single_observations_ = 0;
   double last_observation_t_ = -std::numeric_limits<double>::infinity();
   std::vector<KeyframeStats> stats_;
-  /// CorrectedPose::covariance at the newest sample (pose_covariance_t_), carried forward sample by sample.
-  std::optional<Matrix6d> pose_covariance_;
-  double pose_covariance_t_ = 0.0;
+  PoseCovarianceTracker pose_covariance_;  ///< CorrectedPose::covariance
   LocalizerCounters counters_;
   TrackingMonitor monitor_;
   std::vector<CorrectedPose> given_up_keyframes_;

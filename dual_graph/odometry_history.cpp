@@ -61,6 +61,14 @@ Result<Matrix6d> OdometryHistory::relativeCovariance(double t_a, double t_b, con
   return covariance;
 }
 
+Result<Eigen::Isometry3d> OdometryHistory::poseAt(double t, const OdometrySample* next) const {
+  if (next != nullptr && !samples_.empty() && t > samples_.back().t && t <= next->t) {
+    return interpolateOdometry(samples_.back(), *next, t);
+  }
+  if (next != nullptr && samples_.empty() && t == next->t) return next->odom_T_body;
+  return odometryPoseAt(samples_, t);
+}
+
 void OdometryHistory::discardBefore(double t) {
   while (samples_.size() > 1 && samples_[1].t <= t) samples_.pop_front();
 }

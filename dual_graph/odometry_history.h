@@ -58,8 +58,9 @@ class OdometryHistory {
   /// The last sample at or before t, or the oldest when t is older (not empty()).
   const OdometrySample& sampleAtOrBefore(double t) const { return samples_[indexAtOrBefore(t)]; }
 
-  /// odom_T_body at `t` (odometryPoseAt); kFailedPrecondition when t lies outside [oldest, newest].
-  Result<Eigen::Isometry3d> poseAt(double t) const { return odometryPoseAt(samples_, t); }
+  /// odom_T_body at `t` (odometryPoseAt); kFailedPrecondition when t lies outside [oldest, newest]. With `next` (a
+  /// sample not pushed yet, newer than the newest), also between the newest and it.
+  Result<Eigen::Isometry3d> poseAt(double t, const OdometrySample* next = nullptr) const;
 
   /// Metric [t; θ] covariance of odom_T_body(t_a)⁻¹ · odom_T_body(t_b) (t_a ≤ t_b, both covered):
   /// the samples' own relative covariances composed with adjoints (a partial step contributes its

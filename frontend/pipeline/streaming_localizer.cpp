@@ -60,6 +60,11 @@ void StreamingLocalizer::publish(const PoseUpdate& update) {
   if (threading_ == PipelineThreading::kWorker) last_report_ = update.report;
 }
 
+void StreamingLocalizer::countRefused() {
+  std::lock_guard<std::mutex> lock(snapshot_mutex_);
+  ++snapshot_.samples;
+}
+
 PipelineSnapshot StreamingLocalizer::snapshot() const {
   std::lock_guard<std::mutex> lock(snapshot_mutex_);
   return snapshot_;
@@ -97,7 +102,11 @@ Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
       std::lock_guard<std::mutex> lock(work_mutex_);
       return core_->addOdometry(input);
     }();
-    if (update.ok()) publish(*update);
+    if (update.ok()) {
+      publish(*update);
+    } else {
+      countRefused();
+    }
     return update;
   }
   // Worker mode: refused here what the core would refuse without its state, so the caller hears of it.
@@ -105,6 +114,7 @@ Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
   const Status valid = validateOdometrySample(sample);
   if (!valid.ok() || !(input.t > last_submitted_t_)) {
     ++(valid.ok() ? refused_on_submit_ : invalid_on_submit_);
+    countRefused();
     if (!valid.ok()) return valid;
     return Status(StatusCode::kInvalidArgument, "odometry sample at t=" + formatTimestamp(input.t) +
                                                     " is not after the previous one at t=" + formatTimestamp(last_submitted_t_));
@@ -132,7 +142,11 @@ void StreamingLocalizer::workerLoop() {
     for (const Event& event : batch) {
       if (event.odometry) {
         Result<PoseUpdate> update = core_->addOdometry(*event.odometry);  // refusals are counted by the core
-        if (update.ok()) publish(*update);
+        if (update.ok()) {
+          publish(*update);
+        } else {
+          countRefused();
+        }
       } else {
         (void)core_->addDetections(event.detections);  // likewise
       }

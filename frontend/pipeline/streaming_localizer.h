@@ -36,7 +36,7 @@ struct PipelineSnapshot {
   TrackingState state = TrackingState::kInitialising;
   /// Covariance of world_T_body at t (CorrectedPose::covariance: metric [t; θ], right perturbation), where known.
   std::optional<Matrix6d> covariance;
-  long samples = 0;   ///< odometry samples processed so far
+  long samples = 0;   ///< odometry samples the pipeline has taken so far, refused ones included (a feeder's progress)
   long updates = 0;   ///< main-graph updates so far
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
@@ -105,6 +105,8 @@ class StreamingLocalizer {
   };
   StreamingLocalizer(std::unique_ptr<PipelineCore> core, PipelineThreading threading);
   void publish(const PoseUpdate& update);
+  /// A sample the core refused still counts as taken (PipelineSnapshot::samples).
+  void countRefused();
   /// Worker mode: `event` queued for the worker (refused after finish or with the queue full).
   Status enqueue(Event event, const char* what);
   void workerLoop();

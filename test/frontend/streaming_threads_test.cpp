@@ -151,6 +151,7 @@ TEST(StreamingThreads, WorkerModeRefusesBadOdometryAtOnceAndCountsIt) {
   EXPECT_EQ(results->pipeline_counters.odometry_invalid, 1);
   EXPECT_EQ(results->pipeline_counters.odometry_not_after_previous, 1);
   EXPECT_EQ(results->localizer_counters.odometry_accepted, 2);
+  EXPECT_EQ((*pipeline)->snapshot().samples, 4);  // refused ones count as taken: a feeder waiting on it never stalls
   EXPECT_EQ((*pipeline)->finish().status().code(), StatusCode::kFailedPrecondition);
 }
 
