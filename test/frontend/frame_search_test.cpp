@@ -67,6 +67,15 @@ class FrameSearchTest : public ::testing::Test {
     EXPECT_TRUE(outcome.ok()) << outcome.status().message();
     return outcome.ok() ? outcome->action : SearchAction::kNone;
   }
+  // A check of the frame `in_use` (the Localizer tracking in it since t = 0), run until the search acts.
+  SearchAction checkFrame(const Eigen::Isometry3d& in_use, FrameSearch& search, std::unique_ptr<Localizer>& loc) {
+    loc = localizer(TrackingState::kTracking, in_use);
+    if (!loc || !loc->addOdometry(OdometrySample{0.0, odomTBody(0.0), std::nullopt}).ok()) return SearchAction::kNone;
+    search.startCheck(0.0, in_use * odomTBody(0.0), odomTBody(0.0));
+    SearchAction action = SearchAction::kNone;
+    for (int k = 1; k < 12 && action == SearchAction::kNone; ++k) action = step(search, *loc, 0.1 * k);
+    return action;
+  }
   bool frameIsTrue(const Localizer& localizer) const {
     const Eigen::Isometry3d difference = truth_world_T_odom_.inverse() * localizer.mapTOdom();
     return difference.translation().norm() < 0.05 && Eigen::AngleAxisd(difference.linear()).angle() < 0.01;
@@ -110,28 +119,20 @@ TEST_F(FrameSearchTest, LostButTheFrameInUseIsFoundAgainTrackingResumesInTheSame
 TEST_F(FrameSearchTest, ACheckThatFindsAClearlyBetterFrameReplacesTheOneInUse) {
   Eigen::Isometry3d wrong = truth_world_T_odom_;
   wrong.translation() += Eigen::Vector3d(4.0, -3.0, 0.0);  // a VIO jump onto other gates
-  auto loc = localizer(TrackingState::kTracking, wrong);
-  ASSERT_TRUE(loc);
-  ASSERT_TRUE(loc->addOdometry(OdometrySample{0.0, odomTBody(0.0), std::nullopt}).ok());
   FrameSearch search(params_, map_);
-  search.startCheck(0.0, wrong * odomTBody(0.0), odomTBody(0.0));
-  SearchAction action = SearchAction::kNone;
-  for (int k = 1; k < 12 && action == SearchAction::kNone; ++k) action = step(search, *loc, 0.1 * k);
-  EXPECT_EQ(action, SearchAction::kRelocalized);
+  std::unique_ptr<Localizer> loc;
+  EXPECT_EQ(checkFrame(wrong, search, loc), SearchAction::kRelocalized);
+  ASSERT_TRUE(loc);
   EXPECT_EQ(search.checksReplaced(), 1);
   EXPECT_EQ(loc->counters().relocalizations, 1);  // distrustFrame made it lost first
   EXPECT_TRUE(frameIsTrue(*loc));
 }
 
 TEST_F(FrameSearchTest, ACheckThatFindsTheFrameInUseKeepsIt) {
-  auto loc = localizer(TrackingState::kTracking, truth_world_T_odom_);
-  ASSERT_TRUE(loc);
-  ASSERT_TRUE(loc->addOdometry(OdometrySample{0.0, odomTBody(0.0), std::nullopt}).ok());
   FrameSearch search(params_, map_);
-  search.startCheck(0.0, truth_world_T_odom_ * odomTBody(0.0), odomTBody(0.0));
-  SearchAction action = SearchAction::kNone;
-  for (int k = 1; k < 12 && action == SearchAction::kNone; ++k) action = step(search, *loc, 0.1 * k);
-  EXPECT_EQ(action, SearchAction::kCheckPassed);
+  std::unique_ptr<Localizer> loc;
+  EXPECT_EQ(checkFrame(truth_world_T_odom_, search, loc), SearchAction::kCheckPassed);
+  ASSERT_TRUE(loc);
   EXPECT_EQ(search.checksReplaced(), 0);
   EXPECT_EQ(loc->counters().losses, 0);
   EXPECT_TRUE(frameIsTrue(*loc));
