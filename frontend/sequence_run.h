@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// runSequence: the run loop, a sequence's odometry and detections through the frontend into the Localizer.
+// runSequence: a sequence folder replayed through the onboard pipeline (StreamingLocalizer), as `dualgraph run` does.
 #pragma once
 
 #include <functional>
@@ -49,21 +49,13 @@ struct SequenceRunResult {
 /// Called after every odometry sample with (samples done, samples in total); may be empty.
 using RunProgress = std::function<void(size_t done, size_t total)>;
 
-/// Runs the frontend and the Localizer over a sequence in time order, as onboard. For each odometry
-/// sample the Localizer would accept, the detections that have arrived by its time stamp come first (those
-/// stamped up to it less LocalizerParams::detection_latency: a detector's output reaches the Localizer that
-/// late), grouped by instant: each instant goes through the GateFrontend at its corrected pose
-/// map_T_odom · odom_T_body(t) (odometry interpolated between the accepted samples around t,
-/// `odometryPoseAt`) and its observations go to the Localizer, which holds them until the sample arrives; then
-/// the sample itself. So a sample that closes a keyframe interval finds that interval's detections collected
-/// (none is refused as too late: with a latency, the keyframe waits as long). The instants still on their
-/// way when the odometry ends are handed over before `finish`. `finish` at the end. Errors only for invalid parameters or a sequence without
-/// odometry; bad samples and detections are counted. With `params.auto_initialize` (outside mapping mode) the
-/// Localizer starts initialising: each instant goes to a FrameInitializer instead (PnP alone) until it locks,
-/// then the Localizer is given the frame (`relocalize`) and tracks; when it never locks the run uses no
-/// detection and says why in `initialization`. Whenever the Localizer turns lost (its TrackingMonitor, fed the
-/// frontend's unmatched detections), a new search starts with the estimate as its coarse start pose
-/// (params.relocalization) and relocalises it on lock, unless gates fit again first.
+/// Replays a sequence through the onboard pipeline (StreamingLocalizer, caller-thread mode: deterministic), as the
+/// sensors would deliver it: before each odometry sample, the detection instants that have arrived by its time
+/// (within max_detection_lead_s), then the sample with its absolute covariance when the log has them. Everything
+/// the pipeline does is the drone's: detections handed over detection_latency late at the corrected pose, the frame
+/// search while initialising, loss, relocalisation, frame checks, self-calibration at t_c, odometry gaps
+/// (frontend/pipeline/README.md). Errors only for invalid parameters or a sequence without odometry; bad samples and
+/// detections are counted (SequenceRunResult, PipelineCounters).
 Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRunParams& params,
                                       const RunProgress& progress = {});
 
@@ -71,9 +63,9 @@ Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRu
 /// CameraModel::time_offset, else 0. Every detection stamped t is used at t − this.
 double detectionTimeOffset(const Sequence& sequence, const SequenceRunParams& params);
 
-/// The same loop with a Localizer and a GateFrontend the caller made and keeps (to read the main graph
-/// afterwards, as the benchmarks do); `localizer` gets `finish`. runSequence is this after creating both.
-/// The detections are moved by the sequence camera's time_offset.
+/// The same replay around a Localizer and a GateFrontend the caller made and keeps (to read the main graph
+/// afterwards, as the benchmarks do; StreamingLocalizer::borrow): no frame search (the Localizer's frame is used),
+/// no self-calibration; `localizer` gets `finish`. The detections are moved by the sequence camera's time_offset.
 Result<SequenceRunResult> runSequenceWith(Localizer& localizer, GateFrontend& frontend, const Sequence& sequence,
                                           const RunProgress& progress = {});
 
