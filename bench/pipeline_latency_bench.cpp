@@ -13,22 +13,10 @@
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/pipeline/streaming_localizer.h"
+#include "dualgraph/frontend/sequence_run.h"
 
 namespace dualgraph {
 namespace {
-
-/// The race's detections as a detector delivers them: one instant per stamp (camera clock).
-std::vector<DetectionInstant> instantsOf(const Sequence& sequence) {
-  std::vector<DetectionInstant> instants;
-  for (const CornerDetection& detection : sequence.corners) {
-    if (instants.empty() || instants.back().t != detection.t) {
-      instants.emplace_back();
-      instants.back().t = detection.t;
-    }
-    instants.back().corners.push_back(detection);
-  }
-  return instants;
-}
 
 /// `dualgraph run`'s configuration (data/config/default.yaml: frame search, self-calibration after 15 s) fed
 /// sample by sample: before each odometry sample the instants stamped up to it, then the sample, each
@@ -43,7 +31,7 @@ void BM_OnboardPerSample(benchmark::State& state, const std::string& track_name,
   if (!sequence.ok()) return state.SkipWithError(sequence.status().message().c_str());
   Result<SequenceRunParams> params = loadRunConfig(bench::repositoryDataPath("config/default.yaml"));
   if (!params.ok()) return state.SkipWithError(params.status().message().c_str());
-  const std::vector<DetectionInstant> instants = instantsOf(*sequence);
+  const std::vector<DetectionInstant> instants = detectionInstants(*sequence);
   const double offset = sequence->camera ? sequence->camera->time_offset : 0.0;
   std::vector<double> per_sample_us, lag;
   std::vector<CorrectedPose> estimate;
@@ -65,10 +53,7 @@ void BM_OnboardPerSample(benchmark::State& state, const std::string& track_name,
       while (next < instants.size() && instants[next].t - offset <= sample.t) {
         (void)(*pipeline)->addDetections(instants[next++]);
       }
-      OdometryInput input;
-      input.t = sample.t;
-      input.odom_T_body = sample.odom_T_body;
-      input.absolute_covariance = sequence->odometry.absolute_covariances[k];
+      const OdometryInput input = odometryInput(*sequence, k);
       const auto before = std::chrono::steady_clock::now();
       Result<PoseUpdate> update = (*pipeline)->addOdometry(input);
       per_sample_us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - before).count());

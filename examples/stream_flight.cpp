@@ -18,6 +18,7 @@
 #include "dualgraph/frontend/io/sequence_folder.h"
 #include "dualgraph/frontend/io/trajectory_io.h"
 #include "dualgraph/frontend/pipeline/streaming_localizer.h"
+#include "dualgraph/frontend/sequence_run.h"
 
 namespace dg = dualgraph;
 
@@ -26,19 +27,6 @@ namespace {
 int fail(const std::string& message) {
   std::cerr << "stream_flight: " << message << "\n";
   return 1;
-}
-
-// The folder's corner detections as a detector delivers them: one instant per image stamp (camera clock).
-std::vector<dg::DetectionInstant> instantsOf(const dg::Sequence& sequence) {
-  std::vector<dg::DetectionInstant> instants;
-  for (const dg::CornerDetection& detection : sequence.corners) {
-    if (instants.empty() || instants.back().t != detection.t) {
-      instants.emplace_back();
-      instants.back().t = detection.t;
-    }
-    instants.back().corners.push_back(detection);
-  }
-  return instants;
 }
 
 }  // namespace
@@ -55,9 +43,8 @@ int main(int argc, char** argv) {
   if (!created.ok()) return fail(created.status().message());
   dg::StreamingLocalizer& pipeline = **created;
 
-  const std::vector<dg::DetectionInstant> instants = instantsOf(*sequence);
+  const std::vector<dg::DetectionInstant> instants = dg::detectionInstants(*sequence);
   const std::vector<dg::OdometrySample>& samples = sequence->odometry.samples;
-  const bool with_covariance = sequence->odometry.absolute_covariances.size() == samples.size();
   const double offset = config->time_offset.value_or(sequence->camera ? sequence->camera->time_offset : 0.0);
   std::atomic<double> odometry_t{-INFINITY};
   std::atomic<size_t> delivered{0};
@@ -92,10 +79,7 @@ int main(int argc, char** argv) {
     }
     while (due < instants.size() && instants[due].t - offset <= samples[k].t) ++due;
     while (delivered.load() < due) std::this_thread::yield();
-    dg::OdometryInput input;
-    input.t = samples[k].t;
-    input.odom_T_body = samples[k].odom_T_body;
-    if (with_covariance) input.absolute_covariance = sequence->odometry.absolute_covariances[k];
+    const dg::OdometryInput input = dg::odometryInput(*sequence, k);
     auto update = pipeline.addOdometry(input);
     if (!update.ok()) return fail(update.status().message());
     if (update->pose.state != dg::TrackingState::kInitialising) estimate.emplace_back(input.t, update->pose.world_T_body);

@@ -23,24 +23,11 @@ Result<SequenceRunResult> replay(StreamingLocalizer& pipeline, const Sequence& s
   const auto start = std::chrono::steady_clock::now();
   const std::vector<OdometrySample>& samples = sequence.odometry.samples;
   if (samples.empty()) return Status(StatusCode::kInvalidArgument, sequence.dir + ": no odometry samples");
-  const bool absolute = sequence.odometry.absolute_covariances.size() == samples.size();
-  const size_t detections = sequence.has_corners ? sequence.corners.size() : sequence.pose_detections.size();
-  const auto stamp = [&](size_t i) { return sequence.has_corners ? sequence.corners[i].t : sequence.pose_detections[i].t; };
+  const std::vector<DetectionInstant> instants = detectionInstants(sequence);
   size_t next = 0;
   const auto feedUpTo = [&](double until) {  // instants with (stamp − offset) ≤ until
-    while (next < detections && stamp(next) - pipeline.timeOffset() <= until) {
-      DetectionInstant instant;
-      instant.t = stamp(next);
-      size_t end = next + 1;
-      while (end < detections && stamp(end) == stamp(next)) ++end;
-      if (sequence.has_corners) {
-        instant.corners.assign(sequence.corners.begin() + static_cast<long>(next), sequence.corners.begin() + static_cast<long>(end));
-      } else {
-        instant.poses.assign(sequence.pose_detections.begin() + static_cast<long>(next),
-                             sequence.pose_detections.begin() + static_cast<long>(end));
-      }
-      next = end;
-      (void)pipeline.addDetections(instant);  // a refusal is counted by the pipeline
+    for (; next < instants.size() && instants[next].t - pipeline.timeOffset() <= until; ++next) {
+      (void)pipeline.addDetections(instants[next]);  // a refusal is counted by the pipeline
     }
   };
   SequenceRunResult result;
@@ -49,24 +36,13 @@ Result<SequenceRunResult> replay(StreamingLocalizer& pipeline, const Sequence& s
     // Within the lead over the newest sample the pipeline took (after a gap, the rest arrives after this sample).
     const double newest = pipeline.snapshot().t;
     feedUpTo(std::isfinite(newest) ? std::min(samples[k].t + margin, newest + lead_s) : samples[k].t + margin);
-    OdometryInput input;
-    input.t = samples[k].t;
-    input.odom_T_body = samples[k].odom_T_body;
-    if (absolute) {
-      input.absolute_covariance = sequence.odometry.absolute_covariances[k];
-    } else {
-      input.relative_covariance = samples[k].relative_covariance;
-    }
-    Result<PoseUpdate> update = pipeline.addOdometry(input);
+    Result<PoseUpdate> update = pipeline.addOdometry(odometryInput(sequence, k));
     if (update.ok()) result.estimate.push_back(update->pose);
     if (progress) progress(k + 1, samples.size());
   }
   feedUpTo(samples.back().t + margin);
-  const size_t never_given = [&] {  // beyond the lead: after the odometry's end
-    size_t count = 0;
-    for (size_t i = next; i < detections; ++i) ++count;
-    return count;
-  }();
+  size_t never_given = 0;  // beyond the lead: after the odometry's end
+  for (; next < instants.size(); ++next) never_given += instants[next].size();
   Result<PipelineResults> finished = pipeline.finish();
   if (!finished.ok()) return finished.status();
   const PipelineCounters& c = finished->pipeline_counters;
@@ -90,6 +66,37 @@ Result<SequenceRunResult> replay(StreamingLocalizer& pipeline, const Sequence& s
 }
 
 }  // namespace
+
+std::vector<DetectionInstant> detectionInstants(const Sequence& sequence) {
+  std::vector<DetectionInstant> instants;
+  const size_t count = sequence.has_corners ? sequence.corners.size() : sequence.pose_detections.size();
+  for (size_t i = 0; i < count; ++i) {
+    const double t = sequence.has_corners ? sequence.corners[i].t : sequence.pose_detections[i].t;
+    if (instants.empty() || instants.back().t != t) {
+      instants.emplace_back();
+      instants.back().t = t;
+    }
+    if (sequence.has_corners) {
+      instants.back().corners.push_back(sequence.corners[i]);
+    } else {
+      instants.back().poses.push_back(sequence.pose_detections[i]);
+    }
+  }
+  return instants;
+}
+
+OdometryInput odometryInput(const Sequence& sequence, size_t k) {
+  const OdometrySample& sample = sequence.odometry.samples[k];
+  OdometryInput input;
+  input.t = sample.t;
+  input.odom_T_body = sample.odom_T_body;
+  if (sequence.odometry.absolute_covariances.size() == sequence.odometry.samples.size()) {
+    input.absolute_covariance = sequence.odometry.absolute_covariances[k];
+  } else {
+    input.relative_covariance = sample.relative_covariance;
+  }
+  return input;
+}
 
 double detectionTimeOffset(const Sequence& sequence, const SequenceRunParams& params) {
   if (params.time_offset) return *params.time_offset;

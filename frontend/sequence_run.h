@@ -11,6 +11,7 @@
 #include "dualgraph/frontend/gates/gate_frontend.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/io/sequence_folder.h"
+#include "dualgraph/frontend/pipeline/detection_instant.h"
 #include "dualgraph/frontend/pipeline/pipeline_report.h"
 
 namespace dualgraph {
@@ -58,6 +59,12 @@ using RunProgress = std::function<void(size_t done, size_t total)>;
 /// detections are counted (SequenceRunResult, PipelineCounters).
 Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRunParams& params,
                                       const RunProgress& progress = {});
+
+/// The sequence's detections as a detector delivers them: one instant per stamp (camera clock), in file order.
+std::vector<DetectionInstant> detectionInstants(const Sequence& sequence);
+/// Odometry sample `k` (< samples.size()) as a VIO publishes it: with its absolute covariance when the log has
+/// them (converted inside the pipeline), else with the relative one it carries.
+OdometryInput odometryInput(const Sequence& sequence, size_t k);
 
 /// The camera-to-VIO clock offset a run uses [s]: params.time_offset when set, else the sequence camera's
 /// CameraModel::time_offset, else 0. Every detection stamped t is used at t − this.
