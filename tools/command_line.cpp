@@ -152,9 +152,19 @@ CLI::App* addEvalCommand(CLI::App& app, EvalOptions& o) {
 }
 
 CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
-  CLI::App* cmd = app.add_subcommand("simulate", "Simulate a racing flight: ground truth, drifting VIO, gate detections");
+  CLI::App* cmd = app.add_subcommand("simulate", "Simulate a racing flight (ground truth, drifting VIO, gate detections), or gate detections on a recorded one");
   RaceSimParams& p = o.params;
-  cmd->add_option("--track", o.track, "Track YAML (gates and path), e.g. data/tracks/ratm_ellipse.yaml")->required();
+  cmd->add_option("--track", o.track,
+                  "Track YAML (gates and path), e.g. data/tracks/ratm_ellipse.yaml; with --flight optional: its gates "
+                  "instead of placed ones");
+  cmd->add_option("--flight", o.flight,
+                  "Recorded-flight mode: ground truth world_T_body of a real flight (TUM, EuRoC CSV, OpenVINS); virtual "
+                  "gates are placed on it and corners synthesised from it");
+  cmd->add_option("--vio", o.vio, "Recorded-flight mode: the VIO recorded on that flight, kept as it is (vio.tum)");
+  cmd->add_option("--gate-spacing", o.gates.spacing, "Recorded-flight mode: path length between placed gates [m]")
+      ->check(positive());
+  cmd->add_option("--gate-separation", o.gates.min_separation, "Recorded-flight mode: fewest metres between two gates");
+  cmd->add_option("--gate-size", o.gates.size, "Recorded-flight mode: side of a placed gate [m]")->check(positive());
   cmd->add_option("--out", o.out, "Sequence folder to write (created)")->required();
   cmd->add_option("--seed", p.seed, "Seed of every random draw");
   cmd->add_option("--camera", o.camera, "Camera YAML (default: the bundled RATM piloted camera)");

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <set>
 
 #include "dualgraph/frontend/io/camera_io.h"
@@ -29,16 +30,28 @@ double vioRmse(const SimulatedRace& race) {
   return std::sqrt(sum / static_cast<double>(race.vio.samples.size()));
 }
 
-Status writePlot(const std::string& path, const SimulatedRace& race) {
+Status writePlot(const std::string& path, const OdometryLog& truth_log, const OdometryLog& vio_log, const Track& map,
+                 const char* title) {
   XyPlot plot;
-  plot.title = "Simulated flight (XY)";
+  plot.title = title;
   PlotSeries truth{"ground truth", {}, {0, 0, 0}, true};
-  for (const auto& [t, pose] : race.ground_truth) truth.points.emplace_back(pose.translation().head<2>());
-  PlotSeries vio{"VIO", {}, {230, 120, 20}, false};
-  for (const OdometrySample& sample : race.vio.samples) vio.points.emplace_back(sample.odom_T_body.translation().head<2>());
+  for (const OdometrySample& sample : truth_log.samples) truth.points.emplace_back(sample.odom_T_body.translation().head<2>());
+  PlotSeries vio{"VIO (its own frame)", {}, {230, 120, 20}, false};
+  for (const OdometrySample& sample : vio_log.samples) vio.points.emplace_back(sample.odom_T_body.translation().head<2>());
   plot.series = {vio, truth};  // the truth on top
-  for (const TrackGate& gate : race.map.gates) plot.gates.push_back({gate.position.head<2>(), gate.yaw, gate.size});
+  for (const TrackGate& gate : map.gates) plot.gates.push_back({gate.position.head<2>(), gate.yaw, gate.size});
   return writeXyPlotPng(path, plot);
+}
+
+Status writePlot(const std::string& path, const SimulatedRace& race) {
+  OdometryLog truth;
+  for (const auto& [t, pose] : race.ground_truth) {
+    OdometrySample sample;
+    sample.t = t;
+    sample.odom_T_body = pose;
+    truth.samples.push_back(sample);
+  }
+  return writePlot(path, truth, race.vio, race.map, "Simulated flight (XY)");
 }
 
 // Every option whose default is the profile's: visit(name, from's field, to's field), in one place for the
@@ -93,7 +106,86 @@ const std::vector<std::string>& profileOptionNames() {
   return names;
 }
 
+namespace {
+
+// The options that only a simulated flight has: refused with --flight, which keeps the recorded ones.
+const char* const kSimulatedFlightOnly[] = {
+    "--laps", "--speed", "--gt-rate", "--vio-rate", "--max-lateral-acceleration", "--max-longitudinal-acceleration",
+    "--yaw-rate-bias", "--velocity-bias", "--velocity-bias-random-walk", "--scale-error-sigma", "--lap-speed-variation",
+    "--lap-line-variation", "--vio-frame-yaw", "--vio-frame-offset", "--detections"};
+
+int runRecordedFlight(SimulateOptions& o) {
+  if (o.vio.empty()) return fail("--flight needs --vio (the VIO recorded on that flight)");
+  for (const char* option : kSimulatedFlightOnly) {
+    if (o.given.count(option) > 0) {
+      return fail(std::string(option) + " describes a simulated flight; with --flight the recorded flight and VIO are used");
+    }
+  }
+  std::unique_ptr<Track> track;
+  if (!o.track.empty()) {
+    auto loaded = loadTrackYaml(o.track);
+    if (!loaded.ok()) return fail(loaded.status().message());
+    track = std::make_unique<Track>(std::move(loaded).value());
+  }
+  const std::string camera_path = o.camera.empty() ? bundledDataDir() + "/cameras/euroc_cam0.yaml" : o.camera;
+  auto camera = loadCameraYaml(camera_path);
+  if (!camera.ok()) return fail(camera.status().message());
+  RaceSimParams& p = o.params;
+  const Status profiled = applyProfileUnderFlags(o.profile, o.given, p);
+  if (!profiled.ok()) return fail(profiled.message());
+  if (!o.partial_gates.empty()) p.detection.partial_gates = o.partial_gates == "on";
+  TrajectoryFormat truth_format = TrajectoryFormat::kTum;
+  auto truth = readTrajectory(o.flight, &truth_format);
+  if (!truth.ok()) return fail(truth.status().message());
+  TrajectoryFormat vio_format = TrajectoryFormat::kTum;
+  auto vio = readTrajectory(o.vio, &vio_format);
+  if (!vio.ok()) return fail(vio.status().message());
+  RecordedFlightParams recorded;
+  recorded.seed = p.seed;
+  recorded.gates = o.gates;
+  recorded.detection = p.detection;
+  recorded.map_position_sigma = p.map_position_sigma;
+  recorded.map_yaw_sigma = p.map_yaw_sigma;
+  recorded.field.camera_time_offset = p.field.camera_time_offset;
+  recorded.field.camera_mount_error_deg = p.field.camera_mount_error_deg;
+  auto flight = simulateRecordedFlight(*truth, *vio, track.get(), *camera, recorded);
+  if (!flight.ok()) return fail(o.flight + " + " + o.vio + ": " + flight.status().message());
+  auto staged = StagedFolder::create(o.out);
+  if (!staged.ok()) return fail(staged.status().message());
+  const Status written = writeRecordedFlight(staged->path(), *flight, recorded, o.flight, o.vio);
+  if (!written.ok()) return fail(staged->unstaged(written).message());
+  if (!o.no_plot) {
+    const Status plotted = writePlot(staged->file("xy.png"), *truth, *vio, flight->sequence.map, "Recorded flight (XY)");
+    if (!plotted.ok()) return fail(staged->unstaged(plotted).message());
+  }
+  const Status committed = staged->commit();
+  if (!committed.ok()) return fail(committed.message());
+  const DetectionSimStats& s = flight->detection_stats;
+  std::cout << "recorded flight " << o.flight << ": " << flight->overlap_end - flight->overlap_begin << " s with the VIO, "
+            << flight->path_length << " m\n"
+            << "  VIO: " << o.vio << " (" << trajectoryFormatName(vio_format) << "), " << vio->samples.size()
+            << " samples, kept as recorded\n"
+            << "  gates: " << flight->true_gates.gates.size()
+            << (flight->gates_placed ? " placed on the path every " + std::to_string(o.gates.spacing) + " m" : " from " + o.track)
+            << "\n  detector: " << s.images << " images, " << s.visible << " gate views, " << flight->detections.size()
+            << " detections (" << s.missed << " missed, " << s.displaced_corner << " displaced corner, " << s.wrong_id
+            << " wrong id, " << s.false_gates << " false gates), corner noise " << s.mean_pixel_sigma << " px\n"
+            << "  wrote " << o.out << "\n";
+  if (flight->detections.empty()) {
+    std::cerr << "dualgraph simulate: warning: no gate was seen: check the camera's body_T_camera against the ground "
+                 "truth's body frame (" << camera_path << ")\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
 int runSimulateCommand(SimulateOptions o) {
+  if (!o.flight.empty() || !o.vio.empty()) {
+    if (o.flight.empty()) return fail("--vio needs --flight (the ground truth of the recorded flight)");
+    return runRecordedFlight(o);
+  }
+  if (o.track.empty()) return fail("--track is required (or --flight GT --vio VIO for a recorded flight)");
   auto track = loadTrackYaml(o.track);
   if (!track.ok()) return fail(track.status().message());
   const std::string camera_path = o.camera.empty() ? bundledDataDir() + "/cameras/ratm_piloted.yaml" : o.camera;

@@ -9,14 +9,18 @@
 
 #include "dualgraph/frontend/simulation/race_profiles.h"
 #include "dualgraph/frontend/simulation/race_sequence.h"
+#include "dualgraph/frontend/simulation/recorded_flight.h"
 
 namespace dualgraph::tools {
 
 /// Options of `dualgraph simulate`: the files, and the simulator's parameters (defaults of
 /// RaceSimParams; laps and speed from the track unless given).
 struct SimulateOptions {
-  std::string track;
-  std::string camera;  ///< empty: the bundled data/cameras/ratm_piloted.yaml
+  std::string track;   ///< required, unless `flight` is given (then optional: its gates instead of placed ones)
+  std::string flight;  ///< recorded-flight mode: the ground truth world_T_body (any trajectory format)
+  std::string vio;     ///< recorded-flight mode: the VIO recorded on that flight, kept as it is
+  GatePlacementParams gates;  ///< recorded-flight mode without a track
+  std::string camera;  ///< empty: the bundled data/cameras/ratm_piloted.yaml (euroc_cam0.yaml with `flight`)
   std::string out;
   std::string detections = "corners";
   int laps = 0;        ///< 0: the track's

@@ -72,14 +72,7 @@ Status validateDetectionSimParams(const DetectionSimParams& p) {
   return Status::okStatus();
 }
 
-double bodyAngularRate(const Flight& flight, double t) {
-  constexpr double kHalfInterval = 1e-3;  // [s]
-  const double before = std::clamp(t - kHalfInterval, 0.0, flight.duration());
-  const double after = std::clamp(t + kHalfInterval, 0.0, flight.duration());
-  if (!(after > before)) return 0.0;
-  const Eigen::Matrix3d turn = flight.at(before).world_T_body.linear().transpose() * flight.at(after).world_T_body.linear();
-  return so3Log(turn).norm() / (after - before);
-}
+double bodyAngularRate(const Flight& flight, double t) { return bodyAngularRate(FlightTrajectory(flight), t); }
 
 std::array<int, 4> imageCornerOrder(const Pixels& pixels) {
   std::array<int, 4> by_v{0, 1, 2, 3};
@@ -93,6 +86,13 @@ std::array<int, 4> imageCornerOrder(const Pixels& pixels) {
 }
 
 Result<std::vector<SimulatedDetection>> simulateDetections(const Flight& flight, const Track& track,
+                                                           const CameraModel& camera,
+                                                           const DetectionSimParams& params, std::uint64_t seed,
+                                                           DetectionSimStats* stats) {
+  return simulateDetections(FlightTrajectory(flight), track, camera, params, seed, stats);
+}
+
+Result<std::vector<SimulatedDetection>> simulateDetections(const BodyTrajectory& truth, const Track& track,
                                                            const CameraModel& camera,
                                                            const DetectionSimParams& params, std::uint64_t seed,
                                                            DetectionSimStats* stats) {
@@ -110,16 +110,16 @@ Result<std::vector<SimulatedDetection>> simulateDetections(const Flight& flight,
   double sigma_sum = 0.0;
   constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
   for (long image = 0;; image += params.keep_every) {
-    const double t = static_cast<double>(image) / params.camera_rate;
-    if (t > flight.duration()) break;
+    const double t = truth.begin() + static_cast<double>(image) / params.camera_rate;
+    if (t > truth.end()) break;
     ++counts.images;
-    const FlightState state = flight.at(t);
+    const Eigen::Isometry3d world_T_body = truth.worldTBody(t);
     double sigma = params.pixel_sigma;  // exactly pixel_sigma without blur
     if (params.blur_px_per_rad_s > 0.0) {
-      const double blur = params.blur_px_per_rad_s * bodyAngularRate(flight, t);
+      const double blur = params.blur_px_per_rad_s * bodyAngularRate(truth, t);
       sigma = std::sqrt(sigma * sigma + blur * blur);
     }
-    const Eigen::Isometry3d world_T_camera = state.world_T_body * camera.body_T_camera;
+    const Eigen::Isometry3d world_T_camera = world_T_body * camera.body_T_camera;
     const Eigen::Isometry3d camera_T_world = world_T_camera.inverse();
     for (size_t g = 0; g < track.gates.size(); ++g) {
       const TrackGate& gate = track.gates[g];
@@ -154,7 +154,7 @@ Result<std::vector<SimulatedDetection>> simulateDetections(const Flight& flight,
       }
       SimulatedDetection detection;
       detection.true_gate_id = gate.id;
-      detection.body_T_gate = state.world_T_body.inverse() * world_T_gate;
+      detection.body_T_gate = world_T_body.inverse() * world_T_gate;
       detection.seen_from_front = line_of_sight.dot(normal_axis) > 0.0;
       const std::array<int, 4> order = imageCornerOrder(pixels);
       detection.true_pixels = reorder(pixels, order);

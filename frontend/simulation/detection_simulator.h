@@ -8,6 +8,7 @@
 #include "dualgraph/core/status.h"
 #include "dualgraph/frontend/gates/camera_model.h"
 #include "dualgraph/frontend/io/detection_io.h"
+#include "dualgraph/frontend/simulation/body_trajectory.h"
 #include "dualgraph/frontend/simulation/flight.h"
 #include "dualgraph/frontend/gates/track.h"
 
@@ -73,8 +74,8 @@ struct DetectionSimStats {
   double max_pixel_sigma = 0.0;   ///< its largest value [px] (0 without gate detections)
 };
 
-/// |ω|, the body's true angular rate at t [rad/s]: ‖log(R(t − 1 ms)ᵀ R(t + 1 ms))‖ / 2 ms from the flight's
-/// attitude (the interval clamped to the flight).
+/// |ω|, the body's true angular rate at t [rad/s] from the flight's attitude (bodyAngularRate of its
+/// FlightTrajectory).
 double bodyAngularRate(const Flight& flight, double t);
 
 /// Orders four pixels as frontend/io/FORMATS.md writes them: the two upper ones (smaller v) left to right, then
@@ -88,6 +89,13 @@ std::array<int, 4> imageCornerOrder(const Eigen::Matrix<double, 2, 4>& pixels);
 /// projections (inside the image or not). Deterministic for a seed; with blur 0 and partial_gates false the
 /// random draws are those of the detector without either.
 Result<std::vector<SimulatedDetection>> simulateDetections(const Flight& flight, const Track& track,
+                                                           const CameraModel& camera,
+                                                           const DetectionSimParams& params, std::uint64_t seed,
+                                                           DetectionSimStats* stats = nullptr);
+
+/// The same detector looking from any true trajectory (a recorded flight: SampledTrajectory): images at
+/// truth.begin() + k / camera_rate up to truth.end(), stamped with those times. For a Flight the two are one.
+Result<std::vector<SimulatedDetection>> simulateDetections(const BodyTrajectory& truth, const Track& track,
                                                            const CameraModel& camera,
                                                            const DetectionSimParams& params, std::uint64_t seed,
                                                            DetectionSimStats* stats = nullptr);

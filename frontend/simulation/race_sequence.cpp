@@ -8,12 +8,29 @@
 
 namespace dualgraph {
 
+std::string detectorYaml(const DetectionSimParams& d) {
+  std::ostringstream out;
+  out.precision(std::numeric_limits<double>::max_digits10);
+  out << "detector:\n"
+      << "  camera_rate: " << d.camera_rate << "\n  keep_every: " << d.keep_every << "\n"
+      << "  pixel_sigma: " << d.pixel_sigma << "\n  blur_px_per_rad_s: " << d.blur_px_per_rad_s << "\n  min_range: " << d.min_range << "\n  max_range: " << d.max_range << "\n"
+      << "  max_view_angle_deg: " << d.max_view_angle_deg << "\n  edge_margin: " << d.edge_margin << "\n"
+      << "  miss_probability: " << d.miss_probability << "\n"
+      << "  displaced_corner_probability: " << d.displaced_corner_probability << "\n"
+      << "  displaced_corner_pixels: " << d.displaced_corner_pixels << "\n"
+      << "  wrong_id_probability: " << d.wrong_id_probability << "\n"
+      << "  false_gate_probability: " << d.false_gate_probability << "\n"
+      << "  unknown_ids: " << (d.unknown_ids ? "true" : "false") << "\n"
+      << "  partial_gates: " << (d.partial_gates ? "true" : "false") << "\n"
+      << "  min_visible_corners: " << d.min_visible_corners << "\n";
+  return out.str();
+}
+
 std::string raceSequenceYaml(const SimulatedRace& race, const Track& track, const RaceSimParams& p) {
   std::ostringstream out;
   out.precision(std::numeric_limits<double>::max_digits10);
   const FlightParams& f = p.flight;
   const VioDriftParams& v = p.vio;
-  const DetectionSimParams& d = p.detection;
   out << "# A simulated race (dualgraph simulate). Every parameter and the seed: the same values give\n"
       << "# the same files. Units: m, s, rad, px unless the name says otherwise.\n"
       << "seed: " << p.seed << "\n"
@@ -37,18 +54,7 @@ std::string raceSequenceYaml(const SimulatedRace& race, const Track& track, cons
       << "  velocity_bias_random_walk: " << v.velocity_bias_random_walk << "\n  bias_spread: " << v.bias_spread << "\n"
       << "  scale_error_sigma: " << v.scale_error_sigma << "\n  position_noise: " << v.position_noise << "\n"
       << "  rotation_noise: " << v.rotation_noise << "\n"
-      << "detector:\n"
-      << "  camera_rate: " << d.camera_rate << "\n  keep_every: " << d.keep_every << "\n"
-      << "  pixel_sigma: " << d.pixel_sigma << "\n  blur_px_per_rad_s: " << d.blur_px_per_rad_s << "\n  min_range: " << d.min_range << "\n  max_range: " << d.max_range << "\n"
-      << "  max_view_angle_deg: " << d.max_view_angle_deg << "\n  edge_margin: " << d.edge_margin << "\n"
-      << "  miss_probability: " << d.miss_probability << "\n"
-      << "  displaced_corner_probability: " << d.displaced_corner_probability << "\n"
-      << "  displaced_corner_pixels: " << d.displaced_corner_pixels << "\n"
-      << "  wrong_id_probability: " << d.wrong_id_probability << "\n"
-      << "  false_gate_probability: " << d.false_gate_probability << "\n"
-      << "  unknown_ids: " << (d.unknown_ids ? "true" : "false") << "\n"
-      << "  partial_gates: " << (d.partial_gates ? "true" : "false") << "\n"
-      << "  min_visible_corners: " << d.min_visible_corners << "\n"
+      << detectorYaml(p.detection)
       << "summary:  # measured on this flight, not parameters\n"
       << "  duration_s: " << race.flight.duration() << "\n  length_m: " << race.flight.length() << "\n"
       << "  top_speed_mps: " << race.flight.topSpeed() << "\n"

@@ -16,6 +16,9 @@ namespace dualgraph {
 /// Errors: toRelativeCovariances'.
 Result<Sequence> raceSequence(const SimulatedRace& race, const RaceSimParams& params, const std::string& name);
 
+/// The `detector:` block of sequence.yaml: every DetectionSimParams field, full precision.
+std::string detectorYaml(const DetectionSimParams& params);
+
 /// sequence.yaml of the race: the seed, every parameter (so that the same values make the same files
 /// again), a summary measured on the flight and the track.
 std::string raceSequenceYaml(const SimulatedRace& race, const Track& track, const RaceSimParams& params);

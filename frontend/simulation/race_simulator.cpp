@@ -10,13 +10,7 @@
 namespace dualgraph {
 namespace {
 
-// Independent streams from one seed (SplitMix64 finaliser of seed and a stream number).
-std::uint64_t streamSeed(std::uint64_t seed, std::uint64_t stream) {
-  std::uint64_t z = seed + 0x9E3779B97F4A7C15ULL * (stream + 1);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
-}
+std::uint64_t streamSeed(std::uint64_t seed, std::uint64_t stream) { return simulationStreamSeed(seed, stream); }
 
 Status invalid(const std::string& what) { return Status(StatusCode::kInvalidArgument, "race simulator: " + what); }
 
@@ -54,19 +48,6 @@ Eigen::Isometry3d vioFrame(const FieldErrorParams& field, std::uint64_t seed) {
   world_T_odom.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   world_T_odom.translation() << radius * std::cos(bearing), radius * std::sin(bearing), 0.0;
   return world_T_odom;
-}
-
-// The camera as written: body_T_camera turned by the mount error about a random axis (stream 5).
-CameraModel mountedCamera(const CameraModel& camera, const FieldErrorParams& field, std::uint64_t seed) {
-  CameraModel written = camera;
-  if (field.camera_mount_error_deg == 0.0) return written;
-  std::mt19937_64 rng(streamSeed(seed, 5));
-  std::normal_distribution<double> normal(0.0, 1.0);
-  Eigen::Vector3d axis(normal(rng), normal(rng), normal(rng));
-  axis.normalize();
-  written.body_T_camera.linear() =
-      written.body_T_camera.linear() * Eigen::AngleAxisd(field.camera_mount_error_deg * M_PI / 180.0, axis).toRotationMatrix();
-  return written;
 }
 
 }  // namespace
@@ -153,17 +134,7 @@ Result<SimulatedRace> simulateRace(const Track& track, const CameraModel& camera
     }
   }
 
-  race.map.name = track.name;
-  race.map.gates = track.gates;
-  race.map.laps = track.laps;
-  race.map.speed = track.speed;
-  std::mt19937_64 rng(streamSeed(params.seed, 3));
-  std::normal_distribution<double> normal(0.0, 1.0);
-  for (TrackGate& gate : race.map.gates) {
-    for (int axis = 0; axis < 3; ++axis) gate.position[axis] += params.map_position_sigma * normal(rng);
-    gate.yaw += params.map_yaw_sigma * normal(rng);
-    gate.line = 0;
-  }
+  race.map = perturbedMap(track, params.map_position_sigma, params.map_yaw_sigma, params.seed);
   return race;
 }
 

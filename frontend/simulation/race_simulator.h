@@ -9,26 +9,13 @@
 #include "dualgraph/core/status.h"
 #include "dualgraph/frontend/gates/camera_model.h"
 #include "dualgraph/frontend/simulation/detection_simulator.h"
+#include "dualgraph/frontend/simulation/field_errors.h"
 #include "dualgraph/frontend/simulation/flight.h"
 #include "dualgraph/frontend/io/odometry_io.h"
 #include "dualgraph/frontend/gates/track.h"
 #include "dualgraph/frontend/simulation/vio_drift.h"
 
 namespace dualgraph {
-
-/// The errors of a real flight that the sensor models leave out; 0 turns each off (the `clean` profile).
-struct FieldErrorParams {
-  /// VIO in its own frame: odom is world turned by a yaw drawn uniformly in [−v, v] [rad] ...
-  double vio_frame_yaw = 0.0;
-  /// ... and moved by an offset drawn uniformly in a horizontal disc of this radius [m] (VIO is gravity aligned).
-  double vio_frame_offset = 0.0;
-  /// The detections are stamped this much later than the instant the image shows [s] (camera vs VIO clock;
-  /// negative: earlier).
-  double camera_time_offset = 0.0;
-  /// The written camera's body_T_camera is off from the one that made the images by a rotation of this angle
-  /// about a random axis [deg] (a camera-mount calibration error).
-  double camera_mount_error_deg = 0.0;
-};
 
 /// Everything a simulated race depends on besides the track and the camera. The seed decides every
 /// random draw (VIO drift, detections, map perturbation, VIO frame, camera mount, lap variation, each from its
