@@ -13,14 +13,14 @@
 namespace dualgraph {
 namespace {
 
-Status invalid(const std::string& what) { return Status(StatusCode::kInvalidArgument, "recorded flight: " + what); }
+Status recordedFlightError(const std::string& what) { return Status(StatusCode::kInvalidArgument, "recorded flight: " + what); }
 
 Status validatePlacement(const GatePlacementParams& p) {
-  if (!(std::isfinite(p.spacing) && p.spacing > 0.0)) return invalid("gate spacing must be > 0");
-  if (!(std::isfinite(p.min_separation) && p.min_separation >= 0.0)) return invalid("gate min_separation must be >= 0");
-  if (!(std::isfinite(p.min_speed) && p.min_speed > 0.0)) return invalid("gate min_speed must be > 0");
-  if (!(std::isfinite(p.size) && p.size > 0.0)) return invalid("gate size must be > 0");
-  if (p.max_gates < 1) return invalid("max_gates must be >= 1");
+  if (!(std::isfinite(p.spacing) && p.spacing > 0.0)) return recordedFlightError("gate spacing must be > 0");
+  if (!(std::isfinite(p.min_separation) && p.min_separation >= 0.0)) return recordedFlightError("gate min_separation must be >= 0");
+  if (!(std::isfinite(p.min_speed) && p.min_speed > 0.0)) return recordedFlightError("gate min_speed must be > 0");
+  if (!(std::isfinite(p.size) && p.size > 0.0)) return recordedFlightError("gate size must be > 0");
+  if (p.max_gates < 1) return recordedFlightError("max_gates must be >= 1");
   return Status();
 }
 
@@ -77,7 +77,7 @@ Result<Track> placeGatesOnPath(const SampledTrajectory& truth, const GatePlaceme
     next_at = flown + params.spacing;
   }
   if (track.gates.empty()) {
-    return invalid("no gate could be placed: the path is " + std::to_string(flown) + " m long, a gate needs half a spacing (" +
+    return recordedFlightError("no gate could be placed: the path is " + std::to_string(flown) + " m long, a gate needs half a spacing (" +
                    std::to_string(0.5 * params.spacing) + " m) flown at >= " + std::to_string(params.min_speed) + " m/s");
   }
   return track;
@@ -86,18 +86,18 @@ Result<Track> placeGatesOnPath(const SampledTrajectory& truth, const GatePlaceme
 Result<RecordedFlight> simulateRecordedFlight(const OdometryLog& ground_truth, const OdometryLog& vio,
                                               const Track* track, const CameraModel& camera,
                                               const RecordedFlightParams& params) {
-  if (ground_truth.samples.size() < 2) return invalid("the ground truth needs at least two poses");
-  if (vio.samples.empty()) return invalid("the VIO has no poses");
+  if (ground_truth.samples.size() < 2) return recordedFlightError("the ground truth needs at least two poses");
+  if (vio.samples.empty()) return recordedFlightError("the VIO has no poses");
   if (params.field.vio_frame_yaw != 0.0 || params.field.vio_frame_offset != 0.0) {
-    return invalid("vio_frame_yaw and vio_frame_offset must be 0: the recorded VIO keeps its own frame");
+    return recordedFlightError("vio_frame_yaw and vio_frame_offset must be 0: the recorded VIO keeps its own frame");
   }
-  if (!std::isfinite(params.field.camera_time_offset)) return invalid("camera_time_offset must be finite");
+  if (!std::isfinite(params.field.camera_time_offset)) return recordedFlightError("camera_time_offset must be finite");
   if (!(std::isfinite(params.field.camera_mount_error_deg) && params.field.camera_mount_error_deg >= 0.0)) {
-    return invalid("camera_mount_error_deg must be >= 0");
+    return recordedFlightError("camera_mount_error_deg must be >= 0");
   }
   if (!(std::isfinite(params.map_position_sigma) && params.map_position_sigma >= 0.0) ||
       !(std::isfinite(params.map_yaw_sigma) && params.map_yaw_sigma >= 0.0)) {
-    return invalid("map perturbation sigmas must be >= 0");
+    return recordedFlightError("map perturbation sigmas must be >= 0");
   }
   RecordedFlight flight;
   flight.overlap_begin = std::max(ground_truth.samples.front().t, vio.samples.front().t);
@@ -108,13 +108,13 @@ Result<RecordedFlight> simulateRecordedFlight(const OdometryLog& ground_truth, c
     why << "the ground truth [" << ground_truth.samples.front().t << ", " << ground_truth.samples.back().t
         << "] s and the VIO [" << vio.samples.front().t << ", " << vio.samples.back().t
         << "] s overlap by less than 1 s (not the same flight, or not the same clock?)";
-    return invalid(why.str());
+    return recordedFlightError(why.str());
   }
   auto truth = SampledTrajectory::create(samplesWithin(ground_truth, flight.overlap_begin, flight.overlap_end));
   if (!truth.ok()) return truth.status();
   flight.path_length = pathLength(*truth);
   if (track != nullptr) {
-    if (track->gates.empty()) return invalid("the track has no gates");
+    if (track->gates.empty()) return recordedFlightError("the track has no gates");
     flight.true_gates.name = track->name;
     flight.true_gates.gates = track->gates;
     flight.gates_placed = false;

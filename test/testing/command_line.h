@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-// Runs build/bin/dualgraph as a user would (a subprocess, stdout and stderr captured, a 60 s
+// Runs build/bin/dualgraph as a user would (a subprocess, stdout and stderr captured, a 300 s
 // timeout), with a scratch folder per test process. Header-only: every test/tools executable uses it.
 
 #include <sys/wait.h>
@@ -58,10 +58,15 @@ inline double jsonNumber(const std::string& json, const std::string& key) {
   return at == std::string::npos ? std::nan("") : std::strtod(json.c_str() + at + needle.size(), nullptr);
 }
 
+/// A hang is killed after this long: a generous bound, since a sanitized build on a slow, busy CI machine runs
+/// the tool 10-20x slower than Release (an ablation took 47 s under ASan on an idle one).
+constexpr int kCommandTimeoutSeconds = 300;
+
 /// Runs `dualgraph ARGS` (ARGS as a shell would split them).
 inline CommandRun runDualgraph(const std::string& args) {
   const std::string err_path = tempDir() + "/stderr.txt";
-  const std::string command = "timeout 60 " + binaryPath("dualgraph") + " " + args + " 2>" + err_path;
+  const std::string command =
+      "timeout " + std::to_string(kCommandTimeoutSeconds) + " " + binaryPath("dualgraph") + " " + args + " 2>" + err_path;
   CommandRun run;
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return run;
