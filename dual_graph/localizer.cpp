@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/dual_graph/localizer.h"
+#include "dualgraph/core/stamp_tolerance.h"
 
 #include <cmath>
 
@@ -91,7 +92,7 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
               params_.theta_main)) {
     keyframe_due_ = sample.t;
   }
-  if (keyframe_due_ && sample.t >= *keyframe_due_ + params_.detection_latency) closeDueKeyframe();
+  if (keyframe_due_ && elapsedAtLeast(sample.t, *keyframe_due_, params_.detection_latency)) closeDueKeyframe();
   const TrackingState state = monitor_.state();
   return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body, state,
                        state == TrackingState::kTracking ? pose_covariance_.at(sample.t) : std::nullopt};

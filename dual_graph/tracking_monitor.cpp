@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/dual_graph/tracking_monitor.h"
+#include "dualgraph/core/stamp_tolerance.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,7 +22,9 @@ constexpr double kPersistenceMetres = 1.0;   ///< and this far from where it was
 }  // namespace
 
 void TrackingMonitor::addUnmatched(double t, const std::vector<Eigen::Vector3d>& p_world) {
-  while (!recent_unmatched_.empty() && recent_unmatched_.front().t < t - kPersistenceSeconds) recent_unmatched_.pop_front();
+  while (!recent_unmatched_.empty() && elapsedMoreThan(t, recent_unmatched_.front().t, kPersistenceSeconds)) {
+    recent_unmatched_.pop_front();
+  }
   int persistent = 0;
   for (const Eigen::Vector3d& p : p_world) {
     for (const Unmatched& earlier : recent_unmatched_) {
@@ -56,7 +59,7 @@ void TrackingMonitor::addUpdate(double t, int added, int rejected_observations) 
 int TrackingMonitor::recentFailures() const {
   int count = 0;
   for (const Failures& failures : recent_failures_) {
-    if (failures.t >= newest_t_ - lost_after_s_) count += failures.count;
+    if (!elapsedMoreThan(newest_t_, failures.t, lost_after_s_)) count += failures.count;
   }
   return count;
 }
@@ -83,14 +86,16 @@ void TrackingMonitor::resume(double t) {
 
 void TrackingMonitor::addFailures(double t, int count) {
   newest_t_ = std::max(newest_t_, t);
-  while (!recent_failures_.empty() && recent_failures_.front().t < newest_t_ - lost_after_s_) recent_failures_.pop_front();
+  while (!recent_failures_.empty() && elapsedMoreThan(newest_t_, recent_failures_.front().t, lost_after_s_)) {
+    recent_failures_.pop_front();
+  }
   if (count > 0 && state_ != TrackingState::kInitialising) recent_failures_.push_back(Failures{t, count});
   if (count <= 0 || state_ != TrackingState::kTracking) return;
   // Given a frame at the start (no lock, no success yet), the clock starts at the first evidence.
   if (std::isinf(last_success_t_) && std::isnan(first_evidence_t_)) first_evidence_t_ = t;
   failures_ += count;
   const double since = std::isinf(last_success_t_) ? first_evidence_t_ : last_success_t_;
-  if (failures_ >= min_failures_ && t - since >= lost_after_s_) {
+  if (failures_ >= min_failures_ && elapsedAtLeast(t, since, lost_after_s_)) {
     state_ = TrackingState::kLost;
     ++losses_;
   }

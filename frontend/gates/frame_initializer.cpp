@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/frontend/gates/frame_initializer.h"
+#include "dualgraph/core/stamp_tolerance.h"
 
 #include <algorithm>
 #include <cmath>
@@ -50,9 +51,9 @@ const FrameInitialization& FrameInitializer::addSightings(double t, const Eigen:
     window_.push_back(sighting);
   }
   window_.erase(window_.begin(), std::find_if(window_.begin(), window_.end(), [&](const Sighting& s) {
-                  return s.t >= t - params_.window_s;
+                  return !elapsedMoreThan(t, s.t, params_.window_s);
                 }));
-  if (t - last_search_t_ < 0.2) return state_;
+  if (!elapsedAtLeast(t, last_search_t_, 0.2)) return state_;
   last_search_t_ = t;
   search();
   if (state_.locked) state_.locked_at = t;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/frontend/pipeline/frame_search.h"
+#include "dualgraph/core/stamp_tolerance.h"
 
 #include <algorithm>
 #include <cmath>
@@ -66,7 +67,7 @@ Result<FrameSearch::Outcome> FrameSearch::add(const DetectionInstant& instant, c
   placed_ += solved.poses.size();
   if (initial_) {
     seen_.push_back(Seen{instant, odom_T_body, solved});
-    while (seen_.front().instant.t < instant.t - params_.initialization.window_s) seen_.pop_front();
+    while (elapsedMoreThan(instant.t, seen_.front().instant.t, params_.initialization.window_s)) seen_.pop_front();
   }
   // A relocalisation or check also records where the estimate in use put each detection, to weigh it.
   const FrameInitialization& found = initial_ ? initializer_->add(instant.t, odom_T_body, solved.poses)
@@ -110,13 +111,13 @@ Result<FrameSearch::Outcome> FrameSearch::add(const DetectionInstant& instant, c
         localizer.relocalize(found.world_T_odom, since, foundSigmaT(found), params_.localizer.initial_sigma_r);
     if (!anchor.ok()) return anchor.status();
     for (Seen& seen : seen_) {
-      if (seen.instant.t >= *anchor) outcome.replay.push_back(std::move(seen));
+      if (notAfter(*anchor, seen.instant.t)) outcome.replay.push_back(std::move(seen));
     }
     outcome.action = SearchAction::kRelocalized;
     stop();
     return outcome;
   }
-  if (!initial_ && !checking_ && started_t_ >= 0.0 && instant.t - started_t_ > params_.relocalization.global_after_s) {
+  if (!initial_ && !checking_ && started_t_ >= 0.0 && elapsedMoreThan(instant.t, started_t_, params_.relocalization.global_after_s)) {
     start(params_.initialization, odom_T_body, -1.0);  // the estimate was no guide: anywhere in the map
   }
   return outcome;

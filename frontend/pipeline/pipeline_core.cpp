@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/frontend/pipeline/pipeline_core.h"
+#include "dualgraph/core/stamp_tolerance.h"
 
 #include <algorithm>
 #include <cmath>
@@ -140,7 +141,7 @@ Status PipelineCore::addDetections(const DetectionInstant& instant) {
                                                     " is older than the one before it at t=" + formatTimestamp(last_instant_t_));
   }
   const double t = instant.t - time_offset_;
-  if (newest_odometry_t_ && t > *newest_odometry_t_ + params_.max_detection_lead_s) {
+  if (newest_odometry_t_ && elapsedMoreThan(t, *newest_odometry_t_, params_.max_detection_lead_s)) {
     counters_.detections_too_far_ahead += static_cast<int>(instant.size());
     return Status(StatusCode::kInvalidArgument,
                   "detection instant at t=" + formatTimestamp(t) + " (odometry clock) is more than " +
@@ -196,9 +197,10 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
   const bool first = !newest_odometry_t_;
   if (self_calibration_pending_) {
     if (first) self_calibration_.at_s = input.t + params_.self_calibration_after_s;
-    if (input.t >= self_calibration_.at_s) selfCalibrate(input.t);
+    if (notAfter(self_calibration_.at_s, input.t)) selfCalibrate(input.t);
   }
-  const bool gap = !first && params_.max_odometry_gap_s > 0.0 && input.t - *newest_odometry_t_ > params_.max_odometry_gap_s;
+  const bool gap =
+      !first && params_.max_odometry_gap_s > 0.0 && elapsedMoreThan(input.t, *newest_odometry_t_, params_.max_odometry_gap_s);
   if (gap) {
     gap_ = std::make_pair(*newest_odometry_t_, input.t);
     ++counters_.odometry_gaps;
@@ -242,14 +244,15 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
 }
 
 Status PipelineCore::handUpTo(double until, const OdometrySample* next) {
-  while (!waiting_.empty() && waiting_.front().t - time_offset_ <= until) {
-    const DetectionInstant instant = waiting_.front().shifted(time_offset_);
+  while (!waiting_.empty() && notAfter(waiting_.front().t - time_offset_, until)) {
+    DetectionInstant instant = waiting_.front().shifted(time_offset_);
+    if (instant.t > until) instant = instant.shifted(instant.t - until);  // a tie within kStampTolerance: this sample's
     waiting_.pop_front();
-    if (!first_odometry_t_ || instant.t < *first_odometry_t_) {
+    if (!first_odometry_t_ || clearlyBefore(instant.t, *first_odometry_t_)) {
       refuse(counters_.detections_before_odometry, instant.size());
       continue;
     }
-    if (gap_ && instant.t > gap_->first && instant.t < gap_->second) {
+    if (gap_ && clearlyBefore(gap_->first, instant.t) && clearlyBefore(instant.t, gap_->second)) {
       refuse(counters_.detections_in_gap, instant.size());
       continue;
     }
