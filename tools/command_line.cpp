@@ -211,10 +211,17 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
     CLI::Option* option = cmd->get_option(name);
     option->default_str("")->description(option->get_description() + " (default: the --profile's)");
   }
+  CLI::Option* flight = cmd->get_option("--flight");
+  CLI::Option* vio = cmd->get_option("--vio");
+  flight->needs(vio);
+  vio->needs(flight);
+  for (const std::string& name : simulatedFlightOnlyOptions()) flight->excludes(cmd->get_option(name));
+  for (const char* name : {"--gate-spacing", "--gate-separation", "--gate-size"}) cmd->get_option(name)->needs(flight);
   cmd->final_callback([cmd, &o] {
     for (const CLI::Option* option : cmd->get_options()) {
       if (option->count() > 0) o.given.insert(option->get_name());
     }
+    if (o.track.empty() && o.flight.empty()) throw CLI::RequiredError("--track (or --flight with --vio: a recorded flight)");
   });
   return cmd;
 }

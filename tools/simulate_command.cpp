@@ -94,6 +94,14 @@ Status applyProfileUnderFlags(const std::string& profile, const std::set<std::st
 
 }  // namespace
 
+const std::vector<std::string>& simulatedFlightOnlyOptions() {
+  static const std::vector<std::string> names = {
+      "--laps", "--speed", "--gt-rate", "--vio-rate", "--max-lateral-acceleration", "--max-longitudinal-acceleration",
+      "--yaw-rate-bias", "--velocity-bias", "--velocity-bias-random-walk", "--scale-error-sigma", "--lap-speed-variation",
+      "--lap-line-variation", "--vio-frame-yaw", "--vio-frame-offset", "--detections"};
+  return names;
+}
+
 const std::vector<std::string>& profileOptionNames() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> out;
@@ -108,19 +116,7 @@ const std::vector<std::string>& profileOptionNames() {
 
 namespace {
 
-// The options that only a simulated flight has: refused with --flight, which keeps the recorded ones.
-const char* const kSimulatedFlightOnly[] = {
-    "--laps", "--speed", "--gt-rate", "--vio-rate", "--max-lateral-acceleration", "--max-longitudinal-acceleration",
-    "--yaw-rate-bias", "--velocity-bias", "--velocity-bias-random-walk", "--scale-error-sigma", "--lap-speed-variation",
-    "--lap-line-variation", "--vio-frame-yaw", "--vio-frame-offset", "--detections"};
-
 int runRecordedFlight(SimulateOptions& o) {
-  if (o.vio.empty()) return fail("--flight needs --vio (the VIO recorded on that flight)");
-  for (const char* option : kSimulatedFlightOnly) {
-    if (o.given.count(option) > 0) {
-      return fail(std::string(option) + " describes a simulated flight; with --flight the recorded flight and VIO are used");
-    }
-  }
   std::unique_ptr<Track> track;
   if (!o.track.empty()) {
     auto loaded = loadTrackYaml(o.track);
@@ -181,11 +177,7 @@ int runRecordedFlight(SimulateOptions& o) {
 }  // namespace
 
 int runSimulateCommand(SimulateOptions o) {
-  if (!o.flight.empty() || !o.vio.empty()) {
-    if (o.flight.empty()) return fail("--vio needs --flight (the ground truth of the recorded flight)");
-    return runRecordedFlight(o);
-  }
-  if (o.track.empty()) return fail("--track is required (or --flight GT --vio VIO for a recorded flight)");
+  if (!o.flight.empty()) return runRecordedFlight(o);  // the parser checked --vio with it, --track without
   auto track = loadTrackYaml(o.track);
   if (!track.ok()) return fail(track.status().message());
   const std::string camera_path = o.camera.empty() ? bundledDataDir() + "/cameras/ratm_piloted.yaml" : o.camera;

@@ -35,6 +35,10 @@ struct SimulateOptions {
 /// The options whose default is the --profile's (the profile sets them; given on the command line, they win).
 const std::vector<std::string>& profileOptionNames();
 
+/// The options only a simulated flight has (its planning, its VIO): refused beside --flight, which keeps the
+/// recorded flight and VIO.
+const std::vector<std::string>& simulatedFlightOnlyOptions();
+
 /// Runs it; returns the process exit code (0 ok, 1 bad input or failure).
 int runSimulateCommand(SimulateOptions options);
 
