@@ -87,10 +87,12 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
   // Observations this sample now covers, in time order (attached before a keyframe at this instant), but none
   // after a keyframe that waits for late detections.
   processPending(keyframe_due_ ? std::min(*keyframe_due_, sample.t) : sample.t);
-  if (params_.mode == LocalizerMode::kDual && !keyframe_due_ && main_->keyframes().back().t < sample.t &&
-      exceeds(main_->keyframes().back().odom_T_body.inverse() * sample.odom_T_body, params_.d_main,
-              params_.theta_main)) {
-    keyframe_due_ = sample.t;
+  if (params_.mode == LocalizerMode::kDual && !keyframe_due_ && main_->keyframes().back().t < sample.t) {
+    const Keyframe& last = main_->keyframes().back();
+    const bool moved = exceeds(last.odom_T_body.inverse() * sample.odom_T_body, params_.d_main, params_.theta_main);
+    const bool waited = params_.keyframe_max_interval_s > 0.0 && temporary_.numObservations() > 0 &&
+                        elapsedAtLeast(sample.t, last.t, params_.keyframe_max_interval_s);
+    if (moved || waited) keyframe_due_ = sample.t;
   }
   if (keyframe_due_ && elapsedAtLeast(sample.t, *keyframe_due_, params_.detection_latency)) closeDueKeyframe();
   const TrackingState state = monitor_.state();

@@ -77,6 +77,7 @@ Status validateChoices(const LocalizerParams& params) {
 Status validateSpacing(const LocalizerParams& params) {
   DG_RETURN_IF_ERROR(requirePositiveFinite("d_main", params.d_main));
   DG_RETURN_IF_ERROR(requirePositiveFinite("theta_main", params.theta_main));
+  DG_RETURN_IF_ERROR(requireNonNegativeFinite("keyframe_max_interval_s", params.keyframe_max_interval_s));
   DG_RETURN_IF_ERROR(requirePositiveFinite("d_temp", params.d_temp));
   DG_RETURN_IF_ERROR(requirePositiveFinite("theta_temp", params.theta_temp));
   DG_RETURN_IF_ERROR(requirePositiveFinite("d_single", params.d_single));

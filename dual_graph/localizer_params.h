@@ -43,6 +43,10 @@ struct LocalizerParams {
   // Keyframe / node spacing: a new one when the VIO increment since the last one exceeds either limit.
   double d_main = 2.0;        ///< main-graph keyframes (dual mode) [m]
   double theta_main = 0.5;    ///< [rad]
+  /// Dual mode: a keyframe also when this long has passed since the last one and the temporary graph holds
+  /// detections [s]; 0: off. A drone that hovers or waits on the ground before take-off moves less than d_main for
+  /// seconds, and its detections would otherwise correct nothing until it flies.
+  double keyframe_max_interval_s = 1.0;
   double d_temp = 0.1;        ///< temporary-graph nodes at detection instants (dual mode) [m]
   double theta_temp = 0.1;    ///< [rad]
   double d_single = 2.0;      ///< single-graph nodes at detection instants (single mode) [m]

@@ -94,6 +94,7 @@ void bindParams(py::module_& m) {
                     "true: mapping (a landmark where a gate is first seen, the first keyframe fixed)");
   DG_FIELD(d_main, "main-graph keyframe spacing, dual mode: a new keyframe when the odometry moved this far [m]");
   DG_FIELD(theta_main, "... or turned this far [rad]");
+  DG_FIELD(keyframe_max_interval_s, "... or this long has passed with detections waiting (a hovering drone) [s]; 0: off");
   DG_FIELD(d_temp, "temporary-graph node spacing at detection instants, dual mode [m]");
   DG_FIELD(theta_temp, "temporary-graph node spacing in rotation [rad]");
   DG_FIELD(d_single, "single-graph node spacing at detection instants, single mode [m]");

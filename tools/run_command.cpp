@@ -120,10 +120,15 @@ int runRunCommand(const RunOptions& o) {
     warn(std::to_string(run->localizer_counters.keyframes_failed) + " keyframe intervals could not be closed (last: " +
          run->localizer_counters.last_error + ")");
   }
-  if (sequence->covariance_clamped > 0) {
-    warn(std::to_string(sequence->covariance_clamped) + " eigenvalues of the odometry's relative covariances were raised to "
-         "the floor: " + sequence->vio_path + "'s absolute covariances do not grow as a random walk everywhere (a reset or "
-         "a loop closure in the VIO?)");
+  if (sequence->covariance_shrinks > 0) {
+    warn(std::to_string(sequence->covariance_shrinks) + " samples of " + sequence->vio_path + " report a covariance " +
+         "smaller than the one before them propagated (a reset or a loop closure in the VIO?): their increments got " +
+         "the smallest covariance the conversion allows");
+  }
+  if (sequence->odometry.unknown_covariance_rows > 0) {
+    warn(std::to_string(sequence->odometry.unknown_covariance_rows) + " rows of " + sequence->vio_path +
+         " carry an all- or partly-zero covariance (unknown: a VIO before its filter has one, or a recorder that " +
+         "writes none); the increments at them use localizer.odom_sigma_t / odom_sigma_r");
   }
   if (self_calibration.attempted && !self_calibration.applied) {
     warn("self-calibration not applied (" + self_calibration.why_not + "): the whole run used " + o.sequence +

@@ -193,16 +193,21 @@ const std::vector<std::string>& covarianceFieldNames() {
   return names;
 }
 
-Status readCovariance(const RowReader& row, size_t first, Matrix6d& out) {
+Status readCovarianceEntries(const RowReader& row, size_t first, Matrix6d& out) {
   const std::vector<std::string>& names = covarianceFieldNames();
-  Matrix6d covariance;
   size_t k = 0;
   for (int r = 0; r < 6; ++r) {
     for (int c = r; c < 6; ++c, ++k) {
-      DG_RETURN_IF_ERROR(row.readDouble(first + k, names[k], covariance(r, c)));
-      covariance(c, r) = covariance(r, c);
+      DG_RETURN_IF_ERROR(row.readDouble(first + k, names[k], out(r, c)));
+      out(c, r) = out(r, c);
     }
   }
+  return Status();
+}
+
+Status readCovariance(const RowReader& row, size_t first, Matrix6d& out) {
+  Matrix6d covariance;
+  DG_RETURN_IF_ERROR(readCovarianceEntries(row, first, covariance));
   const Status valid = checkCovariance(covariance, "covariance (fields cov_00..cov_55)");
   if (!valid.ok()) return Status(valid.code(), row.location() + ": " + valid.message());
   out = covariance;

@@ -80,6 +80,8 @@ const std::vector<std::string>& covarianceFieldNames();
 /// Reads those 21 fields from `first` on into a symmetric 6×6 matrix and checks it with
 /// `checkCovariance` (finite, symmetric, positive definite); the message names the line.
 Status readCovariance(const RowReader& row, size_t first, Matrix6d& out);
+/// The same 21 entries, symmetric, without the positive-definiteness check (the caller decides what a zero means).
+Status readCovarianceEntries(const RowReader& row, size_t first, Matrix6d& out);
 
 /// True when `text` reads completely as a finite number (used to tell a header from data).
 bool looksNumeric(std::string_view text);

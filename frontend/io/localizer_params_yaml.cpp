@@ -51,6 +51,7 @@ struct FieldSlot {
 
 constexpr FieldSlot<double> kNumberFields[] = {
     {"d_main", &LocalizerParams::d_main}, {"theta_main", &LocalizerParams::theta_main},
+    {"keyframe_max_interval_s", &LocalizerParams::keyframe_max_interval_s},
     {"d_temp", &LocalizerParams::d_temp}, {"theta_temp", &LocalizerParams::theta_temp},
     {"d_single", &LocalizerParams::d_single}, {"theta_single", &LocalizerParams::theta_single},
     {"odom_sigma_t", &LocalizerParams::odom_sigma_t}, {"odom_sigma_r", &LocalizerParams::odom_sigma_r},

@@ -89,7 +89,26 @@ double nanosecondsToSeconds(std::int64_t ns) {
   return static_cast<double>(ns / 1000000000) + static_cast<double>(ns % 1000000000) * 1e-9;
 }
 
+/// Appends a row's absolute covariance: unknown (all or partly zero) as all zero and counted, otherwise checked.
+Status appendCovariance(const RowReader& row, const Matrix6d& covariance, const char* fields, OdometryLog& log) {
+  if (isUnknownCovariance(covariance)) {
+    log.absolute_covariances.push_back(Matrix6d::Zero());
+    ++log.unknown_covariance_rows;
+    return Status();
+  }
+  const Status valid = checkCovariance(covariance, fields);
+  if (!valid.ok()) return Status(valid.code(), row.location() + ": " + valid.message());
+  log.absolute_covariances.push_back(covariance);
+  return Status();
+}
+
 }  // namespace
+
+bool isUnknownCovariance(const Matrix6d& covariance) {
+  if (covariance.isZero(0.0)) return true;
+  if (!covariance.allFinite() || covariance.diagonal().minCoeff() != 0.0) return false;
+  return Eigen::LLT<Matrix6d>(covariance).info() != Eigen::Success;
+}
 
 Result<OdometryLog> readTumOdometry(const std::string& path) {
   Result<std::vector<TextLine>> lines = readTextLines(path, FieldSeparator::kCommaOrWhitespace);
@@ -116,12 +135,12 @@ Result<OdometryLog> readTumOdometry(const std::string& path) {
     Eigen::Vector3d p;
     Eigen::Quaterniond q;
     DG_RETURN_IF_ERROR(readTumPose(row, "t", t, p, q));
+    DG_RETURN_IF_ERROR(appendSample(row, "t", t, p, q, log));
     if (form == 29) {
       Matrix6d covariance;
-      DG_RETURN_IF_ERROR(readCovariance(row, 8, covariance));
-      log.absolute_covariances.push_back(covariance);
+      DG_RETURN_IF_ERROR(readCovarianceEntries(row, 8, covariance));
+      DG_RETURN_IF_ERROR(appendCovariance(row, covariance, "covariance (fields cov_00..cov_55)", log));
     }
-    DG_RETURN_IF_ERROR(appendSample(row, "t", t, p, q, log));
   }
   if (log.samples.empty()) return noDataRows(path, *lines);
   return log;
@@ -169,10 +188,8 @@ Result<OdometryLog> readOpenVinsOdometry(const std::string& path) {
     covariance.topLeftCorner<3, 3>() = R.transpose() * position_cov * R;
     covariance.bottomRightCorner<3, 3>() = rotation_cov;
     covariance = (0.5 * (covariance + covariance.transpose())).eval();
-    const Status valid = checkCovariance(covariance, "covariance (fields Pr11..Pr33, Pt11..Pt33)");
-    if (!valid.ok()) return Status(valid.code(), row.location() + ": " + valid.message());
     DG_RETURN_IF_ERROR(appendSample(row, "timestamp", t, p, q, log));
-    log.absolute_covariances.push_back(covariance);
+    DG_RETURN_IF_ERROR(appendCovariance(row, covariance, "covariance (fields Pr11..Pr33, Pt11..Pt33)", log));
   }
   if (log.samples.empty()) return noDataRows(path, *lines);
   return log;
@@ -199,8 +216,8 @@ Result<OdometryLog> readTrajectory(const std::string& path, TrajectoryFormat* fo
   TrajectoryFormat found = TrajectoryFormat::kTum;
   if (first.compare(0, 10, "#timestamp") == 0 || first.find("p_RS_R_x") != std::string::npos) {
     found = TrajectoryFormat::kEuroc;
-  } else if (openvins_header || data_fields == 20) {
-    found = TrajectoryFormat::kOpenVins;
+  } else if ((openvins_header && data_fields != 8) || data_fields == 20) {
+    found = TrajectoryFormat::kOpenVins;  // OpenVINS' header over 8-field rows: its poses without covariance (TUM)
   } else if (data_fields == 29) {
     found = TrajectoryFormat::kTumCovariance;
   }
@@ -266,7 +283,9 @@ Result<RelativeCovarianceReport> toRelativeCovariances(OdometryLog& log, double 
   }
   RelativeCovarianceStream stream(floor);
   for (size_t k = 0; k < log.samples.size(); ++k) {
-    Result<std::optional<Matrix6d>> relative = stream.next(log.samples[k].odom_T_body, log.absolute_covariances[k]);
+    const Matrix6d& absolute = log.absolute_covariances[k];
+    Result<std::optional<Matrix6d>> relative = stream.next(
+        log.samples[k].odom_T_body, absolute.isZero(0.0) ? std::nullopt : std::optional<Matrix6d>(absolute));
     if (!relative.ok()) {  // the readers check their covariances; a log built by hand may not be
       return Status(relative.status().code(), "toRelativeCovariances: sample " + std::to_string(k) + ": " +
                                                   relative.status().message());
@@ -275,6 +294,7 @@ Result<RelativeCovarianceReport> toRelativeCovariances(OdometryLog& log, double 
   }
   RelativeCovarianceReport report;
   report.clamped = stream.clamped();
+  report.shrinks = stream.shrinks();
   return report;
 }
 

@@ -17,10 +17,20 @@ namespace dualgraph {
 /// body frame (odom_T_body_true = odom_T_body · exp(ε)), as VIO estimators report it. Kept apart from
 /// `relative_covariance` on purpose: an absolute covariance fed to the Localizer as a relative one
 /// would grow without bound. `toRelativeCovariances` makes the relative ones.
+/// An all-zero entry means "unknown" (ROS's convention; OpenVINS and recorders write zeros before the filter has
+/// a covariance, or a recorder writes none): that sample's increment and the next one use the Localizer's
+/// per-metre model.
 struct OdometryLog {
   std::vector<OdometrySample> samples;
   std::vector<Matrix6d> absolute_covariances;
+  /// Rows the reader found all zero or partly zero (a zero variance in a matrix that is not positive definite)
+  /// and stored as unknown (all zero).
+  int unknown_covariance_rows = 0;
 };
+
+/// True for a covariance that says "unknown" rather than a wrong value: all zero, or a zero variance on the
+/// diagonal of a matrix that is not positive definite (a block the filter has not estimated yet).
+bool isUnknownCovariance(const Matrix6d& covariance);
 
 /// TUM: `t tx ty tz qx qy qz qw` (t in s, translation in m, Hamilton quaternion [x y z w] of
 /// odom_T_body), optionally followed by the 21 upper-triangular entries (row by row) of the absolute
@@ -61,7 +71,8 @@ const char* trajectoryFormatName(TrajectoryFormat format);
 
 /// A trajectory or odometry file in any of the four formats, recognised from its content: a EuRoC/ASL header
 /// (first non-blank line starting `#timestamp` or naming `p_RS_R_x`) is readEurocOdometry (nanoseconds, w
-/// first); OpenVINS' header (a comment naming `Pr11`) or a first data row of 20 fields is readOpenVinsOdometry;
+/// first); OpenVINS' header (a comment naming `Pr11`, unless the data rows have 8 fields: poses only, read as
+/// TUM) or a first data row of 20 fields is readOpenVinsOdometry;
 /// otherwise readTumOdometry (8 fields: kTum, 29: kTumCovariance). `format` (optional) says which. The
 /// readers' own errors (file:line: field).
 Result<OdometryLog> readTrajectory(const std::string& path, TrajectoryFormat* format = nullptr);
@@ -70,6 +81,7 @@ Result<OdometryLog> readTrajectory(const std::string& path, TrajectoryFormat* fo
 /// covariances are not a random walk, e.g. they shrank after a loop closure or a reset).
 struct RelativeCovarianceReport {
   int clamped = 0;
+  int shrinks = 0;  ///< samples whose covariance really shrank (RelativeCovarianceStream::shrinks)
 };
 
 /// Fills `samples[k].relative_covariance` (k ≥ 1) from the absolute covariances: for a random-walk

@@ -34,6 +34,7 @@ Result<Sequence> loadSequence(const std::string& dir, const Matrix6d& default_de
     auto report = toRelativeCovariances(sequence.odometry);
     if (!report.ok()) return Status(report.status().code(), sequence.vio_path + ": " + report.status().message());
     sequence.covariance_clamped = report->clamped;
+    sequence.covariance_shrinks = report->shrinks;
   }
 
   const bool corners = exists("corners.csv");

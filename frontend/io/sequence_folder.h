@@ -29,6 +29,7 @@ struct Sequence {
   TrajectoryFormat vio_format = TrajectoryFormat::kTum;  ///< its format, as recognised
   OdometryLog odometry;  ///< relative covariances filled from the absolute ones when the file has them
   int covariance_clamped = 0;  ///< eigenvalues toRelativeCovariances raised to its floor
+  int covariance_shrinks = 0;  ///< samples whose absolute covariance really shrank (a VIO reset or loop closure)
   bool has_corners = false;
   std::vector<CornerDetection> corners;        ///< when has_corners
   std::vector<GateObservation> pose_detections;  ///< otherwise

@@ -191,6 +191,7 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
     }
     sample.relative_covariance = *relative;
     counters_.covariance_clamped = covariances_.clamped();
+    counters_.covariance_shrinks = covariances_.shrinks();
   } else {
     covariances_.reset();
   }

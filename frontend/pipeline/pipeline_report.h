@@ -86,6 +86,7 @@ struct PipelineCounters {
   int frame_checks = 0;                ///< checks of the frame in use started while tracking
   int frame_checks_replaced = 0;       ///< of them: a clearly better frame found, relocalised
   int covariance_clamped = 0;          ///< eigenvalues RelativeCovarianceStream raised to its floor
+  int covariance_shrinks = 0;          ///< samples whose absolute covariance really shrank (RelativeCovarianceStream)
 };
 
 }  // namespace dualgraph

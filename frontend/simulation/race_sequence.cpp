@@ -109,6 +109,7 @@ Result<Sequence> raceSequence(const SimulatedRace& race, const RaceSimParams& pa
     auto report = toRelativeCovariances(sequence.odometry);
     if (!report.ok()) return Status(report.status().code(), name + ": " + report.status().message());
     sequence.covariance_clamped = report->clamped;
+    sequence.covariance_shrinks = report->shrinks;
   }
   return sequence;
 }

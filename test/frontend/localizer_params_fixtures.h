@@ -15,6 +15,7 @@ inline void expectSameLocalizerParams(const LocalizerParams& a, const LocalizerP
   EXPECT_EQ(a.mapping, b.mapping);
   EXPECT_EQ(a.d_main, b.d_main);
   EXPECT_EQ(a.theta_main, b.theta_main);
+  EXPECT_EQ(a.keyframe_max_interval_s, b.keyframe_max_interval_s);
   EXPECT_EQ(a.d_temp, b.d_temp);
   EXPECT_EQ(a.theta_temp, b.theta_temp);
   EXPECT_EQ(a.d_single, b.d_single);

@@ -21,7 +21,7 @@ const char* const kSource = "cfg.yaml";
 
 /// Every field name of LocalizerParams (the YAML keys).
 const std::vector<std::string> kFieldNames = {
-    "mode", "landmark", "mapping", "d_main", "theta_main", "d_temp", "theta_temp", "d_single", "theta_single",
+    "mode", "landmark", "mapping", "d_main", "theta_main", "keyframe_max_interval_s", "d_temp", "theta_temp", "d_single", "theta_single",
     "single_all_detections", "use_input_covariance", "odom_sigma_t", "odom_sigma_r", "odom_min_distance", "map_sigma_t", "map_sigma_r",
     "fix_map_gates", "initial_world_T_odom", "initial_sigma_t", "initial_sigma_r", "main_max_iterations",
     "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "temp_relative_decrease_stop", "temp_model_decrease_stop", "linear_solver", "lm_damping", "temp_solver", "robust_kernel", "chi2_gate_pose",
@@ -33,6 +33,7 @@ landmark: point
 mapping: true
 d_main: 3.5
 theta_main: 0.25
+keyframe_max_interval_s: 2.5
 d_temp: 0.2
 theta_temp: 0.05
 d_single: 1.5
@@ -69,7 +70,7 @@ detection_latency: 0.04
 LocalizerParams allOverriddenExpected() {
   LocalizerParams p;
   p.mode = LocalizerMode::kSingle, p.landmark = LandmarkModel::kPoint, p.mapping = true;
-  p.d_main = 3.5, p.theta_main = 0.25, p.d_temp = 0.2, p.theta_temp = 0.05, p.d_single = 1.5, p.theta_single = 0.75;
+  p.d_main = 3.5, p.theta_main = 0.25, p.keyframe_max_interval_s = 2.5, p.d_temp = 0.2, p.theta_temp = 0.05, p.d_single = 1.5, p.theta_single = 0.75;
   p.single_all_detections = false;
   p.use_input_covariance = false, p.odom_sigma_t = 0.07, p.odom_sigma_r = 0.02, p.odom_min_distance = 0.1;
   p.map_sigma_t = 0.3, p.map_sigma_r = 0.04, p.fix_map_gates = true;
@@ -241,6 +242,7 @@ TEST(LocalizerParamsValidation, EachOutOfDomainFieldIsNamed) {
   const std::vector<std::pair<std::string, Mutation>> cases = {
       {"d_main", [](LocalizerParams& p) { p.d_main = 0.0; }},
       {"theta_main", [](LocalizerParams& p) { p.theta_main = std::nan(""); }},
+      {"keyframe_max_interval_s", [](LocalizerParams& p) { p.keyframe_max_interval_s = -1.0; }},
       {"d_temp", [](LocalizerParams& p) { p.d_temp = -0.1; }},
       {"theta_temp", [](LocalizerParams& p) { p.theta_temp = INFINITY; }},
       {"d_single", [](LocalizerParams& p) { p.d_single = 0.0; }},

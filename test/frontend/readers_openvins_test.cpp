@@ -87,5 +87,72 @@ TEST(OpenVinsTrajectory, BadRowsAreRefusedNamingLineAndField) {
   EXPECT_NE(tum.message().find("OpenVINS"), std::string::npos) << tum.message();
 }
 
+// OpenVINS before its filter has a covariance, and recorders that write none, leave zeros: all zero, or a block
+// zero (Pt before the first update), is "unknown" — stored all zero, counted; the increments at it and after it
+// use the Localizer's per-metre model until two known rows follow each other.
+TEST(OpenVinsTrajectory, ZeroOrPartlyZeroCovarianceRowsAreUnknownNotAnError) {
+  ReadersTempDir dir;
+  std::string text = kHeader;
+  text += "1.0 1 2 3 0 0 0 1 0 0 0 0 0 0 0 0 0 0 0 0\n";  // all zero
+  text += "1.1 1 2 3 0 0 0 1 1e-6 0 0 2e-6 0 3e-6 0 0 0 0 0 0\n";  // the position block zero
+  text += row(1.2, 0.0, "1e-4 0 0 1e-4 0 1e-4") + row(1.3, 0.0, "2e-4 0 0 2e-4 0 2e-4");
+  Result<OdometryLog> log = readTrajectory(dir.write("startup.txt", text));
+  ASSERT_TRUE(log.ok()) << log.status().toString();
+  EXPECT_EQ(log->unknown_covariance_rows, 2);
+  ASSERT_EQ(log->absolute_covariances.size(), 4u);
+  EXPECT_TRUE(log->absolute_covariances[0].isZero(0.0));
+  EXPECT_TRUE(log->absolute_covariances[1].isZero(0.0));
+  EXPECT_FALSE(log->absolute_covariances[2].isZero(0.0));
+  Result<RelativeCovarianceReport> report = toRelativeCovariances(*log);
+  ASSERT_TRUE(report.ok()) << report.status().toString();
+  EXPECT_FALSE(log->samples[1].relative_covariance.has_value());
+  EXPECT_FALSE(log->samples[2].relative_covariance.has_value());  // its previous row is unknown
+  ASSERT_TRUE(log->samples[3].relative_covariance.has_value());
+  EXPECT_NEAR((*log->samples[3].relative_covariance)(0, 0), 1e-4, 1e-12);
+  EXPECT_EQ(report->shrinks, 0);
+
+  // The same in TUM + covariance columns: a zero row is unknown; a negative variance is still an error.
+  std::string zero_row = "0.5 1 2 3 0 0 0 1";
+  for (int k = 0; k < 21; ++k) zero_row += " 0";
+  Result<OdometryLog> tum = readTrajectory(dir.write("zero.tum", zero_row + "\n"));
+  ASSERT_TRUE(tum.ok()) << tum.status().toString();
+  EXPECT_EQ(tum->unknown_covariance_rows, 1);
+  EXPECT_TRUE(isUnknownCovariance(Matrix6d::Zero()));
+  Matrix6d negative = Matrix6d::Identity();
+  negative(2, 2) = -1.0;
+  EXPECT_FALSE(isUnknownCovariance(negative));
+  Matrix6d positive = Matrix6d::Identity();
+  EXPECT_FALSE(isUnknownCovariance(positive));
+}
+
+// A recorder that keeps OpenVINS' header but writes the poses alone: read as the poses, no covariance.
+TEST(OpenVinsTrajectory, ItsHeaderOverEightColumnRowsIsPosesOnly) {
+  ReadersTempDir dir;
+  TrajectoryFormat format = TrajectoryFormat::kOpenVins;
+  Result<OdometryLog> log =
+      readTrajectory(dir.write("poses.txt", std::string(kHeader) + "1.0 1 2 3 0 0 0 1\n1.1 1 2 3 0 0 0 1\n"), &format);
+  ASSERT_TRUE(log.ok()) << log.status().toString();
+  EXPECT_EQ(format, TrajectoryFormat::kTum);
+  EXPECT_EQ(log->samples.size(), 2u);
+  EXPECT_TRUE(log->absolute_covariances.empty());
+}
+
+// A covariance that stays the same (no growth in some direction) or grows is no reset; one that drops is.
+TEST(OpenVinsTrajectory, OnlyACovarianceThatReallyShrinksCountsAsAReset) {
+  OdometryLog log;
+  for (int k = 0; k < 4; ++k) {
+    OdometrySample sample;
+    sample.t = k;
+    log.samples.push_back(sample);
+  }
+  Matrix6d small = 1e-4 * Matrix6d::Identity();
+  Matrix6d large = 4e-4 * Matrix6d::Identity();
+  log.absolute_covariances = {small, small, large, small};
+  Result<RelativeCovarianceReport> report = toRelativeCovariances(log);
+  ASSERT_TRUE(report.ok()) << report.status().toString();
+  EXPECT_EQ(report->shrinks, 1);   // large -> small
+  EXPECT_GE(report->clamped, 6);  // small -> small: nothing grew, raised to the floor (and the shrink)
+}
+
 }  // namespace
 }  // namespace dualgraph

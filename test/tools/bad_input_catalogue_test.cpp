@@ -65,7 +65,8 @@ const BadFile kCatalogue[] = {
     // TUM odometry (and OpenVINS' TUM-like trajectories).
     {"TumOverflowingNumber", Loader::kTum, "vio.tum", TUM_ROW "\n1 1e999 0 0 0 0 0 1\n", kParse, 2, "field 'tx'"},
     {"TumNaNTimestamp", Loader::kTum, "vio.tum", TUM_ROW "\nnan 0 0 0 0 0 0 1\n", kParse, 2, "field 't'"},
-    {"TumZeroCovariance", Loader::kTum, "vio.tum", TUM_ROW ZERO21 "\n", kNotPd, 1, ""},
+    // (An all-zero covariance is "unknown", ROS's convention, and reads: readers_openvins_test.cpp.)
+    {"TumNegativeVariance", Loader::kTum, "vio.tum", TUM_ROW " 1 0 0 0 0 0 -1 0 0 0 0 1 0 0 0 1 0 0 1 0 1\n", kNotPd, 1, ""},
     {"TumInfCovarianceEntry", Loader::kTum, "vio.tum", TUM_ROW " 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 inf\n",
      kParse, 1, "cov_55"},
     {"OpenVinsNaNQuaternion", Loader::kTum, "traj_estimate.txt",
