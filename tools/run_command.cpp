@@ -130,7 +130,7 @@ int runRunCommand(const RunOptions& o) {
          " carry an all- or partly-zero covariance (unknown: a VIO before its filter has one, or a recorder that " +
          "writes none); the increments at them use localizer.odom_sigma_t / odom_sigma_r");
   }
-  if (self_calibration.attempted && !self_calibration.applied) {
+  if (params->self_calibration_after_s > 0.0 && !self_calibration.applied && sequence->camera) {
     warn("self-calibration not applied (" + self_calibration.why_not + "): the whole run used " + o.sequence +
          "/camera.yaml as it is");
   }
@@ -174,11 +174,15 @@ int runRunCommand(const RunOptions& o) {
               << frame.translation().norm() << " m\n";
   }
   if (self_calibration.applied) {
-    std::cout << "  self-calibrated on the first " << params->self_calibration_after_s << " s (" << self_calibration.iterations
-              << " iterations): camera clock offset " << 1e3 * self_calibration.time_offset_before << " -> "
-              << 1e3 * self_calibration.time_offset_after << " ms (1 sigma " << 1e3 * self_calibration.time_offset_sigma
-              << " ms), mount rotation corrected by " << self_calibration.mount_change_deg << " deg; used from t="
-              << self_calibration.at_s << " s\n";
+    const double elapsed = self_calibration.at_s - sequence->odometry.samples.front().t;
+    std::cout << "  self-calibrated on the first " << std::round(10.0 * elapsed) / 10.0 << " s ("
+              << self_calibration.iterations << " iterations): camera clock offset "
+              << 1e3 * self_calibration.time_offset_before << " -> " << 1e3 * self_calibration.time_offset_after
+              << " ms (1 sigma " << 1e3 * self_calibration.time_offset_sigma << " ms) "
+              << (self_calibration.time_offset_applied ? "applied" : "kept: " + self_calibration.why_not_time_offset)
+              << "; mount correction " << self_calibration.mount_change_deg << " deg "
+              << (self_calibration.mount_applied ? "applied" : "kept: " + self_calibration.why_not_mount)
+              << "; used from " << std::round(10.0 * elapsed) / 10.0 << " s\n";
   }
   std::cout << "  tracking " << metrics->time_tracking_s << " s, lost " << metrics->time_lost_s << " s ("
             << metrics->lost_share_pct << " %), initialising " << metrics->time_initialising_s << " s; "

@@ -284,6 +284,10 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
         .add("self_calibration_time_offset_s", self->time_offset_after)
         .add("self_calibration_time_offset_sigma_s", self->time_offset_sigma)
         .add("self_calibration_mount_change_deg", self->mount_change_deg)
+        .add("self_calibration_time_offset_applied", self->time_offset_applied ? 1L : 0L)
+        .add("self_calibration_mount_applied", self->mount_applied ? 1L : 0L)
+        .add("self_calibration_why_not_time_offset", self->why_not_time_offset)
+        .add("self_calibration_why_not_mount", self->why_not_mount)
         .add("self_calibration_iterations", static_cast<long>(self->iterations))
         .add("self_calibration_why_not", self->why_not);
   }

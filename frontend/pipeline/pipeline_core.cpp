@@ -7,7 +7,6 @@
 #include <string>
 
 #include "dualgraph/core/wall_clock.h"
-#include "dualgraph/frontend/calibration/camera_calibration.h"
 
 namespace dualgraph {
 namespace {
@@ -63,17 +62,11 @@ Result<std::unique_ptr<PipelineCore>> PipelineCore::create(const SequenceRunPara
   core->time_offset_ = time_offset;
   core->track_ = map;
   if (!params.localizer.mapping) core->search_.emplace(core->params_, core->map_);
-  SelfCalibrationReport& self = core->self_calibration_;
-  self.time_offset_before = time_offset;
-  if (!(params.self_calibration_after_s > 0.0)) {
-    self.why_not = "off (frontend.self_calibration_after_s: 0)";
-  } else if (params.localizer.mapping) {
-    self.why_not = "not in mapping mode (no map to calibrate against)";
-  } else if (!core->frontend_->camera()) {
-    self.why_not = "needs corner detections and a camera (no camera given)";
-  } else {
-    core->self_calibration_pending_ = true;
-  }
+  const char* why_off = !(params.self_calibration_after_s > 0.0) ? "off (frontend.self_calibration_after_s: 0)"
+                        : params.localizer.mapping ? "not in mapping mode (no map to calibrate against)"
+                        : !core->frontend_->camera() ? "needs corner detections and a camera (no camera given)"
+                                                     : "";
+  core->self_calibrator_.emplace(params.self_calibration_after_s, time_offset, why_off);
   return core;
 }
 
@@ -154,8 +147,10 @@ Status PipelineCore::addDetections(const DetectionInstant& instant) {
                                                       " detection instants wait for odometry; refused");
   }
   last_instant_t_ = instant.t;
-  if (!instant.poses.empty()) pose_detections_seen_ = true;
-  if (self_calibration_pending_) flight_corners_.insert(flight_corners_.end(), instant.corners.begin(), instant.corners.end());
+  if (self_calibrator_) {
+    if (!instant.poses.empty()) self_calibrator_->notePoseDetections();
+    self_calibrator_->addCorners(instant.corners);
+  }
   waiting_.push_back(instant);
   return Status();
 }
@@ -196,9 +191,17 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
     covariances_.reset();
   }
   const bool first = !newest_odometry_t_;
-  if (self_calibration_pending_) {
-    if (first) self_calibration_.at_s = input.t + params_.self_calibration_after_s;
-    if (notAfter(self_calibration_.at_s, input.t)) selfCalibrate(input.t);
+  if (self_calibrator_ && self_calibrator_->due(input.t, localizer_->trackingState() == TrackingState::kTracking)) {
+    CameraModel camera = *frontend_->camera();
+    camera.time_offset = time_offset_;
+    const std::optional<CameraModel> calibrated =
+        self_calibrator_->run(input.t, camera, track_, localizer_->keyframeTrajectory());
+    if (calibrated) {  // what arrives from now on, with it
+      frontend_->setCamera(*calibrated);
+      time_offset_ = calibrated->time_offset;
+      camera_switched_at_ = input.t;
+      report_.camera_switched = true;
+    }
   }
   const bool gap =
       !first && params_.max_odometry_gap_s > 0.0 && elapsedMoreThan(input.t, *newest_odometry_t_, params_.max_odometry_gap_s);
@@ -223,7 +226,7 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
   Result<CorrectedPose> corrected = localizer_->addOdometry(sample);
   if (!corrected.ok()) return corrected.status();
   newest_odometry_t_ = input.t;
-  if (self_calibration_pending_) flight_odometry_.push_back(sample);
+  if (self_calibrator_) self_calibrator_->addOdometry(sample);
   if (first) {  // the first accepted sample: the detections at its own instant (earlier ones cannot be placed)
     first_odometry_t_ = input.t;
     if (search_ && params_.auto_initialize) search_->startInitial(input.odom_T_body);
@@ -331,56 +334,10 @@ Status PipelineCore::handInstant(const DetectionInstant& instant, const Eigen::I
   return searchWith(instant, odom_T_body, *solved);
 }
 
-void PipelineCore::selfCalibrate(double t) {
-  self_calibration_pending_ = false;
-  SelfCalibrationReport& self = self_calibration_;
-  std::vector<CornerDetection> corners;
-  corners.swap(flight_corners_);
-  std::vector<OdometrySample> odometry;
-  odometry.swap(flight_odometry_);
-  const double until = self.at_s;
-  corners.erase(std::remove_if(corners.begin(), corners.end(), [&](const CornerDetection& d) { return d.t > until; }),
-                corners.end());
-  if (corners.empty() && pose_detections_seen_) {
-    self.why_not = "needs corner detections and a camera (pose detections carry no pixels)";
-    return;
-  }
-  self.attempted = true;
-  if (corners.empty()) {
-    self.why_not = "the calibration failed: no corner detections by t = " + formatTimestamp(until) + " s";
-    return;
-  }
-  CameraModel camera = *frontend_->camera();
-  camera.time_offset = time_offset_;
-  Result<CameraCalibration> calibrated = calibrateCameraOnRun(corners, track_, camera, odometry,
-                                                              localizer_->keyframeTrajectory(), CalibrationParams{},
-                                                              "the flight so far");
-  if (!calibrated.ok()) {
-    self.why_not = "the calibration failed: " + calibrated.status().message();
-    return;
-  }
-  self.iterations = static_cast<int>(calibrated->iterations.size());
-  self.time_offset_after = calibrated->camera.time_offset;
-  self.time_offset_sigma = calibrated->time_offset_sigma;
-  self.mount_change_deg = calibrated->mount_correction.norm() * 180.0 / M_PI;
-  if (!calibrated->converged) {
-    self.why_not = "the calibration did not converge in " + std::to_string(self.iterations) + " iterations";
-    return;
-  }
-  frontend_->setCamera(calibrated->camera);
-  time_offset_ = calibrated->camera.time_offset;
-  camera_switched_at_ = t;
-  self.applied = true;
-  report_.camera_switched = true;
-}
-
 Status PipelineCore::finish() {
   if (finished_) return Status(StatusCode::kFailedPrecondition, "pipeline: finish called twice");
   finished_ = true;
-  if (self_calibration_pending_ && newest_odometry_t_) {
-    self_calibration_pending_ = false;
-    self_calibration_.why_not = "the flight ends before t = " + std::to_string(self_calibration_.at_s) + " s";
-  }
+  if (self_calibrator_) self_calibrator_->finish(newest_odometry_t_);
   if (!newest_odometry_t_) return Status(StatusCode::kFailedPrecondition, "pipeline: no odometry sample was given");
   report_ = UpdateReport{};
   // What was still on its way when the odometry ended (taken within its span).

@@ -13,6 +13,7 @@
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/pipeline/frame_search.h"
 #include "dualgraph/frontend/pipeline/pipeline_report.h"
+#include "dualgraph/frontend/pipeline/self_calibrator.h"
 
 namespace dualgraph {
 
@@ -53,7 +54,10 @@ class PipelineCore {
   /// The first frame search's answer (unset without one).
   const std::optional<FrameInitialization>& initialization() const;
   /// Self-calibration (SequenceRunParams::self_calibration_after_s): what it did, or why not (so far).
-  const SelfCalibrationReport& selfCalibration() const { return self_calibration_; }
+  const SelfCalibrationReport& selfCalibration() const {
+    static const SelfCalibrationReport kNone;
+    return self_calibrator_ ? self_calibrator_->report() : kNone;
+  }
   /// The odometry time [s] at which a configured camera switch took effect.
   std::optional<double> cameraSwitchedAt() const { return camera_switched_at_; }
   /// The camera-to-odometry clock offset applied to the instants handed over now [s].
@@ -71,10 +75,6 @@ class PipelineCore {
   Status searchWith(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body,
                     const SolvedDetections& solved);
   void refuse(int& counter, size_t detections);
-  /// At the first sample at or after t_c: the camera's clock offset and mount calibrated on the flight so far
-  /// (calibrateCameraOnRun over the corners and odometry kept until then and the keyframes so far) and, when it
-  /// converged, used from this sample on.
-  void selfCalibrate(double t);
 
   SequenceRunParams params_;
   GateMap map_;
@@ -93,12 +93,7 @@ class PipelineCore {
   double time_offset_ = 0.0;
   std::optional<double> camera_switched_at_;
   Track track_;  ///< the map as given (the self-calibration matches corners against it)
-  // Self-calibration: pending until t_c, with the flight so far (corners on the camera clock).
-  bool self_calibration_pending_ = false;
-  std::vector<CornerDetection> flight_corners_;
-  std::vector<OdometrySample> flight_odometry_;
-  SelfCalibrationReport self_calibration_;
-  bool pose_detections_seen_ = false;
+  std::optional<SelfCalibrator> self_calibrator_;  ///< absent in a borrowed core (no self-calibration there)
   PipelineCounters counters_;
   UpdateReport report_;  ///< the report of the call in progress
   bool finished_ = false;

@@ -19,9 +19,15 @@ struct SelfCalibrationReport {
   double time_offset_before = 0.0;   ///< the clock offset the run started with [s]
   double time_offset_after = 0.0;    ///< the calibrated one [s]
   double time_offset_sigma = 0.0;    ///< its formal 1σ [s]
-  double mount_change_deg = 0.0;     ///< the angle of the mount rotation's correction [deg]
+  double mount_change_deg = 0.0;     ///< the angle of the mount rotation's correction, as estimated [deg]
   int iterations = 0;                ///< match-and-solve iterations
-  std::string why_not;               ///< when not applied: why (empty when applied)
+  /// Each part is applied only when significant and shown by both halves of the flight so far
+  /// (frontend/calibration/calibration_acceptance.h); `applied` when either is.
+  bool time_offset_applied = false;
+  bool mount_applied = false;
+  std::string why_not_time_offset;   ///< why the clock offset was kept (empty when applied)
+  std::string why_not_mount;         ///< why the mount was kept (empty when applied)
+  std::string why_not;               ///< when nothing was applied: why (empty when applied)
 };
 
 /// One odometry sample as a VIO publishes it: time t [s] on the odometry clock, odom_T_body (body in the VIO's

@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: MIT
+#include "dualgraph/frontend/pipeline/self_calibrator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "dualgraph/core/stamp_tolerance.h"
+#include "dualgraph/frontend/calibration/calibration_acceptance.h"
+#include "dualgraph/frontend/calibration/camera_calibration.h"
+
+namespace dualgraph {
+
+SelfCalibrator::SelfCalibrator(double after_s, double time_offset_before, std::string why_off)
+    : after_s_(after_s), pending_(why_off.empty()) {
+  report_.time_offset_before = time_offset_before;
+  report_.why_not = std::move(why_off);
+}
+
+void SelfCalibrator::addCorners(const std::vector<CornerDetection>& corners) {
+  if (pending_) corners_.insert(corners_.end(), corners.begin(), corners.end());
+}
+
+void SelfCalibrator::addOdometry(const OdometrySample& sample) {
+  if (!pending_) return;
+  if (!started_) {
+    started_ = true;
+    report_.at_s = sample.t + after_s_;  // t_c until it runs, then when it ran
+  }
+  odometry_.push_back(sample);
+}
+
+bool SelfCalibrator::due(double t, bool tracking) const {
+  return pending_ && started_ && notAfter(report_.at_s, t) && tracking && corners_.size() >= kMinCorners;
+}
+
+std::optional<CameraModel> SelfCalibrator::run(double t, const CameraModel& camera, const Track& track,
+                                               const std::vector<CorrectedPose>& keyframes) {
+  pending_ = false;
+  report_.at_s = t;
+  report_.attempted = true;
+  std::vector<CornerDetection> corners;
+  corners.swap(corners_);
+  std::vector<OdometrySample> odometry;
+  odometry.swap(odometry_);
+  corners.erase(std::remove_if(corners.begin(), corners.end(), [&](const CornerDetection& d) { return d.t > t; }),
+                corners.end());
+  SelfCalibrationReport& self = report_;
+  Result<CameraCalibration> calibrated =
+      calibrateCameraOnRun(corners, track, camera, odometry, keyframes, CalibrationParams{}, "the flight so far");
+  if (!calibrated.ok()) {
+    self.why_not = "the calibration failed: " + calibrated.status().message();
+    return std::nullopt;
+  }
+  self.iterations = static_cast<int>(calibrated->iterations.size());
+  self.time_offset_after = calibrated->camera.time_offset;
+  self.time_offset_sigma = calibrated->time_offset_sigma;
+  self.mount_change_deg = calibrated->mount_correction.norm() * 180.0 / M_PI;
+  if (!calibrated->converged) {
+    self.why_not = "the calibration did not converge in " + std::to_string(self.iterations) + " iterations";
+    return std::nullopt;
+  }
+  // Each half of the flight so far on its own: a correction is applied only when both halves show it.
+  const auto middle = corners.begin() + static_cast<long>(corners.size() / 2);
+  const std::vector<CornerDetection> halves[2] = {std::vector<CornerDetection>(corners.begin(), middle),
+                                                  std::vector<CornerDetection>(middle, corners.end())};
+  std::optional<CameraCalibration> half_calibrations[2];
+  std::string half_failed;
+  for (int h = 0; h < 2; ++h) {
+    Result<CameraCalibration> half = calibrateCameraOnRun(halves[h], track, camera, odometry, keyframes, CalibrationParams{},
+                                                          h == 0 ? "its first half" : "its second half");
+    if (half.ok()) {
+      half_calibrations[h] = std::move(half).value();
+    } else if (half_failed.empty()) {
+      half_failed = half.status().message();
+    }
+  }
+  CalibrationAcceptance accepted =
+      judgeCalibration(camera, *calibrated, half_calibrations[0] ? &*half_calibrations[0] : nullptr,
+                       half_calibrations[1] ? &*half_calibrations[1] : nullptr);
+  if (!half_failed.empty()) {  // say which half and why
+    for (std::string* why : {&accepted.why_not_time_offset, &accepted.why_not_mount}) {
+      if (why->rfind("a half of", 0) == 0) *why += ": " + half_failed;
+    }
+  }
+  self.time_offset_applied = accepted.time_offset;
+  self.mount_applied = accepted.mount;
+  self.why_not_time_offset = accepted.why_not_time_offset;
+  self.why_not_mount = accepted.why_not_mount;
+  if (!accepted.time_offset && !accepted.mount) {
+    self.why_not = "neither part cleared the bar: " + accepted.why_not_time_offset + "; " + accepted.why_not_mount;
+    return std::nullopt;
+  }
+  self.applied = true;
+  return acceptedCamera(camera, *calibrated, accepted);
+}
+
+void SelfCalibrator::finish(std::optional<double> newest_t) {
+  if (!pending_ || !newest_t) return;
+  pending_ = false;
+  if (corners_.empty() && pose_detections_seen_) {
+    report_.why_not = "needs corner detections and a camera (pose detections carry no pixels)";
+  } else if (notAfter(report_.at_s, *newest_t)) {
+    report_.why_not = "the flight ended before the flight so far could carry it while tracking (" +
+                      std::to_string(corners_.size()) + " corner detections, " + std::to_string(kMinCorners) +
+                      " needed)";
+  } else {
+    report_.why_not = "the flight ends before t = " + formatTimestamp(report_.at_s) + " s";
+  }
+}
+
+}  // namespace dualgraph

@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: MIT
+// SelfCalibrator: the onboard self-calibration — the flight so far collected, calibrated once it can carry it, applied in parts that hold.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dualgraph/dual_graph/localizer.h"
+#include "dualgraph/frontend/gates/camera_model.h"
+#include "dualgraph/frontend/gates/corner_detection.h"
+#include "dualgraph/frontend/gates/track.h"
+#include "dualgraph/frontend/pipeline/pipeline_report.h"
+
+namespace dualgraph {
+
+/// The camera's clock offset and mount rotation calibrated on the flight so far, onboard (PipelineCore's). From the
+/// first odometry sample t0 it keeps the corner detections (camera clock) and the odometry; at the first sample at
+/// or after t_c = t0 + after_s at which the localizer is tracking and at least kMinCorners corners are in, it runs
+/// calibrateCameraOnRun on them and on each half apart, and hands back the camera with the parts judgeCalibration
+/// accepts (frontend/calibration/calibration_acceptance.h), or none; the report says what happened. Once only.
+/// Not thread-safe (the pipeline's thread).
+class SelfCalibrator {
+ public:
+  static constexpr size_t kMinCorners = 200;
+
+  /// `why_off` non-empty: never runs, the report says so. `time_offset_before`: the camera's offset at the start [s].
+  SelfCalibrator(double after_s, double time_offset_before, std::string why_off);
+
+  bool pending() const { return pending_; }
+  void addCorners(const std::vector<CornerDetection>& corners);
+  void notePoseDetections() { pose_detections_seen_ = true; }
+  /// Every accepted odometry sample; the first sets t_c.
+  void addOdometry(const OdometrySample& sample);
+  /// t_c passed (t ≥ t_c, to core/stamp_tolerance.h), tracking, and enough corners: run() now.
+  bool due(double t, bool tracking) const;
+  /// Calibrates on the flight so far (its corners up to t) from `camera` (its time_offset the one in use) against
+  /// `track` with the run's `keyframes`; the camera to use from t on, or none (report().why_not says why).
+  std::optional<CameraModel> run(double t, const CameraModel& camera, const Track& track,
+                                 const std::vector<CorrectedPose>& keyframes);
+  /// The flight ended (newest odometry stamp, if any): a calibration still pending says why it never ran.
+  void finish(std::optional<double> newest_t);
+  const SelfCalibrationReport& report() const { return report_; }
+
+ private:
+  double after_s_;
+  bool pending_;
+  bool started_ = false;
+  bool pose_detections_seen_ = false;
+  std::vector<CornerDetection> corners_;
+  std::vector<OdometrySample> odometry_;
+  SelfCalibrationReport report_;
+};
+
+}  // namespace dualgraph

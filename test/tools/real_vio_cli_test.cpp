@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+// Real estimators on real flights (../shared/data/real_vio: EuRoC V2_01's ground truth and a VI-SLAM's real-time
+// poses, its clock ~50 ms behind), through the recorded-flight mode and `run` with the default configuration:
+// the ground truth fed as the VIO stays within 3 cm and self-calibration applies nothing to an exact camera; the
+// VI-SLAM's clock offset is found and applied, its mount left alone unless both halves of the flight show it.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "test/testing/command_line.h"
+#include "test/testing/shared_data.h"
+
+namespace dualgraph {
+namespace {
+
+using testing::jsonNumber;
+using testing::readFile;
+using testing::runDualgraph;
+using testing::tempDir;
+
+std::string realVio(const std::string& name) { return testing::sharedPath("data/real_vio/" + name); }
+
+// The run's metrics.json on V2_01 with `vio` as the odometry (seed 1, clean detector at 2 px).
+std::string runV201(const std::string& vio) {
+  const std::string dir = tempDir() + "/v2_01_" + vio;
+  const testing::CommandRun simulated =
+      runDualgraph("simulate --flight " + realVio("V2_01_easy.gt.tum") + " --vio " + realVio("V2_01_easy." + vio) +
+                   " --profile clean --pixel-sigma 2 --seed 1 --no-plot --out " + dir);
+  EXPECT_EQ(simulated.exit_code, 0) << simulated.err;
+  const testing::CommandRun run = runDualgraph("run --sequence " + dir + " --out " + dir + "_run --quiet");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  return readFile(dir + "_run/metrics.json");
+}
+
+class RealVio : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!testing::fileExists(realVio("V2_01_easy.gt.tum"))) GTEST_SKIP() << "no " << realVio("") << " (../shared)";
+  }
+};
+
+TEST_F(RealVio, TheGroundTruthAsTheVioStaysWithinThreeCentimetresAndNothingIsCalibratedOntoIt) {
+  const std::string metrics = runV201("gt.tum");
+  EXPECT_LT(jsonNumber(metrics, "ate_m"), 0.03) << metrics;
+  EXPECT_NEAR(jsonNumber(metrics, "lost_share_pct"), 0.0, 1e-9) << metrics;
+  EXPECT_EQ(jsonNumber(metrics, "self_calibration_time_offset_applied"), 0.0) << metrics;
+  EXPECT_EQ(jsonNumber(metrics, "self_calibration_mount_applied"), 0.0) << metrics;
+}
+
+TEST_F(RealVio, TheViSlamsClockOffsetIsFoundAndApplied) {
+  const std::string metrics = runV201("vislam_rp.tum");
+  EXPECT_EQ(jsonNumber(metrics, "self_calibration_time_offset_applied"), 1.0) << metrics;
+  EXPECT_NEAR(jsonNumber(metrics, "self_calibration_time_offset_s"), -0.050, 0.006) << metrics;
+  EXPECT_NEAR(jsonNumber(metrics, "lost_share_pct"), 0.0, 1.0) << metrics;
+}
+
+}  // namespace
+}  // namespace dualgraph
