@@ -12,7 +12,7 @@ build="${1:-$here/build}"
 out="${2:-$(mktemp -d)}"
 data="${3:-$here/../shared/data/real_vio}"
 dualgraph="$build/bin/dualgraph"
-echo "| flight | VIO | seed | ATE [m] | VIO ATE [m] | reduction | frame found (from the first pose) | lost share | final state | exit |"
+echo "| flight | VIO | seed | ATE [m] | VIO ATE [m] | reduction | frame found (after the first VIO stamp) | lost share | final state | exit |"
 echo "|---|---|---|---|---|---|---|---|---|---|"
 for pair in MH_02_easy:vislam_rp V2_01_easy:vio_mono V2_01_easy:vio_stereo V2_01_easy:vislam_rp MH_02_easy:gt V2_01_easy:gt; do
   flight="${pair%%:*}"
@@ -30,7 +30,7 @@ for pair in MH_02_easy:vislam_rp V2_01_easy:vio_mono V2_01_easy:vio_stereo V2_01
       echo "| $flight | $vio | $seed | n/a | n/a | n/a | n/a | n/a | n/a | $code |"
       continue
     fi
-    python3 - "$dir/run/metrics.json" "$flight" "$vio" "$seed" "$code" "$dir/run/estimate.tum" <<'PY'
+    python3 - "$dir/run/metrics.json" "$flight" "$vio" "$seed" "$code" "$dir/sequence/vio.tum" <<'PY'
 import json, sys
 m = json.load(open(sys.argv[1]))
 flight, vio, seed, code = sys.argv[2:6]
@@ -38,7 +38,7 @@ first = next(float(l.split()[0]) for l in open(sys.argv[6]) if l.strip() and not
 def f(key, digits=3):
     value = m.get(key)
     return "n/a" if value is None else f"{value:.{digits}f}"
-# A VIO that is the ground truth has no error to reduce: its reduction is n/a. Times from the estimate's first stamp.
+# A VIO that is the ground truth has no error to reduce: its reduction is n/a. Times from the VIO file's first stamp.
 reduction = f('ate_reduction_pct', 1) + " %" if m.get('vio_ate_m', 0) > 1e-6 else "n/a"
 found = "n/a" if m.get('initialized_at_s') is None else f"{m['initialized_at_s'] - first:.2f} s"
 print(f"| {flight} | {vio} | {seed} | {f('ate_m')} | {f('vio_ate_m')} | {reduction} | "
