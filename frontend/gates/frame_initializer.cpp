@@ -241,9 +241,12 @@ void FrameInitializer::search() {
   if (best.inliers < params_.min_inliers || best.gates < gates_needed) {
     why << best.inliers << " detections of " << best.gates << " gates agree with the best hypothesis, "
         << params_.min_inliers << " of " << gates_needed << " needed";
-  } else if (runner_up_gates >= best.gates && runner_up >= params_.ambiguity_ratio * best.inliers) {
-    why << "ambiguous layout: two distinct frames explain " << best.inliers << " and " << runner_up
-        << " detections (give detection ids or a coarse start pose, localizer.initial_world_T_body)";
+  } else if (runner_up >= params_.ambiguity_ratio * best.inliers) {
+    // Whatever the gate counts: a rival over fewer gates that explains as many detections is as likely (a
+    // symmetric layout seen from one side: 43 detections of 3 gates against 44 of 2 locked 8.8 m off).
+    why << "ambiguous layout: two distinct frames explain " << best.inliers << " detections of " << best.gates
+        << " gates and " << runner_up << " of " << runner_up_gates
+        << " (give detection ids or a coarse start pose, localizer.initial_world_T_body)";
   } else {
     state_.locked = true;
     state_.world_T_odom = gravityAligned(best.yaw, best.translation);

@@ -46,7 +46,7 @@ struct FrameInitialization {
 /// hypothesis (the VIO's frame is gravity-aligned: a yaw from the gate normals and the translation that puts
 /// the detection on the gate). Each hypothesis is scored by the detections of the window it explains; the best
 /// one (most distinct gates, then most detections) locks when at least min_inliers detections of two gates or more
-/// (one with a start pose) agree and no distinct hypothesis explains as many gates with ambiguity_ratio of its detections
+/// (one with a start pose) agree and no distinct hypothesis, over any number of gates, explains ambiguity_ratio of its detections
 /// (a layout with a symmetry, such as the RATM ellipse's half turn, without ids or a start pose never
 /// locks and says so). The locked hypothesis is refined on its inliers (least squares in yaw and
 /// translation). Deterministic; never prints.
