@@ -116,6 +116,16 @@ const std::vector<std::string>& profileOptionNames() {
 
 namespace {
 
+// The camera (--camera, or the bundled `default_camera`) and the simulator's parameters: the --profile's under the
+// flags given, --partial-gates. The error message when one cannot be had.
+Result<CameraModel> cameraAndProfile(SimulateOptions& o, const std::string& default_camera) {
+  auto camera = loadCameraYaml(o.camera.empty() ? bundledDataDir() + "/cameras/" + default_camera : o.camera);
+  if (!camera.ok()) return camera.status();
+  DG_RETURN_IF_ERROR(applyProfileUnderFlags(o.profile, o.given, o.params));
+  if (!o.partial_gates.empty()) o.params.detection.partial_gates = o.partial_gates == "on";
+  return camera;
+}
+
 int runRecordedFlight(SimulateOptions& o) {
   std::unique_ptr<Track> track;
   if (!o.track.empty()) {
@@ -123,15 +133,10 @@ int runRecordedFlight(SimulateOptions& o) {
     if (!loaded.ok()) return fail(loaded.status().message());
     track = std::make_unique<Track>(std::move(loaded).value());
   }
-  const std::string camera_path = o.camera.empty() ? bundledDataDir() + "/cameras/euroc_cam0.yaml" : o.camera;
-  auto camera = loadCameraYaml(camera_path);
+  auto camera = cameraAndProfile(o, "euroc_cam0.yaml");
   if (!camera.ok()) return fail(camera.status().message());
-  RaceSimParams& p = o.params;
-  const Status profiled = applyProfileUnderFlags(o.profile, o.given, p);
-  if (!profiled.ok()) return fail(profiled.message());
-  if (!o.partial_gates.empty()) p.detection.partial_gates = o.partial_gates == "on";
-  TrajectoryFormat truth_format = TrajectoryFormat::kTum;
-  auto truth = readTrajectory(o.flight, &truth_format);
+  const RaceSimParams& p = o.params;
+  auto truth = readTrajectory(o.flight);
   if (!truth.ok()) return fail(truth.status().message());
   TrajectoryFormat vio_format = TrajectoryFormat::kTum;
   auto vio = readTrajectory(o.vio, &vio_format);
@@ -161,15 +166,19 @@ int runRecordedFlight(SimulateOptions& o) {
             << flight->path_length << " m\n"
             << "  VIO: " << o.vio << " (" << trajectoryFormatName(vio_format) << "), " << vio->samples.size()
             << " samples, kept as recorded\n"
-            << "  gates: " << flight->true_gates.gates.size()
-            << (flight->gates_placed ? " placed on the path every " + std::to_string(o.gates.spacing) + " m" : " from " + o.track)
-            << "\n  detector: " << s.images << " images, " << s.visible << " gate views, " << flight->detections.size()
+            << "  gates: " << flight->true_gates.gates.size();
+  if (flight->gates_placed) {
+    std::cout << " placed on the path every " << o.gates.spacing << " m, at least " << o.gates.min_separation << " m apart";
+  } else {
+    std::cout << " from " << o.track;
+  }
+  std::cout << "\n  detector: " << s.images << " images, " << s.visible << " gate views, " << flight->detections.size()
             << " detections (" << s.missed << " missed, " << s.displaced_corner << " displaced corner, " << s.wrong_id
             << " wrong id, " << s.false_gates << " false gates), corner noise " << s.mean_pixel_sigma << " px\n"
             << "  wrote " << o.out << "\n";
   if (flight->detections.empty()) {
     std::cerr << "dualgraph simulate: warning: no gate was seen: check the camera's body_T_camera against the ground "
-                 "truth's body frame (" << camera_path << ")\n";
+                 "truth's body frame (" << (o.camera.empty() ? "the bundled euroc_cam0.yaml" : o.camera) << ")\n";
   }
   return 0;
 }
@@ -180,13 +189,9 @@ int runSimulateCommand(SimulateOptions o) {
   if (!o.flight.empty()) return runRecordedFlight(o);  // the parser checked --vio with it, --track without
   auto track = loadTrackYaml(o.track);
   if (!track.ok()) return fail(track.status().message());
-  const std::string camera_path = o.camera.empty() ? bundledDataDir() + "/cameras/ratm_piloted.yaml" : o.camera;
-  auto camera = loadCameraYaml(camera_path);
+  auto camera = cameraAndProfile(o, "ratm_piloted.yaml");
   if (!camera.ok()) return fail(camera.status().message());
   RaceSimParams& p = o.params;
-  const Status profiled = applyProfileUnderFlags(o.profile, o.given, p);
-  if (!profiled.ok()) return fail(profiled.message());
-  if (!o.partial_gates.empty()) p.detection.partial_gates = o.partial_gates == "on";
   p.output = o.detections == "poses" ? RaceSimParams::DetectionOutput::kPoses : RaceSimParams::DetectionOutput::kCorners;
   if (o.laps > 0) {
     p.override_laps = true;

@@ -29,14 +29,7 @@ TEST(InitializationFlights, WithoutIdsNoBundledTrackLocksOnAWrongFrame) {
         EXPECT_FALSE(run->initialization->why_not.empty());
         continue;
       }
-      const double t = run->initialization->locked_at;
-      auto atOrAfter = [t](const std::vector<OdometrySample>& samples) {
-        const auto it = std::lower_bound(samples.begin(), samples.end(), t,
-                                         [](const OdometrySample& sample, double time) { return sample.t < time; });
-        return it == samples.end() ? samples.back().odom_T_body : it->odom_T_body;
-      };
-      const Eigen::Isometry3d found = run->initialization->world_T_odom * atOrAfter(sequence.odometry.samples);
-      const Eigen::Isometry3d truth = atOrAfter(sequence.ground_truth->samples);
+      const auto [found, truth] = flighttest::droneAtTheLock(sequence, *run->initialization);
       EXPECT_LT((found.translation() - truth.translation()).norm(), 1.5) << "locked on a wrong frame";
     }
   }

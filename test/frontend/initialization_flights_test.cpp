@@ -36,14 +36,7 @@ TEST(InitializationFlights, EveryTrackAndProfileLocksWithinTwoSecondsOnTheRightF
         ASSERT_TRUE(run->initialization->locked) << run->initialization->why_not;
         const double after_first = run->initialization->locked_at - sequence.corners.front().t;
         // The drone at the lock: odometry sample and ground truth at the first stamps at or after it.
-        const double t = run->initialization->locked_at;
-        auto atOrAfter = [t](const std::vector<OdometrySample>& samples) {
-          const auto it = std::lower_bound(samples.begin(), samples.end(), t,
-                                           [](const OdometrySample& sample, double time) { return sample.t < time; });
-          return it == samples.end() ? samples.back().odom_T_body : it->odom_T_body;
-        };
-        const Eigen::Isometry3d found = run->initialization->world_T_odom * atOrAfter(sequence.odometry.samples);
-        const Eigen::Isometry3d truth = atOrAfter(sequence.ground_truth->samples);
+        const auto [found, truth] = flighttest::droneAtTheLock(sequence, *run->initialization);
         const double apart = (found.translation() - truth.translation()).norm();
         const double turn = so3Log(found.linear().transpose() * truth.linear()).norm() * 180.0 / M_PI;
         std::printf("%s %s seed %d: locked %.2f s after the first detection, the drone %.3f m and %.2f deg from the "

@@ -4,10 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <string>
 
+#include "dualgraph/frontend/gates/frame_initializer.h"
 #include "dualgraph/frontend/io/camera_io.h"
 #include "dualgraph/frontend/io/track_io.h"
 #include "dualgraph/frontend/simulation/race_profiles.h"
@@ -39,6 +41,21 @@ inline Sequence simulatedFlight(const std::string& track_name, const std::string
   auto sequence = raceSequence(*race, params, track_name);
   EXPECT_TRUE(sequence.ok());
   return sequence.ok() ? std::move(sequence).value() : Sequence{};
+}
+
+/// The pose of the first sample at or after t (the last one when none is).
+inline Eigen::Isometry3d poseAtOrAfter(const std::vector<OdometrySample>& samples, double t) {
+  const auto it = std::lower_bound(samples.begin(), samples.end(), t,
+                                   [](const OdometrySample& sample, double time) { return sample.t < time; });
+  return it == samples.end() ? samples.back().odom_T_body : it->odom_T_body;
+}
+
+/// Where the frame the run locked on puts the drone at the lock, and where the truth has it then (world_T_body):
+/// the odometry and the ground truth at their first stamps at or after the lock.
+inline std::pair<Eigen::Isometry3d, Eigen::Isometry3d> droneAtTheLock(const Sequence& sequence,
+                                                                     const FrameInitialization& lock) {
+  return {lock.world_T_odom * poseAtOrAfter(sequence.odometry.samples, lock.locked_at),
+          poseAtOrAfter(sequence.ground_truth->samples, lock.locked_at)};
 }
 
 }  // namespace dualgraph::flighttest
