@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/dual_graph/localizer.h"
-#include "dualgraph/core/stamp_tolerance.h"
 
 #include <cmath>
 
+#include "dualgraph/core/stamp_tolerance.h"
 #include "dualgraph/core/wall_clock.h"
 #include "dualgraph/types/se3_covariance.h"
 

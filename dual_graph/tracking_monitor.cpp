@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/dual_graph/tracking_monitor.h"
-#include "dualgraph/core/stamp_tolerance.h"
 
 #include <algorithm>
 #include <cmath>
+
+#include "dualgraph/core/stamp_tolerance.h"
 
 namespace dualgraph {
 

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/frontend/gates/frame_initializer.h"
-#include "dualgraph/core/stamp_tolerance.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
+#include "dualgraph/core/stamp_tolerance.h"
 #include "dualgraph/types/se2.h"
 
 namespace dualgraph {

@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/frontend/pipeline/frame_search.h"
-#include "dualgraph/core/stamp_tolerance.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
+
+#include "dualgraph/core/stamp_tolerance.h"
 
 namespace dualgraph {
 

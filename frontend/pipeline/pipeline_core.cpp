@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/frontend/pipeline/pipeline_core.h"
-#include "dualgraph/core/stamp_tolerance.h"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 
+#include "dualgraph/core/stamp_tolerance.h"
 #include "dualgraph/core/wall_clock.h"
 
 namespace dualgraph {
