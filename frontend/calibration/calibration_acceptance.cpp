@@ -19,7 +19,7 @@ std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0
 
 CalibrationAcceptance judgeCalibration(const CameraModel& camera, const CameraCalibration& whole,
                                        const CameraCalibration* first_half, const CameraCalibration* second_half,
-                                       const CalibrationAcceptanceParams& params) {
+                                       const std::string& why_half_missing, const CalibrationAcceptanceParams& params) {
   CalibrationAcceptance out;
   // Significance, against the whole flight's own estimate.
   const double time_change = whole.camera.time_offset - camera.time_offset;
@@ -39,7 +39,8 @@ CalibrationAcceptance judgeCalibration(const CameraModel& camera, const CameraCa
   // Consistency, between the halves.
   out.halves_calibrated = first_half != nullptr && second_half != nullptr && first_half->converged && second_half->converged;
   if (!out.halves_calibrated) {
-    const char* why = "a half of the flight so far could not be calibrated on its own (nothing shows the correction holds)";
+    std::string why = "a half of the flight so far could not be calibrated on its own (nothing shows the correction holds)";
+    if (!why_half_missing.empty()) why += ": " + why_half_missing;
     if (time_significant) out.why_not_time_offset = why;
     if (mount_significant) out.why_not_mount = why;
     return out;

@@ -32,9 +32,10 @@ struct CalibrationAcceptance {
 };
 
 /// Judges `whole` (started from `camera`) against the calibrations of its halves (null: a half could not be
-/// calibrated — then nothing is applied, since nothing shows the correction holds).
+/// calibrated, `why_half_missing` says why — then nothing is applied, since nothing shows the correction holds).
 CalibrationAcceptance judgeCalibration(const CameraModel& camera, const CameraCalibration& whole,
                                        const CameraCalibration* first_half, const CameraCalibration* second_half,
+                                       const std::string& why_half_missing = "",
                                        const CalibrationAcceptanceParams& params = {});
 
 /// `camera` with the accepted parts of `whole` applied: its time_offset, its body_T_camera rotation.

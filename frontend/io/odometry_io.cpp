@@ -283,9 +283,7 @@ Result<RelativeCovarianceReport> toRelativeCovariances(OdometryLog& log, double 
   }
   RelativeCovarianceStream stream(floor);
   for (size_t k = 0; k < log.samples.size(); ++k) {
-    const Matrix6d& absolute = log.absolute_covariances[k];
-    Result<std::optional<Matrix6d>> relative = stream.next(
-        log.samples[k].odom_T_body, absolute.isZero(0.0) ? std::nullopt : std::optional<Matrix6d>(absolute));
+    Result<std::optional<Matrix6d>> relative = stream.next(log.samples[k].odom_T_body, log.absolute_covariances[k]);
     if (!relative.ok()) {  // the readers check their covariances; a log built by hand may not be
       return Status(relative.status().code(), "toRelativeCovariances: sample " + std::to_string(k) + ": " +
                                                   relative.status().message());

@@ -75,14 +75,9 @@ std::optional<CameraModel> SelfCalibrator::run(double t, const CameraModel& came
       half_failed = half.status().message();
     }
   }
-  CalibrationAcceptance accepted =
+  const CalibrationAcceptance accepted =
       judgeCalibration(camera, *calibrated, half_calibrations[0] ? &*half_calibrations[0] : nullptr,
-                       half_calibrations[1] ? &*half_calibrations[1] : nullptr);
-  if (!half_failed.empty()) {  // say which half and why
-    for (std::string* why : {&accepted.why_not_time_offset, &accepted.why_not_mount}) {
-      if (why->rfind("a half of", 0) == 0) *why += ": " + half_failed;
-    }
-  }
+                       half_calibrations[1] ? &*half_calibrations[1] : nullptr, half_failed);
   self.time_offset_applied = accepted.time_offset;
   self.mount_applied = accepted.mount;
   self.why_not_time_offset = accepted.why_not_time_offset;

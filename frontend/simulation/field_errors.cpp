@@ -6,6 +6,18 @@
 
 namespace dualgraph {
 
+std::string fieldErrorsProblem(const FieldErrorParams& field, double map_position_sigma, double map_yaw_sigma) {
+  if (!(std::isfinite(map_position_sigma) && map_position_sigma >= 0.0) ||
+      !(std::isfinite(map_yaw_sigma) && map_yaw_sigma >= 0.0)) {
+    return "map perturbation sigmas must be >= 0";
+  }
+  for (double value : {field.vio_frame_yaw, field.vio_frame_offset, field.camera_mount_error_deg}) {
+    if (!std::isfinite(value) || value < 0.0) return "field errors: frame yaw, offset and mount error must be >= 0";
+  }
+  if (!std::isfinite(field.camera_time_offset)) return "field errors: camera_time_offset must be finite";
+  return "";
+}
+
 std::uint64_t simulationStreamSeed(std::uint64_t seed, std::uint64_t stream) {
   std::uint64_t z = seed + 0x9E3779B97F4A7C15ULL * (stream + 1);
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;

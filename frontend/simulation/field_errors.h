@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include "dualgraph/frontend/gates/camera_model.h"
 #include "dualgraph/frontend/gates/track.h"
@@ -22,6 +23,10 @@ struct FieldErrorParams {
   /// about a random axis [deg] (a camera-mount calibration error).
   double camera_mount_error_deg = 0.0;
 };
+
+/// What is out of range in `field` and the map perturbation σs (empty when nothing is): every value finite; the
+/// VIO frame's yaw and offset, the mount error and both σs ≥ 0.
+std::string fieldErrorsProblem(const FieldErrorParams& field, double map_position_sigma, double map_yaw_sigma);
 
 /// Independent random streams from one seed: SplitMix64's finaliser of the seed and a stream number. The
 /// simulators' streams: 1 VIO drift, 2 detections, 3 map perturbation, 4 VIO frame, 5 camera mount, 6 lap variation.

@@ -10,8 +10,6 @@
 namespace dualgraph {
 namespace {
 
-std::uint64_t streamSeed(std::uint64_t seed, std::uint64_t stream) { return simulationStreamSeed(seed, stream); }
-
 Status invalid(const std::string& what) { return Status(StatusCode::kInvalidArgument, "race simulator: " + what); }
 
 // The gate frame of a PnP solution is fixed by the image corner order only up to the square's 90°
@@ -40,7 +38,7 @@ void alignToTrueGate(GateObservation& observation, const Eigen::Isometry3d& true
 Eigen::Isometry3d vioFrame(const FieldErrorParams& field, std::uint64_t seed) {
   Eigen::Isometry3d world_T_odom = Eigen::Isometry3d::Identity();
   if (field.vio_frame_yaw == 0.0 && field.vio_frame_offset == 0.0) return world_T_odom;
-  std::mt19937_64 rng(streamSeed(seed, 4));
+  std::mt19937_64 rng(simulationStreamSeed(seed, 4));
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double yaw = field.vio_frame_yaw * (2.0 * unit(rng) - 1.0);
   const double radius = field.vio_frame_offset * std::sqrt(unit(rng));
@@ -60,20 +58,14 @@ Result<SimulatedRace> simulateRace(const Track& track, const CameraModel& camera
   if (track.gates.empty()) return invalid("the track has no gates");
   if (!(std::isfinite(params.gt_rate) && params.gt_rate >= 100.0)) return invalid("gt_rate must be >= 100 Hz");
   if (!(std::isfinite(params.vio_rate) && params.vio_rate > 0.0)) return invalid("vio_rate must be > 0");
-  if (!(std::isfinite(params.map_position_sigma) && params.map_position_sigma >= 0.0) ||
-      !(std::isfinite(params.map_yaw_sigma) && params.map_yaw_sigma >= 0.0)) {
-    return invalid("map perturbation sigmas must be >= 0");
-  }
+  const std::string field_problem = fieldErrorsProblem(params.field, params.map_position_sigma, params.map_yaw_sigma);
+  if (!field_problem.empty()) return invalid(field_problem);
   DG_RETURN_IF_ERROR(camera.validate());
   const FieldErrorParams& field = params.field;
-  for (double value : {field.vio_frame_yaw, field.vio_frame_offset, field.camera_mount_error_deg}) {
-    if (!std::isfinite(value) || value < 0.0) return invalid("field errors: frame yaw, offset and mount error must be >= 0");
-  }
-  if (!std::isfinite(field.camera_time_offset)) return invalid("field errors: camera_time_offset must be finite");
   FlightParams flight_params = params.flight;
   if (!params.override_laps) flight_params.laps = track.laps;
   if (!params.override_speed) flight_params.max_speed = track.speed;
-  flight_params.variation_seed = streamSeed(params.seed, 6);  // drawn from only with lap variation
+  flight_params.variation_seed = simulationStreamSeed(params.seed, 6);  // drawn from only with lap variation
   auto flight = Flight::plan(track.path, flight_params);
   if (!flight.ok()) return flight.status();
 
@@ -90,7 +82,7 @@ Result<SimulatedRace> simulateRace(const Track& track, const CameraModel& camera
     vio_t.push_back(k / params.vio_rate);
     vio_truth.push_back(race.flight.at(vio_t.back()).world_T_body);
   }
-  auto vio = simulateVio(vio_t, vio_truth, params.vio, streamSeed(params.seed, 1));
+  auto vio = simulateVio(vio_t, vio_truth, params.vio, simulationStreamSeed(params.seed, 1));
   if (!vio.ok()) return vio.status();
   race.vio = std::move(vio).value();
   race.world_T_odom = vioFrame(field, params.seed);
@@ -99,7 +91,7 @@ Result<SimulatedRace> simulateRace(const Track& track, const CameraModel& camera
     for (OdometrySample& sample : race.vio.samples) sample.odom_T_body = odom_T_world * sample.odom_T_body;
   }
 
-  auto detections = simulateDetections(race.flight, track, camera, params.detection, streamSeed(params.seed, 2),
+  auto detections = simulateDetections(race.flight, track, camera, params.detection, simulationStreamSeed(params.seed, 2),
                                        &race.detection_stats);
   if (!detections.ok()) return detections.status();
   race.detections = std::move(detections).value();

@@ -7,6 +7,9 @@
 #include <limits>
 #include <sstream>
 
+#include "dualgraph/core/atomic_file.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/detection_io.h"
 #include "dualgraph/frontend/io/track_io.h"
 #include "dualgraph/frontend/simulation/race_sequence.h"
 
@@ -91,14 +94,8 @@ Result<RecordedFlight> simulateRecordedFlight(const OdometryLog& ground_truth, c
   if (params.field.vio_frame_yaw != 0.0 || params.field.vio_frame_offset != 0.0) {
     return recordedFlightError("vio_frame_yaw and vio_frame_offset must be 0: the recorded VIO keeps its own frame");
   }
-  if (!std::isfinite(params.field.camera_time_offset)) return recordedFlightError("camera_time_offset must be finite");
-  if (!(std::isfinite(params.field.camera_mount_error_deg) && params.field.camera_mount_error_deg >= 0.0)) {
-    return recordedFlightError("camera_mount_error_deg must be >= 0");
-  }
-  if (!(std::isfinite(params.map_position_sigma) && params.map_position_sigma >= 0.0) ||
-      !(std::isfinite(params.map_yaw_sigma) && params.map_yaw_sigma >= 0.0)) {
-    return recordedFlightError("map perturbation sigmas must be >= 0");
-  }
+  const std::string field_problem = fieldErrorsProblem(params.field, params.map_position_sigma, params.map_yaw_sigma);
+  if (!field_problem.empty()) return recordedFlightError(field_problem);
   RecordedFlight flight;
   flight.overlap_begin = std::max(ground_truth.samples.front().t, vio.samples.front().t);
   flight.overlap_end = std::min(ground_truth.samples.back().t, vio.samples.back().t);
@@ -177,14 +174,24 @@ std::string recordedFlightYaml(const RecordedFlight& flight, const RecordedFligh
 
 Status writeRecordedFlight(const std::string& dir, const RecordedFlight& flight, const RecordedFlightParams& params,
                            const std::string& ground_truth_path, const std::string& vio_path) {
-  DG_RETURN_IF_ERROR(writeSequence(dir, flight.sequence, recordedFlightYaml(flight, params, ground_truth_path, vio_path)));
   namespace fs = std::filesystem;
+  std::error_code error;
+  fs::create_directories(dir, error);
+  if (error) return Status(StatusCode::kIoError, dir + ": cannot create the folder: " + error.message());
+  const fs::path folder(dir);
+  // The two trajectories as recorded (writeSequence would write them again from what was read).
   for (const auto& [from, name] : {std::make_pair(vio_path, "vio.tum"), std::make_pair(ground_truth_path, "gt.tum")}) {
-    std::error_code error;
-    fs::copy_file(from, fs::path(dir) / name, fs::copy_options::overwrite_existing, error);
-    if (error) return Status(StatusCode::kIoError, (fs::path(dir) / name).string() + ": cannot copy " + from + ": " + error.message());
+    fs::copy_file(from, folder / name, fs::copy_options::overwrite_existing, error);
+    if (error) return Status(StatusCode::kIoError, (folder / name).string() + ": cannot copy " + from + ": " + error.message());
   }
-  return Status();
+  DG_RETURN_IF_ERROR(writeCornerDetections((folder / "corners.csv").string(), flight.sequence.corners));
+  DG_RETURN_IF_ERROR(saveTrackYaml((folder / "gates.yaml").string(), flight.sequence.map));
+  DG_RETURN_IF_ERROR(saveCameraYaml((folder / "camera.yaml").string(), *flight.sequence.camera));
+  const std::string provenance = recordedFlightYaml(flight, params, ground_truth_path, vio_path);
+  return writeFileAtomically((folder / "sequence.yaml").string(), [&](std::ostream& out) {
+    out << provenance;
+    return Status();
+  });
 }
 
 }  // namespace dualgraph
