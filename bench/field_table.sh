@@ -5,6 +5,7 @@
 # Usage: bench/field_table.sh [BUILD_DIR] [OUT_DIR] [calibrated]   (prints a Markdown table; keeps the runs)
 # With `calibrated`, each flight's camera is first calibrated on the flight itself (`dualgraph calibrate`: clock
 # offset and mount rotation, offline, as a team would after a first flight) and the run uses that camera.
+# CONFIG=FILE in the environment runs with that configuration instead of the default.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
@@ -26,7 +27,7 @@ for profile in realistic harsh; do
         sequence="$dir/calibrated"
       fi
       code=0
-      "$dualgraph" run --sequence "$sequence" --out "$dir/run" --quiet 2>"$dir/stderr.txt" || code=$?
+      "$dualgraph" run ${CONFIG:+--config "$CONFIG"} --sequence "$sequence" --out "$dir/run" --quiet 2>"$dir/stderr.txt" || code=$?
       python3 - "$dir/run/metrics.json" "$profile" "$track" "$seed" "$code" <<'PY'
 import json, sys
 m = json.load(open(sys.argv[1]))

@@ -6,6 +6,7 @@
 # recorded; then `dualgraph run` with the default configuration. A last row per flight feeds the ground truth
 # itself as the VIO (a perfect odometry must stay perfect).
 # Usage: bench/real_vio_table.sh [BUILD_DIR] [OUT_DIR] [DATA_DIR]   (prints a Markdown table; keeps the runs)
+# CONFIG=FILE in the environment runs with that configuration instead of the default.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
@@ -25,7 +26,7 @@ for pair in MH_02_easy:vislam_rp V2_01_easy:vio_mono V2_01_easy:vio_stereo V2_01
     "$dualgraph" simulate --flight "$data/$flight.gt.tum" --vio "$data/$flight.$vio.tum" --profile clean \
       --pixel-sigma 2 --seed "$seed" --no-plot --out "$dir/sequence" >/dev/null
     code=0
-    "$dualgraph" run --sequence "$dir/sequence" --out "$dir/run" --quiet 2>"$dir/stderr.txt" || code=$?
+    "$dualgraph" run ${CONFIG:+--config "$CONFIG"} --sequence "$dir/sequence" --out "$dir/run" --quiet 2>"$dir/stderr.txt" || code=$?
     if [ ! -f "$dir/run/metrics.json" ]; then
       echo "| $flight | $vio | $seed | n/a | n/a | n/a | n/a | n/a | n/a | $code |"
       continue

@@ -27,13 +27,7 @@ Result<std::unique_ptr<Localizer>> Localizer::create(const LocalizerParams& para
     return Status(StatusCode::kInvalidArgument, "a Localizer starts tracking or initialising, not lost");
   }
   if (params.mapping) initial = TrackingState::kTracking;
-  if (!params.mapping && map.world_T_gate.empty()) {
-    return Status(StatusCode::kInvalidArgument, "localization mode needs a gate map (or set mapping: true)");
-  }
-  for (const auto& [id, world_T_gate] : map.world_T_gate) {
-    if (id < 0) return Status(StatusCode::kInvalidArgument, "gate map: negative gate id " + std::to_string(id));
-    DG_RETURN_IF_ERROR(checkRigidTransform(world_T_gate, "gate map: gate " + std::to_string(id)));
-  }
+  DG_RETURN_IF_ERROR(validateGateMapFor(params, map));
   std::shared_ptr<const RobustKernel> kernel;
   if (params.robust_kernel != "none") {
     Result<std::shared_ptr<const RobustKernel>> parsed = makeRobustKernel(params.robust_kernel);
@@ -49,6 +43,8 @@ Localizer::Localizer(const LocalizerParams& params, GateMap map, std::shared_ptr
       map_(std::move(map)),
       kernel_(kernel),
       temporary_(params, kernel),
+      noise_model_(noiseModelOf(params)),
+      noise_learner_(OdometryNoiseLearner::Params::of(params)),
       monitor_(initial, params.lost_after_s, params.lost_min_failures) {
   main_ = std::make_unique<MainGraph>(params_, map_, kernel_);
 }
@@ -74,7 +70,7 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
     return valid;
   }
   ++counters_.odometry_accepted;
-  if (!history_.empty()) pose_covariance_.advance(history_.newest(), sample, params_);
+  if (!history_.empty()) pose_covariance_.advance(history_.newest(), sample, noise_model_);
   history_.push(sample);
   if (monitor_.state() == TrackingState::kInitialising) {  // no graph until the frame is known
     history_.discardBefore(sample.t - kSearchHistorySeconds);
@@ -83,6 +79,7 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
   if (main_->keyframes().empty()) {
     const Status first = main_->addFirstKeyframe(sample.t, sample.odom_T_body);
     if (!first.ok()) counters_.last_error = first.message();
+    noise_learner_.addKeyframe(sample.odom_T_body, std::nullopt);
   }
   // Observations this sample now covers, in time order (attached before a keyframe at this instant), but none
   // after a keyframe that waits for late detections.
@@ -199,7 +196,7 @@ Status Localizer::processSingleObservation(const GateObservation& observation, c
     return Status();
   }
   if (compensated) {
-    Result<Matrix6d> covariance = history_.relativeCovariance(attach_to.t, observation.t, noiseModelOf(params_));
+    Result<Matrix6d> covariance = history_.relativeCovariance(attach_to.t, observation.t, noise_model_);
     if (!covariance.ok()) return covariance.status();
     compensation = *covariance;
   }
@@ -231,7 +228,7 @@ Status Localizer::closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body
   single_edges_.clear();
   single_observations_ = 0;
   optimizeAndRecord(row, start);
-  stats_.back().covariance_ms = pose_covariance_.refresh(*main_, history_, params_);
+  stats_.back().covariance_ms = pose_covariance_.refresh(*main_, history_, noise_model_);
   discardHistory(main_->keyframes().back().t);
   return Status();
 }
@@ -239,12 +236,14 @@ Status Localizer::closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body
 Status Localizer::closeInterval(const OdometrySample& newest) {
   KeyframeStats row;
   if (main_->keyframes().back().t < newest.t) {
-    Result<Matrix6d> covariance =
-        history_.relativeCovariance(main_->keyframes().back().t, newest.t, noiseModelOf(params_));
-    if (!covariance.ok()) return covariance.status();
-    DG_RETURN_IF_ERROR(main_->addKeyframe(newest.t, newest.odom_T_body, *covariance));
+    // The base covariance (unscaled): the main graph applies the scale, and keeps the base to rescale later.
+    Result<Matrix6d> base = history_.relativeCovariance(main_->keyframes().back().t, newest.t, noiseModelOf(params_));
+    if (!base.ok()) return base.status();
+    DG_RETURN_IF_ERROR(main_->addKeyframe(newest.t, newest.odom_T_body, *base));
+    noise_learner_.addKeyframe(newest.odom_T_body, *base);
   }
-  const DistillationResult distilled = temporary_.distil(newest.t, newest.odom_T_body, history_);
+  DistillationResult distilled = temporary_.distil(newest.t, newest.odom_T_body, history_);
+  learnOdometryNoise(distilled.gates);
   row.temp_nodes = distilled.nodes;
   row.temp_edges = distilled.edges;
   row.temp_iterations = distilled.iterations;
@@ -261,11 +260,22 @@ Status Localizer::closeInterval(const OdometrySample& newest) {
   if (!distilled.skip_reason.empty()) counters_.last_error = distilled.skip_reason;
   if (!outcome.message.empty()) counters_.last_error = outcome.message;
   optimizeAndRecord(row, start);
-  stats_.back().covariance_ms = pose_covariance_.refresh(*main_, history_, params_);
+  stats_.back().covariance_ms = pose_covariance_.refresh(*main_, history_, noise_model_);
   discardHistory(newest.t);
   return Status();
 }
 
+
+void Localizer::learnOdometryNoise(GateEdgeMeasurements& distilled) {
+  if (!params_.learn_odometry_noise || params_.mode != LocalizerMode::kDual) return;
+  if (noise_learner_.learnFrom(distilled)) {
+    noise_model_.scale = noise_learner_.factors().odometry;
+    temporary_.setOdometryScale(noise_model_.scale);
+    const Status scaled = main_->setOdometryScale(noise_model_.scale);
+    if (!scaled.ok()) counters_.last_error = scaled.message();
+  }
+  noise_learner_.inflate(distilled);
+}
 
 void Localizer::optimizeAndRecord(KeyframeStats& row, double start_ms) {
   const SolverSummary summary = main_->optimize();
@@ -363,12 +373,14 @@ Result<double> Localizer::startGraph(const Eigen::Isometry3d& world_T_odom, doub
     in_frame.initial_sigma_r = sigma_r;
   }
   main_ = std::make_unique<MainGraph>(in_frame, map_, kernel_);
+  (void)main_->setOdometryScale(noise_model_.scale);  // an empty graph: nothing to rescale, nothing to fail
   pose_covariance_.reset();
   const OdometrySample anchor = history_.sampleAtOrBefore(std::min(since, history_.newest().t));
   history_.discardBefore(anchor.t);
   monitor_.locked(history_.newest().t);
   last_observation_t_ = -std::numeric_limits<double>::infinity();
   DG_RETURN_IF_ERROR(main_->addFirstKeyframe(anchor.t, anchor.odom_T_body));
+  noise_learner_.addKeyframe(anchor.odom_T_body, std::nullopt);
   return anchor.t;
 }
 

@@ -14,6 +14,7 @@
 #include "dualgraph/dual_graph/main_graph.h"
 #include "dualgraph/dual_graph/measurements.h"
 #include "dualgraph/dual_graph/odometry_history.h"
+#include "dualgraph/dual_graph/odometry_noise_learner.h"
 #include "dualgraph/dual_graph/pose_covariance.h"
 #include "dualgraph/dual_graph/temporary_graph.h"
 #include "dualgraph/dual_graph/tracking_monitor.h"
@@ -178,6 +179,9 @@ class Localizer {
   const LocalizerCounters& counters() const { return counters_; }
   const MainGraph& mainGraph() const { return *main_; }
   const LocalizerParams& params() const { return params_; }
+  /// The factors learnt in flight (all 1 unless learn_odometry_noise) and the gate pairs they come from.
+  const OdometryNoiseLearner::Factors& learntNoiseFactors() const { return noise_learner_.factors(); }
+  int learntNoisePairs() const { return noise_learner_.pairsSeen(); }
 
  private:
   friend class LocalizerTestAccess;  ///< tests only (fault injection into the main graph); defined by the tests
@@ -197,6 +201,9 @@ class Localizer {
   void closeDueKeyframe();
   /// Single mode: commits the newest node's edges, adds a node at (t, odom_T_body) unless final, optimises.
   Status closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body, bool final_row);
+  /// Learns from a distillation's edges (learn_odometry_noise): the odometry's noise, applied to what uses it, and
+  /// the edges' covariance factor, applied to `distilled`.
+  void learnOdometryNoise(GateEdgeMeasurements& distilled);
   /// Optimises (and slides the window), fills `row` and appends it; `start_ms` is when the update began.
   void optimizeAndRecord(KeyframeStats& row, double start_ms);
   /// `relocalize`'s work without its checks and counting: the main graph given up for a new one in `world_T_odom`
@@ -221,6 +228,8 @@ class Localizer {
   double last_observation_t_ = -std::numeric_limits<double>::infinity();
   std::vector<KeyframeStats> stats_;
   PoseCovarianceTracker pose_covariance_;  ///< CorrectedPose::covariance
+  OdometryNoiseModel noise_model_;         ///< params_' model under the learnt scale
+  OdometryNoiseLearner noise_learner_;
   LocalizerCounters counters_;
   TrackingMonitor monitor_;
   std::vector<CorrectedPose> given_up_keyframes_;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "dualgraph/core/robust_kernel.h"
+#include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
 namespace {
@@ -88,6 +89,11 @@ Status validateUncertainties(const LocalizerParams& params) {
   DG_RETURN_IF_ERROR(requirePositiveFinite("odom_sigma_t", params.odom_sigma_t));
   DG_RETURN_IF_ERROR(requirePositiveFinite("odom_sigma_r", params.odom_sigma_r));
   DG_RETURN_IF_ERROR(requirePositiveFinite("odom_min_distance", params.odom_min_distance));
+  DG_RETURN_IF_ERROR(requirePositiveFinite("odom_scale_min", params.odom_scale_min));
+  DG_RETURN_IF_ERROR(requirePositiveFinite("odom_scale_max", params.odom_scale_max));
+  if (params.odom_scale_min > params.odom_scale_max) {
+    return Status(StatusCode::kInvalidArgument, "odom_scale_min must not exceed odom_scale_max");
+  }
   DG_RETURN_IF_ERROR(requirePositiveFinite("map_sigma_t", params.map_sigma_t));
   DG_RETURN_IF_ERROR(requirePositiveFinite("map_sigma_r", params.map_sigma_r));
   DG_RETURN_IF_ERROR(validateRigid("initial_world_T_odom", params.initial_world_T_odom));
@@ -153,6 +159,17 @@ const char* temporarySolverKindName(TemporarySolverKind kind) {
     case TemporarySolverKind::kGraph: return "graph";
   }
   return "unknown";
+}
+
+Status validateGateMapFor(const LocalizerParams& params, const GateMap& map) {
+  if (!params.mapping && map.world_T_gate.empty()) {
+    return Status(StatusCode::kInvalidArgument, "localization mode needs a gate map (or set mapping: true)");
+  }
+  for (const auto& [id, world_T_gate] : map.world_T_gate) {
+    if (id < 0) return Status(StatusCode::kInvalidArgument, "gate map: negative gate id " + std::to_string(id));
+    DG_RETURN_IF_ERROR(checkRigidTransform(world_T_gate, "gate map: gate " + std::to_string(id)));
+  }
+  return Status::okStatus();
 }
 
 }  // namespace dualgraph

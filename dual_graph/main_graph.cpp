@@ -59,7 +59,8 @@ Status MainGraph::addKeyframe(double t, const Eigen::Isometry3d& odom_T_body, co
   if (keyframes_.empty()) return Status(StatusCode::kFailedPrecondition, "main graph: no first keyframe");
   const Keyframe& previous = keyframes_.back();
   const Eigen::Isometry3d increment = previous.odom_T_body.inverse() * odom_T_body;
-  Result<Matrix6d> information = poseInformationFromMetricCovariance(increment_covariance, "odometry covariance");
+  Result<Matrix6d> information = poseInformationFromMetricCovariance(
+      scaledOdometryCovariance(increment_covariance, odometry_scale_), "odometry covariance");
   if (!information.ok()) return information.status();
   const int id = next_vertex_id_++;
   auto vertex = std::make_unique<VertexSE3>(id);
@@ -71,6 +72,23 @@ Status MainGraph::addKeyframe(double t, const Eigen::Isometry3d& odom_T_body, co
     return edge.status();
   }
   keyframes_.push_back(Keyframe{id, t, odom_T_body});
+  odometry_edges_.push_back(OdometryEdge{keyframes_.size() - 1, *edge, increment_covariance});
+  return Status();
+}
+
+Status MainGraph::setOdometryScale(const OdometryNoiseScale& scale) {
+  odometry_scale_ = scale;
+  // An edge leaves the graph (folded into a prior) when either keyframe it joins is marginalised, oldest first.
+  const auto gone = std::find_if(odometry_edges_.begin(), odometry_edges_.end(), [this](const OdometryEdge& entry) {
+    return !keyframes_[entry.keyframe].marginalized && !keyframes_[entry.keyframe - 1].marginalized;
+  });
+  odometry_edges_.erase(odometry_edges_.begin(), gone);
+  for (const OdometryEdge& entry : odometry_edges_) {
+    Result<Matrix6d> information = poseInformationFromMetricCovariance(
+        scaledOdometryCovariance(entry.base_covariance, scale), "odometry covariance");
+    if (!information.ok()) return information.status();
+    entry.edge->setInformation(*information);
+  }
   return Status();
 }
 

@@ -12,8 +12,11 @@
 #include "dualgraph/dual_graph/gate_map.h"
 #include "dualgraph/dual_graph/localizer_params.h"
 #include "dualgraph/dual_graph/marginal_prior.h"
+#include "dualgraph/dual_graph/odometry_history.h"
 
 namespace dualgraph {
+
+class EdgeSE3;
 
 /// A keyframe (dual mode) or node (single mode) of the main graph.
 struct Keyframe {
@@ -51,8 +54,11 @@ class MainGraph {
   /// (mapping mode, or initial_sigma_t ≤ 0).
   Status addFirstKeyframe(double t, const Eigen::Isometry3d& odom_T_body);
   /// A keyframe after the newest: initial guess newest · (VIO increment), and the odometry edge with the
-  /// increment's metric [t; θ] covariance.
+  /// increment's metric [t; θ] base covariance under the graph's odometry scale.
   Status addKeyframe(double t, const Eigen::Isometry3d& odom_T_body, const Matrix6d& increment_covariance);
+  /// The odometry scale (OdometryNoiseLearner) for the odometry edges to come and those still in the graph
+  /// (their information recomputed from their base covariances; the marginalised ones keep theirs).
+  Status setOdometryScale(const OdometryNoiseScale& scale);
   /// Adds one edge per measurement from keyframe `keyframe_index`, creating landmarks on first sight
   /// (at the map pose with its prior in localization mode; where seen in mapping mode). With the χ² gate
   /// on, each edge whose residual is implausible given the edge's and the graph's covariance is rejected.
@@ -107,6 +113,15 @@ class MainGraph {
   Graph graph_;
   Optimizer optimizer_;
   std::vector<Keyframe, Eigen::aligned_allocator<Keyframe>> keyframes_;
+  /// The odometry edge into keyframe `keyframe` and its base covariance (metric), for setOdometryScale.
+  struct OdometryEdge {
+    size_t keyframe;
+    EdgeSE3* edge;
+    Matrix6d base_covariance;
+    EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+  };
+  std::vector<OdometryEdge, Eigen::aligned_allocator<OdometryEdge>> odometry_edges_;
+  OdometryNoiseScale odometry_scale_;
   std::map<int, int> landmark_vertex_;  ///< gate id → vertex id
   int next_vertex_id_ = 0;
   size_t first_free_keyframe_ = 0;   ///< keyframes before it are marginalised (or were fixed)

@@ -2,6 +2,7 @@
 #include "dualgraph/dual_graph/odometry_history.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "dualgraph/types/se3_covariance.h"
 
@@ -18,6 +19,12 @@ Matrix6d odometryModelCovariance(const Eigen::Isometry3d& increment, double sigm
   Vector6d variances;
   variances << Eigen::Vector3d::Constant(sigma_t * sigma_t * d), Eigen::Vector3d::Constant(sigma_r * sigma_r * d);
   return variances.asDiagonal();
+}
+
+Matrix6d scaledOdometryCovariance(const Matrix6d& base, const OdometryNoiseScale& scale) {
+  Vector6d s;
+  s << Eigen::Vector3d::Constant(std::sqrt(scale.translation)), Eigen::Vector3d::Constant(std::sqrt(scale.rotation));
+  return s.asDiagonal() * base * s.asDiagonal();
 }
 
 size_t OdometryHistory::indexAtOrBefore(double t) const {
@@ -41,7 +48,9 @@ Result<Matrix6d> OdometryHistory::relativeCovariance(double t_a, double t_b, con
     all_have_covariance = samples_[k].relative_covariance.has_value();
   }
   if (!all_have_covariance) {
-    return odometryModelCovariance(pose_a->inverse() * *pose_b, model.sigma_t, model.sigma_r, model.min_distance);
+    return scaledOdometryCovariance(
+        odometryModelCovariance(pose_a->inverse() * *pose_b, model.sigma_t, model.sigma_r, model.min_distance),
+        model.scale);
   }
   // Walk the steps (k-1, k] that overlap (t_a, t_b], composing each step's share of its covariance.
   Matrix6d covariance = Matrix6d::Zero();
@@ -58,7 +67,7 @@ Result<Matrix6d> OdometryHistory::relativeCovariance(double t_a, double t_b, con
                                            fraction * *step_end.relative_covariance);
     previous = next;
   }
-  return covariance;
+  return scaledOdometryCovariance(covariance, model.scale);
 }
 
 Result<Eigen::Isometry3d> OdometryHistory::poseAt(double t, const OdometrySample* next) const {

@@ -36,12 +36,24 @@ Result<Eigen::Isometry3d> odometryPoseAt(const Samples& samples, double t) {
   return after == samples.end() ? before.odom_T_body : interpolateOdometry(before, *after, t);
 }
 
+/// Variance factors on the odometry's base covariance (the VIO's own per-increment covariance, or the per-metre
+/// model), as learnt in flight (OdometryNoiseLearner): Σ = S·Σ_base·S, S = diag(√translation I₃, √rotation I₃)
+/// in metric [t; θ].
+struct OdometryNoiseScale {
+  double translation = 1.0;  ///< factor on translation variances (σ_t × √translation)
+  double rotation = 1.0;     ///< factor on rotation variances
+};
+
+/// `base` (metric [t; θ]) under `scale`: S·base·S.
+Matrix6d scaledOdometryCovariance(const Matrix6d& base, const OdometryNoiseScale& scale);
+
 /// How the covariance of an odometry increment is obtained (see LocalizerParams).
 struct OdometryNoiseModel {
   bool use_input_covariance = true;
   double sigma_t = 0.05;       ///< [m/√m]
   double sigma_r = 0.01;       ///< [rad/√m]
   double min_distance = 0.05;  ///< [m]
+  OdometryNoiseScale scale;    ///< applied to whichever covariance the above gives
 };
 
 /// The VIO samples of the current keyframe interval, in increasing time: poses at any instant between
@@ -65,7 +77,7 @@ class OdometryHistory {
   /// Metric [t; θ] covariance of odom_T_body(t_a)⁻¹ · odom_T_body(t_b) (t_a ≤ t_b, both covered):
   /// the samples' own relative covariances composed with adjoints (a partial step contributes its
   /// time fraction) when every sample in (t_a, t_b] has one and the model allows it; otherwise the
-  /// per-metre model on the whole increment.
+  /// per-metre model on the whole increment; either under the model's scale.
   Result<Matrix6d> relativeCovariance(double t_a, double t_b, const OdometryNoiseModel& model) const;
 
   /// Forgets samples no longer needed to interpolate at `t` or later (keeps the last one at or before t).

@@ -13,26 +13,27 @@ void PoseCovarianceTracker::restart(const Matrix6d& keyframe_marginal, const Eig
   t_ = newest.t;
 }
 
-double PoseCovarianceTracker::refresh(MainGraph& main, const OdometryHistory& history, const LocalizerParams& params) {
+double PoseCovarianceTracker::refresh(MainGraph& main, const OdometryHistory& history, const OdometryNoiseModel& model) {
   const double start = nowMs();
   covariance_.reset();
   if (main.keyframes().empty() || history.empty()) return nowMs() - start;
   const size_t index = main.keyframes().size() - 1;
   const Keyframe& keyframe = main.keyframes()[index];
   Result<Matrix6d> marginal = main.keyframeCovariance(index);
-  Result<Matrix6d> since = history.relativeCovariance(keyframe.t, history.newest().t, noiseModelOf(params));
+  Result<Matrix6d> since = history.relativeCovariance(keyframe.t, history.newest().t, model);
   if (marginal.ok() && since.ok()) restart(*marginal, keyframe.odom_T_body, history.newest(), *since);
   return nowMs() - start;
 }
 
 void PoseCovarianceTracker::advance(const OdometrySample& previous, const OdometrySample& sample,
-                                    const LocalizerParams& params) {
+                                    const OdometryNoiseModel& model) {
   if (!covariance_ || !(sample.t > t_)) return;
   const Eigen::Isometry3d increment = previous.odom_T_body.inverse() * sample.odom_T_body;
-  const Matrix6d step = sample.relative_covariance && params.use_input_covariance
-                            ? *sample.relative_covariance
-                            : odometryModelCovariance(increment, params.odom_sigma_t, params.odom_sigma_r,
-                                                      params.odom_min_distance);
+  const Matrix6d step = scaledOdometryCovariance(
+      sample.relative_covariance && model.use_input_covariance
+          ? *sample.relative_covariance
+          : odometryModelCovariance(increment, model.sigma_t, model.sigma_r, model.min_distance),
+      model.scale);
   covariance_ = composeRelativeCovariance(*covariance_, increment, step);
   t_ = sample.t;
 }

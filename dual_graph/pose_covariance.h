@@ -14,8 +14,8 @@ namespace dualgraph {
 /// The covariance of world_T_body at the newest odometry sample, metric [t; θ] (m², rad²), a right perturbation in
 /// the body frame: restarted at each main-graph update from the newest keyframe's marginal composed with the
 /// odometry's covariance since it, then carried sample by sample by each increment's covariance (the sample's own,
-/// or LocalizerParams' per-metre model), first order (composeRelativeCovariance). Threads: one thread at a time
-/// per instance (the Localizer's).
+/// or the per-metre model; under the model's scale), first order (composeRelativeCovariance). Threads: one thread
+/// at a time per instance (the Localizer's).
 class PoseCovarianceTracker {
  public:
   void reset() { covariance_.reset(); }
@@ -25,9 +25,9 @@ class PoseCovarianceTracker {
                const OdometrySample& newest, const Matrix6d& since);
   /// After a main-graph update: restarted from the newest keyframe's marginal in `main` and the odometry since it in
   /// `history` (reset when either cannot be had: a failed factorisation, say). Returns its wall time [ms].
-  double refresh(MainGraph& main, const OdometryHistory& history, const LocalizerParams& params);
+  double refresh(MainGraph& main, const OdometryHistory& history, const OdometryNoiseModel& model);
   /// A sample after `previous` (the newest one before it); nothing before the first restart.
-  void advance(const OdometrySample& previous, const OdometrySample& sample, const LocalizerParams& params);
+  void advance(const OdometrySample& previous, const OdometrySample& sample, const OdometryNoiseModel& model);
   /// The covariance at time t when it was carried to exactly that sample.
   std::optional<Matrix6d> at(double t) const { return covariance_ && t_ == t ? covariance_ : std::nullopt; }
 

@@ -23,6 +23,12 @@ OdometryNoiseModel noiseModelOf(const LocalizerParams& params) {
   return model;
 }
 
+OdometryNoiseModel TemporaryGraph::noiseModel() const {
+  OdometryNoiseModel model = noiseModelOf(params_);
+  model.scale = odometry_scale_;
+  return model;
+}
+
 TemporaryGraph::TemporaryGraph(const LocalizerParams& params, std::shared_ptr<const RobustKernel> kernel)
     : params_(params), kernel_(std::move(kernel)) {}
 
@@ -48,7 +54,7 @@ Result<TemporaryGraph::Attachment> TemporaryGraph::attach(double t, const Eigen:
   attachment.node_T_body = node.odom_T_body.inverse() * odom_T_body;
   attachment.compensated = t > node.t;
   if (attachment.compensated) {
-    Result<Matrix6d> covariance = history.relativeCovariance(node.t, t, noiseModelOf(params_));
+    Result<Matrix6d> covariance = history.relativeCovariance(node.t, t, noiseModel());
     if (!covariance.ok()) return covariance.status();
     attachment.compensation = *covariance;
   }
@@ -117,7 +123,7 @@ Status TemporaryGraph::addObservation(const GateObservation& observation, const 
 }
 
 Result<Matrix6d> TemporaryGraph::odometryInformation(double t_from, double t_to, const OdometryHistory& history) const {
-  Result<Matrix6d> covariance = history.relativeCovariance(t_from, t_to, noiseModelOf(params_));
+  Result<Matrix6d> covariance = history.relativeCovariance(t_from, t_to, noiseModel());
   if (!covariance.ok()) return covariance.status();
   return poseInformationFromMetricCovariance(*covariance, "temporary odometry covariance");
 }

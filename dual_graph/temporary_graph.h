@@ -57,6 +57,8 @@ class TemporaryGraph {
   /// `history` must cover [first node, t_keyframe]. Never fails: unusable gates are counted.
   DistillationResult distil(double t_keyframe, const Eigen::Isometry3d& odom_T_keyframe,
                             const OdometryHistory& history);
+  /// The odometry scale for the motion compensation and the chain's increments (OdometryNoiseLearner).
+  void setOdometryScale(const OdometryNoiseScale& scale) { odometry_scale_ = scale; }
 
   bool empty() const { return nodes_.empty(); }
   size_t numObservations() const { return observations_.size() + corners_.size(); }
@@ -130,7 +132,11 @@ class TemporaryGraph {
   Status optimizeWithBlocks(const std::vector<int>& gate_vertices, std::vector<Result<Eigen::MatrixXd>>& covariances,
                             GatePoses& gate_estimates, DistillationResult& result);
 
+  /// The per-metre model of params_ under odometry_scale_.
+  OdometryNoiseModel noiseModel() const;
+
   const LocalizerParams params_;
+  OdometryNoiseScale odometry_scale_;
   std::shared_ptr<const RobustKernel> kernel_;
   std::vector<Node, Eigen::aligned_allocator<Node>> nodes_;
   std::vector<NodeObservation, Eigen::aligned_allocator<NodeObservation>> observations_;

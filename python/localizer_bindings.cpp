@@ -106,6 +106,9 @@ void bindParams(py::module_& m) {
   DG_FIELD(odom_sigma_t, "odometry translation sigma per sqrt(metre) travelled [m/sqrt(m)]");
   DG_FIELD(odom_sigma_r, "odometry rotation sigma per sqrt(metre) travelled [rad/sqrt(m)]");
   DG_FIELD(odom_min_distance, "floor of the distance d in sigma * sqrt(d), so hovering keeps a usable covariance [m]");
+  DG_FIELD(learn_odometry_noise, "learn the odometry covariance's sigma factors (and the gate edges' by range) in flight");
+  DG_FIELD(odom_scale_min, "lowest learnt sigma factor on the odometry covariance [-]");
+  DG_FIELD(odom_scale_max, "highest learnt sigma factor on the odometry covariance [-]");
   DG_FIELD(map_sigma_t, "prior sigma of each map gate's position (localization mode) [m]");
   DG_FIELD(map_sigma_r, "prior sigma of each map gate's orientation (localization mode) [rad]");
   DG_FIELD(fix_map_gates, "true: map gates are fixed vertices instead of prior edges");

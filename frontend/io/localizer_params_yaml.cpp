@@ -56,6 +56,7 @@ constexpr FieldSlot<double> kNumberFields[] = {
     {"d_single", &LocalizerParams::d_single}, {"theta_single", &LocalizerParams::theta_single},
     {"odom_sigma_t", &LocalizerParams::odom_sigma_t}, {"odom_sigma_r", &LocalizerParams::odom_sigma_r},
     {"odom_min_distance", &LocalizerParams::odom_min_distance},
+    {"odom_scale_min", &LocalizerParams::odom_scale_min}, {"odom_scale_max", &LocalizerParams::odom_scale_max},
     {"map_sigma_t", &LocalizerParams::map_sigma_t}, {"map_sigma_r", &LocalizerParams::map_sigma_r},
     {"initial_sigma_t", &LocalizerParams::initial_sigma_t}, {"initial_sigma_r", &LocalizerParams::initial_sigma_r},
     {"main_time_budget_ms", &LocalizerParams::main_time_budget_ms},
@@ -75,6 +76,7 @@ constexpr FieldSlot<int> kIntegerFields[] = {
 constexpr FieldSlot<bool> kBoolFields[] = {
     {"mapping", &LocalizerParams::mapping},
     {"use_input_covariance", &LocalizerParams::use_input_covariance},
+    {"learn_odometry_noise", &LocalizerParams::learn_odometry_noise},
     {"fix_map_gates", &LocalizerParams::fix_map_gates},
     {"single_all_detections", &LocalizerParams::single_all_detections},
 };

@@ -25,6 +25,9 @@ inline void expectSameLocalizerParams(const LocalizerParams& a, const LocalizerP
   EXPECT_EQ(a.odom_sigma_t, b.odom_sigma_t);
   EXPECT_EQ(a.odom_sigma_r, b.odom_sigma_r);
   EXPECT_EQ(a.odom_min_distance, b.odom_min_distance);
+  EXPECT_EQ(a.learn_odometry_noise, b.learn_odometry_noise);
+  EXPECT_EQ(a.odom_scale_min, b.odom_scale_min);
+  EXPECT_EQ(a.odom_scale_max, b.odom_scale_max);
   EXPECT_EQ(a.map_sigma_t, b.map_sigma_t);
   EXPECT_EQ(a.map_sigma_r, b.map_sigma_r);
   EXPECT_EQ(a.fix_map_gates, b.fix_map_gates);

@@ -22,7 +22,7 @@ const char* const kSource = "cfg.yaml";
 /// Every field name of LocalizerParams (the YAML keys).
 const std::vector<std::string> kFieldNames = {
     "mode", "landmark", "mapping", "d_main", "theta_main", "keyframe_max_interval_s", "d_temp", "theta_temp", "d_single", "theta_single",
-    "single_all_detections", "use_input_covariance", "odom_sigma_t", "odom_sigma_r", "odom_min_distance", "map_sigma_t", "map_sigma_r",
+    "single_all_detections", "use_input_covariance", "odom_sigma_t", "odom_sigma_r", "odom_min_distance", "learn_odometry_noise", "odom_scale_min", "odom_scale_max", "map_sigma_t", "map_sigma_r",
     "fix_map_gates", "initial_world_T_odom", "initial_sigma_t", "initial_sigma_r", "main_max_iterations",
     "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "temp_relative_decrease_stop", "temp_model_decrease_stop", "linear_solver", "lm_damping", "temp_solver", "robust_kernel", "chi2_gate_pose",
     "chi2_gate_point", "lost_after_s", "lost_min_failures", "detection_latency"};
@@ -43,6 +43,9 @@ use_input_covariance: false
 odom_sigma_t: 0.07
 odom_sigma_r: 0.02
 odom_min_distance: 0.1
+learn_odometry_noise: true
+odom_scale_min: 0.1
+odom_scale_max: 2.5
 map_sigma_t: 0.3
 map_sigma_r: 0.04
 fix_map_gates: true
@@ -73,6 +76,7 @@ LocalizerParams allOverriddenExpected() {
   p.d_main = 3.5, p.theta_main = 0.25, p.keyframe_max_interval_s = 2.5, p.d_temp = 0.2, p.theta_temp = 0.05, p.d_single = 1.5, p.theta_single = 0.75;
   p.single_all_detections = false;
   p.use_input_covariance = false, p.odom_sigma_t = 0.07, p.odom_sigma_r = 0.02, p.odom_min_distance = 0.1;
+  p.learn_odometry_noise = true, p.odom_scale_min = 0.1, p.odom_scale_max = 2.5;
   p.map_sigma_t = 0.3, p.map_sigma_r = 0.04, p.fix_map_gates = true;
   p.initial_world_T_odom.linear() = quatFromXyzw(0, 0, std::sqrt(0.5), std::sqrt(0.5)).toRotationMatrix();
   p.initial_world_T_odom.translation() = Eigen::Vector3d(1, -2, 3.5);
@@ -250,6 +254,9 @@ TEST(LocalizerParamsValidation, EachOutOfDomainFieldIsNamed) {
       {"odom_sigma_t", [](LocalizerParams& p) { p.odom_sigma_t = 0.0; }},
       {"odom_sigma_r", [](LocalizerParams& p) { p.odom_sigma_r = -0.01; }},
       {"odom_min_distance", [](LocalizerParams& p) { p.odom_min_distance = 0.0; }},
+      {"odom_scale_min", [](LocalizerParams& p) { p.odom_scale_min = 0.0; }},
+      {"odom_scale_max", [](LocalizerParams& p) { p.odom_scale_max = std::nan(""); }},
+      {"odom_scale_min", [](LocalizerParams& p) { p.odom_scale_min = 4.0; }},  // above odom_scale_max
       {"map_sigma_t", [](LocalizerParams& p) { p.map_sigma_t = 0.0; }},
       {"map_sigma_r", [](LocalizerParams& p) { p.map_sigma_r = 0.0; }},
       {"initial_sigma_r", [](LocalizerParams& p) { p.initial_sigma_r = 0.0; }},
