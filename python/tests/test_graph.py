@@ -8,7 +8,7 @@ import unittest
 import numpy as np
 
 import dualgraph
-from common import SHARED_DIR, run_cli
+from common import SHARED_DIR, needs_shared, run_cli
 
 PARKING_GARAGE = os.path.join(SHARED_DIR, "data", "posegraph", "parking-garage.g2o")
 
@@ -28,7 +28,7 @@ def se3_chain(n, rng):
 
 
 class ParkingGarage(unittest.TestCase):
-    @unittest.skipUnless(os.path.exists(PARKING_GARAGE), "needs ../shared/data/posegraph/parking-garage.g2o")
+    @needs_shared(PARKING_GARAGE)
     def test_chi2_equals_the_cli(self):
         cli = json.loads(run_cli("optimize", PARKING_GARAGE, "--json"))
         graph = dualgraph.Graph.load(PARKING_GARAGE)
@@ -47,7 +47,7 @@ class ParkingGarage(unittest.TestCase):
         self.assertAlmostEqual(graph.chi2(), summary.final_chi2, delta=1e-9 * summary.final_chi2)
         self.assertLess(summary.final_chi2, 1.3)  # README: 1.238684 after LM
 
-    @unittest.skipUnless(os.path.exists(PARKING_GARAGE), "needs ../shared/data/posegraph/parking-garage.g2o")
+    @needs_shared(PARKING_GARAGE)
     def test_each_damping_from_the_files_start_equals_the_cli(self):
         for damping in ("identity", "diagonal"):
             cli = json.loads(run_cli("optimize", PARKING_GARAGE, "--json", "--damping", damping, "--init", "none"))
@@ -63,7 +63,7 @@ class ParkingGarage(unittest.TestCase):
         with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "unknown initialisation 'spectral'"):
             graph.optimize(init="spectral")
 
-    @unittest.skipUnless(os.path.exists(PARKING_GARAGE), "needs ../shared/data/posegraph/parking-garage.g2o")
+    @needs_shared(PARKING_GARAGE)
     def test_marginals_of_the_optimum(self):
         graph = dualgraph.Graph.load(PARKING_GARAGE)
         gauge = graph.fix_gauge("lowest")
@@ -80,7 +80,7 @@ class ParkingGarage(unittest.TestCase):
         metric = graph.marginal(far, metric=True)
         np.testing.assert_allclose(metric, dualgraph.covariance_g2o_to_metric(sigma), rtol=1e-12)
 
-    @unittest.skipUnless(os.path.exists(PARKING_GARAGE), "needs ../shared/data/posegraph/parking-garage.g2o")
+    @needs_shared(PARKING_GARAGE)
     def test_marginal_blocks_of_every_pose_equal_the_per_vertex_marginals(self):
         graph = dualgraph.Graph.load(PARKING_GARAGE)
         gauge = graph.fix_gauge("highest")

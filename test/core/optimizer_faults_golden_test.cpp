@@ -20,8 +20,8 @@ namespace {
 class UnfixedParkingGarage : public ::testing::TestWithParam<LinearSolverKind> {
  protected:
   void SetUp() override {
+    DG_SKIP_WITHOUT_SHARED("data/posegraph/parking-garage.g2o");
     const std::string path = testing::sharedPath("data/posegraph/parking-garage.g2o");
-    if (!testing::fileExists(path)) GTEST_SKIP() << "missing shared dataset " << path;
     ASSERT_TRUE(registerBuiltinTypes(registry_).ok());
     const auto report = readG2o(path, registry_, graph_);
     ASSERT_TRUE(report.ok()) << report.status().toString();

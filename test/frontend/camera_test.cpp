@@ -144,7 +144,7 @@ TEST(CameraYaml, EveryErrorNamesFileLineAndField) {
 
 TEST(RatmCalibrationJson, RealFileLoads) {
   const std::string path = testing::sharedPath("data/ratm/tii_camera_calibration/calib_ap-ellipse-lemniscate.json");
-  if (!testing::fileExists(path)) GTEST_SKIP() << "../shared is absent: " << path;
+  DG_SKIP_WITHOUT_SHARED("data/ratm/tii_camera_calibration/calib_ap-ellipse-lemniscate.json");
   auto camera = loadRatmCalibrationJson(path);
   ASSERT_TRUE(camera.ok()) << camera.status().toString();
   EXPECT_EQ(camera->model, Distortion::kRadTan);

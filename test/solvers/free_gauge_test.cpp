@@ -48,7 +48,10 @@ void expectFreeGauge(const Status& status, int named_vertex) {
   EXPECT_NE(message.find("prior"), std::string::npos) << message;
 }
 
-class FreeGauge : public ::testing::TestWithParam<LinearSolverKind> {};
+class FreeGauge : public ::testing::TestWithParam<LinearSolverKind> {
+ protected:
+  void SetUp() override { DG_SKIP_WITHOUT_SHARED("data/posegraph/smallGrid3D.g2o"); }
+};
 
 TEST_P(FreeGauge, PoseGraphsWithNothingFixedAreFailedPrecondition) {
   for (const char* name : {"smallGrid3D.g2o", "intel.g2o"}) {

@@ -91,7 +91,10 @@ void expectBlocksEqualPerVertexSolves(Graph& graph, Factor factor) {
   ::testing::Test::RecordProperty("worst_relative_difference_" + factorName(factor), std::to_string(worst));
 }
 
-class SelectedInverse : public ::testing::TestWithParam<Factor> {};
+class SelectedInverse : public ::testing::TestWithParam<Factor> {
+ protected:
+  void SetUp() override { DG_SKIP_WITHOUT_SHARED("data/posegraph/smallGrid3D.g2o"); }
+};
 
 TEST_P(SelectedInverse, Se2PoseGraphIntelEqualsPerVertexSolves) {
   Graph graph;
@@ -132,6 +135,7 @@ INSTANTIATE_TEST_SUITE_P(Factors, SelectedInverse,
                          [](const auto& info) { return factorName(info.param); });
 
 TEST(SelectedInverse, IdsInAnyOrderRepeatedFixedAndErrors) {
+  DG_SKIP_WITHOUT_SHARED("data/posegraph/smallGrid3D.g2o");
   Graph graph;
   ASSERT_TRUE(testing::loadSharedPoseGraph("smallGrid3D.g2o", graph, true).ok());
   const int first = graph.vertices().begin()->first;

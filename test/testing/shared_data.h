@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: MIT
+// Paths of the test data (../shared, the repository, the built binaries), and the skip when ../shared is absent.
 #pragma once
+
+#include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <fstream>
@@ -28,4 +31,25 @@ inline std::string binaryPath(const std::string& name) {
 
 inline bool fileExists(const std::string& path) { return std::ifstream(path).good(); }
 
+/// True where ../shared must be present (CI sets DUALGRAPH_REQUIRE_SHARED=1): a test that needs it then fails
+/// instead of skipping.
+inline bool sharedDataRequired() {
+  const char* value = std::getenv("DUALGRAPH_REQUIRE_SHARED");
+  return value != nullptr && std::string(value) != "" && std::string(value) != "0";
+}
+
 }  // namespace dualgraph::testing
+
+/// In a test body: skips the test, in one line naming the file, when `relative` (a path inside ../shared, e.g.
+/// "data/posegraph/intel.g2o") is missing — a user's clone has no ../shared — or fails it when
+/// DUALGRAPH_REQUIRE_SHARED is set (CI, which has ../shared, runs every such test).
+#define DG_SKIP_WITHOUT_SHARED(relative)                                                                   \
+  do {                                                                                                      \
+    const std::string dg_shared_file = ::dualgraph::testing::sharedPath(relative);                          \
+    if (!::dualgraph::testing::fileExists(dg_shared_file)) {                                                \
+      if (::dualgraph::testing::sharedDataRequired()) {                                                     \
+        FAIL() << "DUALGRAPH_REQUIRE_SHARED is set and " << dg_shared_file << " is missing";                \
+      }                                                                                                     \
+      GTEST_SKIP() << "needs " << dg_shared_file << " (../shared: tests and CI only, not in a user's clone)"; \
+    }                                                                                                       \
+  } while (0)

@@ -86,6 +86,7 @@ TEST(CliUsage, AValueOutOfRangeIsOneShortLineAndExitTwo) {
 }
 
 TEST(CliUsage, OutputsAreCheckedBeforeTheWorkNamingTheFileAndTheReason) {
+  DG_SKIP_WITHOUT_SHARED("data/posegraph/MIT.g2o");
   const std::string graph = testing::sharedPath("data/posegraph/MIT.g2o");
   const CommandRun optimize = runDualgraph("optimize " + graph + " -o /nonexistent-folder/x.g2o");
   EXPECT_EQ(optimize.exit_code, 1);

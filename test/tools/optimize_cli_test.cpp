@@ -208,6 +208,7 @@ TEST(OptimizeCli, MarginalsOfAPointWithTwoPriorsAreTheInverseOfTheSummedInformat
 }
 
 TEST(OptimizeCli, MarginalsWritesOneSymmetricBlockPerFreeVertex) {
+  DG_SKIP_WITHOUT_SHARED("data/posegraph/smallGrid3D.g2o");
   const std::string input = testing::sharedPath("data/posegraph/smallGrid3D.g2o");
   const std::string csv = tempDir() + "/grid_marginals.csv";
   const CommandRun run = runDualgraph("optimize " + input + " --json --marginals " + csv);

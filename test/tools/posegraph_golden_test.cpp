@@ -33,9 +33,12 @@ const Golden kGolden[] = {
     {"manhattan.odom", 23318531321.784580, 146120.669454},
 };
 
-class PoseGraphGolden : public ::testing::TestWithParam<Golden> {};
+class PoseGraphGolden : public ::testing::TestWithParam<Golden> {
+ protected:
+  void SetUp() override { DG_SKIP_WITHOUT_SHARED("data/posegraph/smallGrid3D.g2o"); }
+};
 
-void loadOrSkip(const std::string& name, const TypeRegistry& registry, Graph& graph) {
+void loadShared(const std::string& name, const TypeRegistry& registry, Graph& graph) {
   const std::string path = testing::sharedPath("data/posegraph/" + name + ".g2o");
   ASSERT_TRUE(testing::fileExists(path)) << "missing shared dataset " << path;
   const auto report = readG2o(path, registry, graph);
@@ -49,7 +52,7 @@ TEST_P(PoseGraphGolden, InitialChi2EqualsG2oAndFinalChi2IsAtOrBelowG2o) {
   for (const char* linear : {"cholmod", "eigen"}) {
     SCOPED_TRACE(linear);
     Graph graph;
-    loadOrSkip(golden.file, registry, graph);
+    loadShared(golden.file, registry, graph);
     const double initial = graph.chi2();
     // g2o prints 6 decimals: allow that rounding on top of the 1e-9 relative requirement.
     EXPECT_NEAR(initial, golden.g2o_initial_chi2, 1e-9 * golden.g2o_initial_chi2 + 5e-7);
@@ -84,6 +87,7 @@ INSTANTIATE_TEST_SUITE_P(SharedDatasets, PoseGraphGolden, ::testing::ValuesIn(kG
                          });
 
 TEST(PoseGraphGolden, EdgesOnlyManhattanReportsUnknownVertices) {
+  DG_SKIP_WITHOUT_SHARED("data/posegraph/manhattan.g2o");
   TypeRegistry registry;
   ASSERT_TRUE(registerBuiltinTypes(registry).ok());
   Graph graph;
@@ -96,10 +100,11 @@ TEST(PoseGraphGolden, EdgesOnlyManhattanReportsUnknownVertices) {
 }
 
 TEST(PoseGraphGolden, TinyGrid3DRoundTripsThroughG2oWithTheSameChi2) {
+  DG_SKIP_WITHOUT_SHARED("data/posegraph/tinyGrid3D.g2o");
   TypeRegistry registry;
   ASSERT_TRUE(registerBuiltinTypes(registry).ok());
   Graph graph;
-  loadOrSkip("tinyGrid3D", registry, graph);
+  loadShared("tinyGrid3D", registry, graph);
   std::stringstream text;
   ASSERT_TRUE(writeG2o(text, registry, graph).ok());
   Graph reread;

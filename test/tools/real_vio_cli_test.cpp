@@ -35,7 +35,7 @@ std::string runV201(const std::string& vio) {
 class RealVio : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (!testing::fileExists(realVio("V2_01_easy.gt.tum"))) GTEST_SKIP() << "no " << realVio("") << " (../shared)";
+    DG_SKIP_WITHOUT_SHARED("data/real_vio/V2_01_easy.gt.tum");
   }
 };
 

@@ -24,7 +24,10 @@ const Dataset kDatasets[] = {
     {"intel", 551.735731},             {"MIT", 4414181662.524597},       {"manhattan.odom", 23318531321.784580},
 };
 
-class G2oChi2Golden : public ::testing::TestWithParam<Dataset> {};
+class G2oChi2Golden : public ::testing::TestWithParam<Dataset> {
+ protected:
+  void SetUp() override { DG_SKIP_WITHOUT_SHARED("data/posegraph/smallGrid3D.g2o"); }
+};
 
 TEST_P(G2oChi2Golden, InitialChi2EqualsG2os) {
   const Dataset& dataset = GetParam();
