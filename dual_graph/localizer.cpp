@@ -14,10 +14,6 @@ namespace {
 /// (FrameInitializerParams::window_s is 4 s by default).
 constexpr double kSearchHistorySeconds = 5.0;
 
-bool exceeds(const Eigen::Isometry3d& increment, double distance, double angle) {
-  return translationOf(increment) >= distance || rotationAngleOf(increment) >= angle;
-}
-
 }  // namespace
 
 Result<std::unique_ptr<Localizer>> Localizer::create(const LocalizerParams& params, GateMap map,
@@ -86,7 +82,8 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
   processPending(keyframe_due_ ? std::min(*keyframe_due_, sample.t) : sample.t);
   if (params_.mode == LocalizerMode::kDual && !keyframe_due_ && main_->keyframes().back().t < sample.t) {
     const Keyframe& last = main_->keyframes().back();
-    const bool moved = exceeds(last.odom_T_body.inverse() * sample.odom_T_body, params_.d_main, params_.theta_main);
+    const bool moved =
+        incrementExceeds(last.odom_T_body.inverse() * sample.odom_T_body, params_.d_main, params_.theta_main);
     const bool waited = params_.keyframe_max_interval_s > 0.0 && temporary_.numObservations() > 0 &&
                         elapsedAtLeast(sample.t, last.t, params_.keyframe_max_interval_s);
     if (moved || waited) keyframe_due_ = sample.t;
@@ -126,17 +123,7 @@ Status Localizer::checkObservation(const GateObservation& observation) const {
   if (monitor_.state() == TrackingState::kInitialising) {
     return Status(StatusCode::kFailedPrecondition, what + ": initialising, the odometry's frame in the map is not known yet");
   }
-  if (!params_.mapping && !map_.contains(observation.gate_id)) {
-    return Status(StatusCode::kNotFound, what + ": gate " + std::to_string(observation.gate_id) + " is not in the map");
-  }
-  if (observation.kind == ObservationKind::kCorners &&
-      (params_.mode != LocalizerMode::kDual || params_.landmark != LandmarkModel::kPose)) {
-    return Status(StatusCode::kInvalidArgument,
-                  what + ": corner rays (a partial gate) are used by the dual graph with landmark: pose only");
-  }
-  if (params_.landmark == LandmarkModel::kPose && observation.kind == ObservationKind::kPosition) {
-    return Status(StatusCode::kInvalidArgument, what + ": position-only observations need landmark: point");
-  }
+  DG_RETURN_IF_ERROR(checkObservationFor(params_, map_, observation, what));
   if (observation.t < last_observation_t_) {
     return Status(StatusCode::kInvalidArgument, what + " is older than the previous observation at t=" +
                                                     formatTimestamp(last_observation_t_));
@@ -185,7 +172,7 @@ Status Localizer::processObservation(const GateObservation& observation) {
 Status Localizer::processSingleObservation(const GateObservation& observation, const Eigen::Isometry3d& odom_T_body) {
   const Keyframe& node = main_->keyframes().back();
   if (observation.t > node.t &&
-      exceeds(node.odom_T_body.inverse() * odom_T_body, params_.d_single, params_.theta_single)) {
+      incrementExceeds(node.odom_T_body.inverse() * odom_T_body, params_.d_single, params_.theta_single)) {
     DG_RETURN_IF_ERROR(closeSingleNode(observation.t, odom_T_body, false));
   }
   const Keyframe& attach_to = main_->keyframes().back();

@@ -91,9 +91,7 @@ Status validateUncertainties(const LocalizerParams& params) {
   DG_RETURN_IF_ERROR(requirePositiveFinite("odom_min_distance", params.odom_min_distance));
   DG_RETURN_IF_ERROR(requirePositiveFinite("odom_scale_min", params.odom_scale_min));
   DG_RETURN_IF_ERROR(requirePositiveFinite("odom_scale_max", params.odom_scale_max));
-  if (params.odom_scale_min > params.odom_scale_max) {
-    return Status(StatusCode::kInvalidArgument, "odom_scale_min must not exceed odom_scale_max");
-  }
+  if (params.odom_scale_min > params.odom_scale_max) return invalid("odom_scale_min", "must not exceed odom_scale_max");
   DG_RETURN_IF_ERROR(requirePositiveFinite("map_sigma_t", params.map_sigma_t));
   DG_RETURN_IF_ERROR(requirePositiveFinite("map_sigma_r", params.map_sigma_r));
   DG_RETURN_IF_ERROR(validateRigid("initial_world_T_odom", params.initial_world_T_odom));
@@ -168,6 +166,22 @@ Status validateGateMapFor(const LocalizerParams& params, const GateMap& map) {
   for (const auto& [id, world_T_gate] : map.world_T_gate) {
     if (id < 0) return Status(StatusCode::kInvalidArgument, "gate map: negative gate id " + std::to_string(id));
     DG_RETURN_IF_ERROR(checkRigidTransform(world_T_gate, "gate map: gate " + std::to_string(id)));
+  }
+  return Status::okStatus();
+}
+
+Status checkObservationFor(const LocalizerParams& params, const GateMap& map, const GateObservation& observation,
+                           const std::string& what) {
+  if (!params.mapping && !map.contains(observation.gate_id)) {
+    return Status(StatusCode::kNotFound, what + ": gate " + std::to_string(observation.gate_id) + " is not in the map");
+  }
+  if (observation.kind == ObservationKind::kCorners &&
+      (params.mode != LocalizerMode::kDual || params.landmark != LandmarkModel::kPose)) {
+    return Status(StatusCode::kInvalidArgument,
+                  what + ": corner rays (a partial gate) are used by the dual graph with landmark: pose only");
+  }
+  if (params.landmark == LandmarkModel::kPose && observation.kind == ObservationKind::kPosition) {
+    return Status(StatusCode::kInvalidArgument, what + ": position-only observations need landmark: point");
   }
   return Status::okStatus();
 }

@@ -9,6 +9,7 @@
 #include "dualgraph/core/optimizer.h"
 #include "dualgraph/core/status.h"
 #include "dualgraph/dual_graph/gate_map.h"
+#include "dualgraph/dual_graph/measurements.h"
 #include "dualgraph/solvers/linear_solver_factory.h"
 
 namespace dualgraph {
@@ -158,6 +159,11 @@ Status validateLocalizerParams(const LocalizerParams& params);
 /// OK when `map` suits `params`: a map in localization mode (kInvalidArgument "localization mode needs a gate
 /// map" otherwise), non-negative ids, rigid poses (the first offence named).
 Status validateGateMapFor(const LocalizerParams& params, const GateMap& map);
+/// OK when `observation` suits `params` and `map`: its gate in the map (localization mode; kNotFound otherwise), its
+/// kind usable (corner rays: dual mode with pose landmarks; positions: point landmarks; kInvalidArgument otherwise).
+/// Messages start with `what` (which observation).
+Status checkObservationFor(const LocalizerParams& params, const GateMap& map, const GateObservation& observation,
+                           const std::string& what);
 
 /// "dual"/"single", "pose"/"point".
 const char* localizerModeName(LocalizerMode mode);

@@ -47,7 +47,7 @@ Result<TemporaryGraph::Attachment> TemporaryGraph::attach(double t, const Eigen:
   attachment.new_node = nodes_.empty();
   if (!attachment.new_node) {
     const Eigen::Isometry3d increment = nodes_.back().odom_T_body.inverse() * odom_T_body;
-    attachment.new_node = translationOf(increment) >= params_.d_temp || rotationAngleOf(increment) >= params_.theta_temp;
+    attachment.new_node = incrementExceeds(increment, params_.d_temp, params_.theta_temp);
   }
   if (attachment.new_node) return attachment;  // at the node itself: no motion to compensate
   const Node& node = nodes_.back();

@@ -22,6 +22,10 @@ Eigen::Isometry3d interpolatePose(const Eigen::Isometry3d& a, const Eigen::Isome
 /// Straight-line distance [m] and rotation angle [rad] of a relative motion.
 double translationOf(const Eigen::Isometry3d& increment);
 double rotationAngleOf(const Eigen::Isometry3d& increment);
+/// True when `increment` moved at least `distance` [m] or turned at least `angle` [rad] (a keyframe's, a node's test).
+inline bool incrementExceeds(const Eigen::Isometry3d& increment, double distance, double angle) {
+  return translationOf(increment) >= distance || rotationAngleOf(increment) >= angle;
+}
 
 /// OK when `m` is finite, symmetric to 1e-9 relative and positive definite (Cholesky succeeds and the
 /// smallest eigenvalue is above 1e-12 of the largest); otherwise kNotPositiveDefinite / kInvalidArgument
