@@ -127,6 +127,10 @@ void bindRun(py::module_& m) {
                     [](SequenceRunParams& p, bool v) { p.frontend.adaptive_pixel_sigma = v; },
                     "estimate the corner noise sigma [px] from the PnP residuals; the PnP covariance and the "
                     "reprojection gate follow it")
+      .def_property("upright_prior_sigma_deg", [](const SequenceRunParams& p) { return p.frontend.upright_prior_sigma_deg; },
+                    [](SequenceRunParams& p, double v) { p.frontend.upright_prior_sigma_deg = v; },
+                    "PnP holds each gate upright (z against gravity from the VIO's attitude) to this sigma per tilt "
+                    "[deg]; 0: off")
       .def_property("partial_gates", [](const SequenceRunParams& p) { return p.frontend.partial_gates; },
                     [](SequenceRunParams& p, bool v) { p.frontend.partial_gates = v; },
                     "use gates partly out of the image (2-3 corners) as corner rays (dual mode, landmark 'pose')")
@@ -205,7 +209,7 @@ void bindGateFrontend(py::module_& m) {
            "sequence"_a, py::arg_v("config", SequenceRunParams{}, "RunConfig()"),
            "The sequence's map and camera, the config's frontend section.")
       .def("process_corners",
-           [](GateFrontend& f, double t, IdsLike gate_ids, ArrayLike pixels, ArrayLike world_T_body) {
+           [](GateFrontend& f, double t, IdsLike gate_ids, ArrayLike pixels, ArrayLike world_T_body, py::object odom_T_body) {
              const std::vector<int> ids = toIds(gate_ids, "gate_ids", -1, -1);  // -1: unknown, the association decides
              DoubleArray corners = toDoubles(pixels, "pixels");
              if (corners.ndim() != 3 || corners.shape(0) != static_cast<py::ssize_t>(ids.size()) || corners.shape(1) != 4 || corners.shape(2) != 2) {
@@ -218,11 +222,15 @@ void bindGateFrontend(py::module_& m) {
                image[i].gate_id = ids[i];
                for (int c = 0; c < 4; ++c) image[i].corners[c] = Eigen::Vector2d(corners.data()[8 * i + 2 * c], corners.data()[8 * i + 2 * c + 1]);
              }
-             return unwrap(f.processCorners(image, toPose(world_T_body, "world_T_body")));
+             if (odom_T_body.is_none()) return unwrap(f.processCorners(image, toPose(world_T_body, "world_T_body")));
+             const Eigen::Matrix3d odom_R_body = toPose(odom_T_body, "odom_T_body").linear();
+             return unwrap(f.processCorners(image, toPose(world_T_body, "world_T_body"), &odom_R_body));
            },
-           "t"_a, "gate_ids"_a, "pixels"_a, "world_T_body"_a,
+           "t"_a, "gate_ids"_a, "pixels"_a, "world_T_body"_a, "odom_T_body"_a = py::none(),
            "One image's corner detections -> observations with map ids. t [s]; gate_ids (m,) (-1: unknown); pixels "
-           "(m, 4, 2) tl tr br bl [u v] [px] (nan: a corner not seen); world_T_body at t (7,) or (4, 4) [m].")
+           "(m, 4, 2) tl tr br bl [u v] [px] (nan: a corner not seen); world_T_body at t (7,) or (4, 4) [m]; odom_T_body: "
+           "the VIO's pose at t, whose attitude holds the gates upright in PnP (as `run` does; frontend "
+           "upright_prior_sigma_deg), or None.")
       .def("process_poses",
            [](GateFrontend& f, const std::vector<GateObservation>& detections, ArrayLike world_T_body) {
              return unwrap(f.processPoses(detections, toPose(world_T_body, "world_T_body")));

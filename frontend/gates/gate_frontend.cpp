@@ -76,7 +76,7 @@ GatePnpParams GateFrontend::pnpParams() const {
 }
 
 Result<SolvedDetections> GateFrontend::solveImage(const std::vector<CornerDetection>& image,
-                                                  PixelNoiseEstimator* noise) const {
+                                                  PixelNoiseEstimator* noise, const Eigen::Matrix3d* odom_R_body) const {
   if (!camera_) return Status(StatusCode::kFailedPrecondition, "gate frontend: corner detections need a camera");
   SolvedDetections solved;
   for (const CornerDetection& detection : image) {
@@ -94,7 +94,13 @@ Result<SolvedDetections> GateFrontend::solveImage(const std::vector<CornerDetect
     solved.pixel_sigma = pnp.pixel_sigma;
     GateCornerPixels pixels;
     for (int i = 0; i < 4; ++i) pixels.col(i) = detection.corners[static_cast<size_t>(i)];
-    const GatePnpSolution solution = solveGatePnp(pixels, *camera_, GateSide::kFront, pnp);
+    std::optional<UprightGatePrior> upright;
+    if (odom_R_body != nullptr && params_.upright_prior_sigma_deg > 0.0) {
+      const Eigen::Vector3d up_in_body = odom_R_body->transpose() * Eigen::Vector3d::UnitZ();
+      upright = UprightGatePrior{camera_->body_T_camera.linear().transpose() * up_in_body,
+                                 params_.upright_prior_sigma_deg * M_PI / 180.0};
+    }
+    const GatePnpSolution solution = solveGatePnp(pixels, *camera_, GateSide::kFront, pnp, upright ? &*upright : nullptr);
     if (noise != nullptr && tellsTheNoise(solution)) noise->add(solution.reprojection_rms);
     if (!solution.ok()) {
       ++solved.pnp_rejected;
@@ -106,8 +112,10 @@ Result<SolvedDetections> GateFrontend::solveImage(const std::vector<CornerDetect
   return solved;
 }
 
-Result<SolvedDetections> GateFrontend::solve(const std::vector<CornerDetection>& image, bool learn_noise) {
-  Result<SolvedDetections> solved = solveImage(image, learn_noise && params_.adaptive_pixel_sigma ? &noise_ : nullptr);
+Result<SolvedDetections> GateFrontend::solve(const std::vector<CornerDetection>& image, bool learn_noise,
+                                            const Eigen::Matrix3d* odom_R_body) {
+  Result<SolvedDetections> solved =
+      solveImage(image, learn_noise && params_.adaptive_pixel_sigma ? &noise_ : nullptr, odom_R_body);
   if (solved.ok()) counters_.pnp_fits += solved->detections - solved->partial;
   return solved;
 }
@@ -134,8 +142,9 @@ Result<std::vector<GateObservation>> GateFrontend::associateSolved(const SolvedD
 }
 
 Result<std::vector<GateObservation>> GateFrontend::processCorners(const std::vector<CornerDetection>& image,
-                                                                  const Eigen::Isometry3d& world_T_body) {
-  Result<SolvedDetections> solved = solve(image, true);
+                                                                  const Eigen::Isometry3d& world_T_body,
+                                                                  const Eigen::Matrix3d* odom_R_body) {
+  Result<SolvedDetections> solved = solve(image, true, odom_R_body);
   if (!solved.ok()) return solved.status();
   return associateSolved(*solved, world_T_body);
 }

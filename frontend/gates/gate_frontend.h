@@ -31,6 +31,12 @@ struct GateFrontendParams {
   /// projection (partial_gate.h, within the association distance) and handed over as corner rays, which the
   /// dual graph's temporary graph turns into corner edges; false (or mapping): counted in partial_skipped.
   bool partial_gates = true;
+  /// > 0: PnP holds each gate upright (its z axis against gravity, the VIO's attitude at the image giving gravity
+  /// in the camera; the VIO's frame z up) to this σ on each tilt [deg] (solveGatePnp's UprightGatePrior), where the
+  /// caller gives that attitude (the pipeline does); 0 (the default): no such prior. With 2° a far gate's tilt comes
+  /// from gravity and its range is not pulled short, but the field and real-VIO tables do not gain and some VIO
+  /// jumps are noticed later (bench/README.md, "Upright gates").
+  double upright_prior_sigma_deg = 0.0;
 };
 
 /// Where the detections went, by reason (every detection lands in exactly one counter).
@@ -82,7 +88,10 @@ class GateFrontend {
   /// PnP on the whole gates of one image (all at the same t); with `learn_noise` every fitted pose's reprojection
   /// RMS also teaches the pixel-noise estimate (adaptive_pixel_sigma). Nothing is counted until associateSolved.
   /// kFailedPrecondition without a camera.
-  Result<SolvedDetections> solve(const std::vector<CornerDetection>& image, bool learn_noise);
+  /// With `odom_R_body` (the VIO's attitude at the image, its frame z up) and upright_prior_sigma_deg > 0, PnP holds
+  /// the gates upright.
+  Result<SolvedDetections> solve(const std::vector<CornerDetection>& image, bool learn_noise,
+                                 const Eigen::Matrix3d* odom_R_body = nullptr);
   /// Pose detections of one instant as a SolvedDetections (nothing to solve).
   static SolvedDetections fromPoses(const std::vector<GateObservation>& detections);
   /// An instant solved before (solve, fromPoses) → observations with map ids at the current corrected pose
@@ -92,8 +101,10 @@ class GateFrontend {
   /// Corner detections of one image (all at the same t) → observations with map ids: the whole gates
   /// (pose observations) in input order of the accepted ones, then the partial ones (kCorners, when
   /// `partial_gates`). kFailedPrecondition without a camera; other errors are counted, not returned.
+  /// With `odom_R_body` (the VIO's attitude at the image), PnP holds the gates upright as `solve` does.
   Result<std::vector<GateObservation>> processCorners(const std::vector<CornerDetection>& image,
-                                                      const Eigen::Isometry3d& world_T_body);
+                                                      const Eigen::Isometry3d& world_T_body,
+                                                      const Eigen::Matrix3d* odom_R_body = nullptr);
   /// The PnP step alone (no association, nothing counted): the corner detections of one image as pose
   /// observations keeping the detector's gate ids (for FrameInitializer); partial detections are left out
   /// (PnP needs four corners). kFailedPrecondition without a camera.
@@ -120,7 +131,8 @@ class GateFrontend {
     counters_.pixel_sigma = params.pnp.pixel_sigma;
   }
   /// PnP on the complete detections of one image; every fitted pose's RMS goes to `noise` when not null.
-  Result<SolvedDetections> solveImage(const std::vector<CornerDetection>& image, PixelNoiseEstimator* noise) const;
+  Result<SolvedDetections> solveImage(const std::vector<CornerDetection>& image, PixelNoiseEstimator* noise,
+                                      const Eigen::Matrix3d* odom_R_body = nullptr) const;
   /// The PnP parameters now: the map's gate size, and σ and the gate from the noise estimate when adaptive.
   GatePnpParams pnpParams() const;
   Result<std::vector<GateObservation>> associate(std::vector<GateObservation> detections,

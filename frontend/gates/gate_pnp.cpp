@@ -2,6 +2,7 @@
 #include "dualgraph/frontend/gates/gate_pnp.h"
 
 #include "dualgraph/frontend/gates/gate_pnp_posterior.h"
+#include "dualgraph/frontend/gates/gate_pnp_upright.h"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
@@ -283,6 +284,28 @@ bool computeCovariance(GatePnpSolution& solution, bool has_alternative, const Co
   return true;
 }
 
+/// Every candidate refined under the upright prior; the one of lowest posterior cost becomes the solution's pose.
+/// The RMS stays the best pixel-only fit's: the detection's own fit, what the reprojection gate and the pixel-noise
+/// estimate judge. False when none stays in front of the camera.
+bool applyUprightPrior(GatePnpSolution& solution, const PnpCandidates& candidates, const Corners3& p_gate,
+                       const GateCornerPixels& corners, const CameraModel& camera, const GatePnpParams& params,
+                       const UprightGatePrior& upright) {
+  const pnp_detail::UprightPrior prior{upright.up_in_camera.normalized(), upright.sigma};
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (const Eigen::Isometry3d& start : candidates.poses) {
+    Eigen::Isometry3d pose = start;
+    const double cost = pnp_detail::refineUpright(pose, p_gate, corners, camera, params.pixel_sigma, prior,
+                                                  params.max_refinement_iterations);
+    if (cost >= 0.0 && cost < best_cost) {
+      best_cost = cost;
+      solution.camera_T_gate = pose;
+    }
+  }
+  if (!std::isfinite(best_cost)) return false;
+  solution.body_T_gate = camera.body_T_camera * solution.camera_T_gate;
+  return true;
+}
+
 /// The acceptance checks on a solved pose: reprojection RMS, range, conditioning.
 GatePnpSolution accept(GatePnpSolution solution, const GatePnpParams& params) {
   if (solution.reprojection_rms > params.max_reprojection_rms) {
@@ -306,7 +329,7 @@ GatePnpSolution accept(GatePnpSolution solution, const GatePnpParams& params) {
 }  // namespace
 
 GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel& camera, GateSide side,
-                             const GatePnpParams& params) {
+                             const GatePnpParams& params, const UprightGatePrior* upright) {
   GatePnpSolution solution;
   if (!corners.allFinite()) return reject(solution, GatePnpRejection::kNonFiniteInput, "a corner pixel is not finite");
   for (const Status& status : {camera.validate(), checkParams(params)}) {
@@ -335,8 +358,18 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
     solution.alternative_reprojection_rms = candidates.rms[static_cast<size_t>(alternative)];
     solution.ambiguous = solution.alternative_reprojection_rms <= params.max_reprojection_rms;
   }
-  if (!computeCovariance(solution, alternative >= 0, p_gate, corners, camera, params)) {
+  if (upright != nullptr && !applyUprightPrior(solution, candidates, p_gate, corners, camera, params, *upright)) {
     return reject(solution, GatePnpRejection::kSolverFailed, "the pose puts a corner behind the camera");
+  }
+  if (!computeCovariance(solution, alternative >= 0 && upright == nullptr, p_gate, corners, camera, params)) {
+    return reject(solution, GatePnpRejection::kSolverFailed, "the pose puts a corner behind the camera");
+  }
+  if (upright != nullptr) {
+    pnp_detail::UprightPrior prior{upright->up_in_camera, upright->sigma};
+    if (!pnp_detail::uprightCovariance(solution.camera_T_gate, p_gate, camera, params.pixel_sigma, prior,
+                                       solution.covariance)) {
+      return reject(solution, GatePnpRejection::kSolverFailed, "the pose puts a corner behind the camera");
+    }
   }
   return accept(solution, params);
 }

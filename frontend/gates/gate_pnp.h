@@ -111,8 +111,19 @@ struct GatePnpSolution {
 /// The corners tl, tr, br, bl in the gate frame [m] (columns) for a gate of inner side `gate_size`.
 Eigen::Matrix<double, 3, 4> gateCornersInGateFrame(double gate_size, GateSide side = GateSide::kFront);
 
-/// Pose of the gate from its four corner pixels (order above), seen from `side`. Never throws.
+/// A prior that the gate stands upright: its z axis along `up_in_camera` (unit; the direction opposite gravity in
+/// the camera frame, from the VIO's attitude), with `sigma` [rad] on each of the two tilts across it.
+struct UprightGatePrior {
+  Eigen::Vector3d up_in_camera = Eigen::Vector3d::UnitZ();
+  double sigma = 0.0;  ///< [rad], > 0
+};
+
+/// Pose of the gate from its four corner pixels (order above), seen from `side`. Never throws. With `upright`,
+/// the pose is the posterior's mode under that prior (every candidate refined with it, the most probable kept)
+/// and the covariance its Laplace one, (JᵀJ/σ² + the prior's information)⁻¹: a far gate's tilt, which its image
+/// hardly fixes, then comes from gravity, and its range is no longer pulled short by a tilt the noise suggests.
 GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel& camera,
-                             GateSide side = GateSide::kFront, const GatePnpParams& params = GatePnpParams{});
+                             GateSide side = GateSide::kFront, const GatePnpParams& params = GatePnpParams{},
+                             const UprightGatePrior* upright = nullptr);
 
 }  // namespace dualgraph

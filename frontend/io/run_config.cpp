@@ -65,6 +65,12 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
     else if (key == "pixel_sigma") status = readPositive(source, field, value, pnp.pixel_sigma);
     else if (key == "adaptive_pixel_sigma") status = readBool(source, field, value, params.frontend.adaptive_pixel_sigma);
     else if (key == "partial_gates") status = readBool(source, field, value, params.frontend.partial_gates);
+    else if (key == "upright_prior_sigma_deg") {
+      status = readNumber(source, field, value, params.frontend.upright_prior_sigma_deg);
+      if (status.ok() && params.frontend.upright_prior_sigma_deg < 0.0) {
+        status = fieldError(source, value.Mark(), field, "must be >= 0 (0: no upright prior)");
+      }
+    }
     else if (key == "max_reprojection_rms") status = readPositive(source, field, value, pnp.max_reprojection_rms);
     else if (key == "min_range") status = readNumber(source, field, value, pnp.min_range);
     else if (key == "max_range") status = readPositive(source, field, value, pnp.max_range);

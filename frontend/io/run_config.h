@@ -75,6 +75,7 @@ struct SequenceRunParams {
 ///       ...                          #   min_range, max_range [m], min_corner_angle_deg,
 ///                                    #   max_condition_number, max_refinement_iterations
 ///       adaptive_pixel_sigma: true   # GateFrontendParams: σ estimated from the PnP residuals
+///       upright_prior_sigma_deg: 0.0 # GateFrontendParams: > 0, PnP holds gates upright to this σ per tilt [deg]
 ///       partial_gates: true          # GateFrontendParams: 2–3 corners seen → corner rays (dual, landmark pose)
 ///       max_association_distance: 2.0  # AssociationParams::max_distance [m]; likewise max_normal_angle
 ///                                      #   [rad], allow_reversed, mapping_min_sightings, mapping_consistency [m]

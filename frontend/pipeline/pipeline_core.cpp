@@ -19,9 +19,11 @@ bool finiteCorner(const Eigen::Vector2d& corner) {
 }
 
 /// An instant through PnP (pose detections as they are), the noise learning from it.
-Result<SolvedDetections> solveInstant(GateFrontend& frontend, const DetectionInstant& instant) {
+Result<SolvedDetections> solveInstant(GateFrontend& frontend, const DetectionInstant& instant,
+                                      const Eigen::Isometry3d& odom_T_body) {
   if (instant.corners.empty()) return GateFrontend::fromPoses(instant.poses);
-  return frontend.solve(instant.corners, true);
+  const Eigen::Matrix3d odom_R_body = odom_T_body.linear();
+  return frontend.solve(instant.corners, true, &odom_R_body);
 }
 
 }  // namespace
@@ -293,7 +295,7 @@ Status PipelineCore::handInstant(const DetectionInstant& instant, const Eigen::I
   Localizer& localizer = *localizer_;
   // PnP once per instant: solved here (the noise learning from it) unless the frame search solved it before.
   Result<SolvedDetections> solved = solved_before != nullptr ? Result<SolvedDetections>(*solved_before)
-                                                             : solveInstant(*frontend_, instant);
+                                                             : solveInstant(*frontend_, instant, odom_T_body);
   if (!solved.ok()) return solved.status();
   if (search_ && localizer.trackingState() == TrackingState::kInitialising) {
     // The frame is not known yet: the instant reaches the search alone (counted by the frontend if replayed).

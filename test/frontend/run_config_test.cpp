@@ -44,6 +44,7 @@ TEST(RunConfig, BundledDefaultYamlIsExactlyTheDefaults) {
   expectSameAssociation(loaded->frontend.association, AssociationParams{});
   EXPECT_EQ(loaded->frontend.trust_ids, defaults.frontend.trust_ids);
   EXPECT_EQ(loaded->frontend.partial_gates, defaults.frontend.partial_gates);
+  EXPECT_EQ(loaded->frontend.upright_prior_sigma_deg, defaults.frontend.upright_prior_sigma_deg);
   EXPECT_EQ(loaded->frontend.mapping, defaults.frontend.mapping);
   EXPECT_EQ(loaded->pose_detection_sigma_t, defaults.pose_detection_sigma_t);
   EXPECT_EQ(loaded->pose_detection_sigma_r, defaults.pose_detection_sigma_r);
@@ -83,6 +84,7 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
       "  max_condition_number: 1.0e8\n"
       "  max_refinement_iterations: 7\n"
       "  pnp_covariance: tilt_posterior\n"
+      "  upright_prior_sigma_deg: 3.5\n"
       "  max_association_distance: 1.25\n"
       "  max_normal_angle: 0.9\n"
       "  allow_reversed: false\n"
@@ -108,6 +110,7 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
   EXPECT_EQ(f.pnp.max_condition_number, 1.0e8);
   EXPECT_EQ(f.pnp.max_refinement_iterations, 7);
   EXPECT_EQ(f.pnp.covariance_model, PnpCovarianceModel::kTiltPosterior);
+  EXPECT_EQ(f.upright_prior_sigma_deg, 3.5);
   EXPECT_EQ(f.pnp.gate_size, GatePnpParams{}.gate_size);  // from the map, not the config
   EXPECT_EQ(f.association.max_distance, 1.25);
   EXPECT_EQ(f.association.max_normal_angle, 0.9);
@@ -145,6 +148,8 @@ TEST(RunConfig, ErrorsNameTheLineAndTheField) {
       {"list for a number", "frontend:\n  pixel_sigma: [1, 2]\n", 2, "frontend.pixel_sigma"},
       {"zero pixel_sigma", "frontend:\n  trust_ids: false\n  pixel_sigma: 0\n", 3, "frontend.pixel_sigma"},
       {"negative pixel_sigma", "frontend:\n  pixel_sigma: -1\n", 2, "frontend.pixel_sigma"},
+      {"negative upright prior", "frontend:\n  upright_prior_sigma_deg: -2\n", 2, "frontend.upright_prior_sigma_deg"},
+      {"NaN upright prior", "frontend:\n  upright_prior_sigma_deg: .nan\n", 2, "frontend.upright_prior_sigma_deg"},
       {"NaN pixel_sigma", "frontend:\n  pixel_sigma: .nan\n", 2, "frontend.pixel_sigma"},
       {"duplicate key", "frontend:\n  pixel_sigma: 1\n  pixel_sigma: 2\n", 3, "frontend.pixel_sigma"},
       // Checks across keys name the line of the key at fault, not of the section.
