@@ -28,8 +28,9 @@ namespace dualgraph {
 /// range bin of the farther sighting (kRangeBinWidth wide, the last open); a bin with fewer than kMinPairsPerBin
 /// pairs takes the nearer bin's κ, and κ never falls with range. κ ∈ [1, max_gate_factor²] (edges are never
 /// trusted more than their covariance says), λ ∈ [min_factor², max_factor²]; all 1 until `min_pairs` pairs are in.
-/// Only pose edges (LandmarkModel::kPose) are used. Cost: ≈ 200 likelihood evaluations over the window per
-/// `estimate`. Threads: one thread at a time per instance.
+/// Only pose edges (LandmarkModel::kPose) are used. Cost: up to ≈ 500 likelihood evaluations over the window per
+/// `estimate` (3 sweeps over up to 6 factors), not yet measured against the latency targets.
+/// Threads: one thread at a time per instance.
 class OdometryNoiseLearner {
  public:
   static constexpr int kRangeBins = 4;
