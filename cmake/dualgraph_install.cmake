@@ -33,11 +33,13 @@ foreach(_name ${DUALGRAPH_EXPORTED_LIBRARIES})
   list(APPEND _dualgraph_install_targets dualgraph_${_name})
   # Headers keep the repository's include layout. The private ones include yaml-cpp or OpenCV, which the
   # package does not promise its users (.ci/install-example fails if an installed header includes them);
-  # gate_pnp_posterior.h is gate_pnp.cpp's own; block_product_avx2.h compiles only with -mavx2 -mfma.
+  # gate_pnp_posterior.h and gate_pnp_upright.h are gate_pnp.cpp's own; block_product_avx2.h compiles only with
+  # -mavx2 -mfma.
   install(DIRECTORY "${PROJECT_SOURCE_DIR}/${_name}/"
           DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/dualgraph/${_name}"
           FILES_MATCHING PATTERN "*.h" PATTERN "yaml_fields.h" EXCLUDE PATTERN "localizer_params_node.h" EXCLUDE
-          PATTERN "gate_pnp_posterior.h" EXCLUDE PATTERN "block_product_avx2.h" EXCLUDE)
+          PATTERN "gate_pnp_posterior.h" EXCLUDE PATTERN "gate_pnp_upright.h" EXCLUDE
+          PATTERN "block_product_avx2.h" EXCLUDE)
 endforeach()
 
 # One export set per component, so that a consumer asking for the engine loads (and finds the dependencies
