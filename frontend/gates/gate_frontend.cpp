@@ -37,6 +37,9 @@ void turnToMapGate(GateObservation& observation, const Eigen::Isometry3d& world_
 Result<GateFrontend> GateFrontend::create(const GateFrontendParams& params, const Track& map,
                                           std::optional<CameraModel> camera) {
   DG_RETURN_IF_ERROR(validateAssociationParams(params.association));
+  if (!(params.upright_prior_sigma_deg >= 0.0) || !std::isfinite(params.upright_prior_sigma_deg)) {
+    return Status(StatusCode::kInvalidArgument, "gate frontend: upright_prior_sigma_deg must be finite and >= 0 (0: off)");
+  }
   if (map.gates.empty() && !params.mapping) {
     return Status(StatusCode::kInvalidArgument, "gate frontend: an empty map needs mapping mode");
   }

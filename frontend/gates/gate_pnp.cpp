@@ -335,6 +335,11 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
   for (const Status& status : {camera.validate(), checkParams(params)}) {
     if (!status.ok()) return reject(solution, GatePnpRejection::kInvalidInput, status.message());
   }
+  if (upright != nullptr && (!(upright->sigma > 0.0) || !std::isfinite(upright->sigma) ||
+                             !upright->up_in_camera.allFinite() || !(upright->up_in_camera.norm() > 1e-9))) {
+    return reject(solution, GatePnpRejection::kInvalidInput,
+                  "upright prior: sigma must be finite and > 0 and up_in_camera a finite non-zero vector");
+  }
   auto normalized = camera.undistortToNormalized(corners);
   if (!normalized.ok()) return reject(solution, GatePnpRejection::kSolverFailed, normalized.status().message());
   std::string why;

@@ -78,6 +78,18 @@ TEST(GatePnpUpright, NoiseFreeCornersOfAnUprightGateGiveItsPose) {
   }
 }
 
+TEST(GatePnpUpright, ABadPriorIsRefusedAsInvalidInput) {
+  const CameraModel camera = uprightTestCamera();
+  GateCornerPixels pixels;
+  ASSERT_TRUE(cornersOf(camera, facingGate(5.0, 0.3, Eigen::Vector2d::Zero()), pixels));
+  for (const UprightGatePrior& bad : {UprightGatePrior{kUpInCamera, 0.0}, UprightGatePrior{kUpInCamera, NAN},
+                                      UprightGatePrior{Eigen::Vector3d::Zero(), 0.03},
+                                      UprightGatePrior{Eigen::Vector3d(NAN, 1.0, 0.0), 0.03}}) {
+    const GatePnpSolution solution = solveGatePnp(pixels, camera, GateSide::kFront, GatePnpParams{}, &bad);
+    EXPECT_EQ(solution.rejection, GatePnpRejection::kInvalidInput) << solution.message;
+  }
+}
+
 struct FarGateStatistics {
   double mean_range_error = 0.0;  ///< along the line of sight [m]
   double range_error_sd = 0.0;
