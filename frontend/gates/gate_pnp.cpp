@@ -366,7 +366,11 @@ GatePnpSolution solveGatePnp(const GateCornerPixels& corners, const CameraModel&
   if (upright != nullptr && !applyUprightPrior(solution, candidates, p_gate, corners, camera, params, *upright)) {
     return reject(solution, GatePnpRejection::kSolverFailed, "the pose puts a corner behind the camera");
   }
-  if (!computeCovariance(solution, alternative >= 0 && upright == nullptr, p_gate, corners, camera, params)) {
+  // Under the upright prior the covariance below replaces this one: only its conditioning is needed, so the plain
+  // Laplace form (not the tilt lattice, whose result would be thrown away).
+  GatePnpParams covariance_params = params;
+  if (upright != nullptr) covariance_params.covariance_model = PnpCovarianceModel::kLaplace;
+  if (!computeCovariance(solution, alternative >= 0 && upright == nullptr, p_gate, corners, camera, covariance_params)) {
     return reject(solution, GatePnpRejection::kSolverFailed, "the pose puts a corner behind the camera");
   }
   if (upright != nullptr) {

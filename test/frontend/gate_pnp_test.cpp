@@ -11,6 +11,7 @@
 #include "dualgraph/frontend/gates/camera_model.h"
 #include "dualgraph/frontend/gates/gate_pnp.h"
 #include "dualgraph/types/se3_math.h"
+#include "test/frontend/gate_corner_projection.h"
 
 namespace dualgraph {
 namespace {
@@ -46,17 +47,7 @@ Eigen::Isometry3d gatePose(double range, double azimuth, double elevation, doubl
   return camera_T_gate;
 }
 
-/// The corner pixels (tl, tr, br, bl) of the gate seen from `side`; false if one is outside the image.
-bool projectCorners(const CameraModel& camera, const Eigen::Isometry3d& camera_T_gate, GateSide side,
-                    GateCornerPixels& pixels, double size = 1.5) {
-  const Eigen::Matrix<double, 3, 4> corners = gateCornersInGateFrame(size, side);
-  for (int i = 0; i < 4; ++i) {
-    const Projection projection = camera.project(camera_T_gate * Eigen::Vector3d(corners.col(i)));
-    if (!projection.valid()) return false;
-    pixels.col(i) = projection.pixel;
-  }
-  return true;
-}
+using testing::projectCorners;
 
 double rotationError(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return so3Log(a.linear().transpose() * b.linear()).norm();

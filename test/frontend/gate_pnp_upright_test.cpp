@@ -8,6 +8,7 @@
 #include "dualgraph/frontend/gates/gate_pnp.h"
 #include "dualgraph/frontend/gates/gate_pnp_upright.h"
 #include "dualgraph/types/se3_math.h"
+#include "test/frontend/gate_corner_projection.h"
 
 namespace dualgraph {
 namespace {
@@ -31,13 +32,7 @@ Eigen::Isometry3d facingGate(double range, double yaw, const Eigen::Vector2d& ti
 }
 
 bool cornersOf(const CameraModel& camera, const Eigen::Isometry3d& camera_T_gate, GateCornerPixels& pixels) {
-  const Eigen::Matrix<double, 3, 4> corners = gateCornersInGateFrame(1.5, GateSide::kFront);
-  for (int i = 0; i < 4; ++i) {
-    const Projection projection = camera.project(camera_T_gate * Eigen::Vector3d(corners.col(i)));
-    if (!projection.valid()) return false;
-    pixels.col(i) = projection.pixel;
-  }
-  return true;
+  return testing::projectCorners(camera, camera_T_gate, GateSide::kFront, pixels);
 }
 
 /// The up the prior states: the camera's −y (the gate's z when untilted).
