@@ -5,7 +5,8 @@
 # Usage: bench/field_table.sh [BUILD_DIR] [OUT_DIR] [calibrated]   (prints a Markdown table; keeps the runs)
 # With `calibrated`, each flight's camera is first calibrated on the flight itself (`dualgraph calibrate`: clock
 # offset and mount rotation, offline, as a team would after a first flight) and the run uses that camera.
-# CONFIG=FILE in the environment runs with that configuration instead of the default.
+# CONFIG=FILE in the environment runs with that configuration instead of the default; REGIME=a,b simulates the
+# flights with those regimes of real estimators over the profile (frontend/simulation/README.md).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$here/build}"
@@ -19,7 +20,7 @@ for profile in realistic harsh; do
     for seed in 1 2 3; do
       dir="$out/$profile-$track-$seed"
       "$dualgraph" simulate --track "$here/data/tracks/$track.yaml" --profile "$profile" --seed "$seed" \
-        --out "$dir/sequence" >/dev/null
+        ${REGIME:+--regime "$REGIME"} --out "$dir/sequence" >/dev/null
       sequence="$dir/sequence"
       if [ "$mode" = calibrated ]; then
         "$dualgraph" calibrate --sequence "$sequence" --out "$dir/camera.yaml" --quiet

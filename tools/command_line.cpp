@@ -206,6 +206,17 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
   cmd->add_option("--vio-frame-offset", p.field.vio_frame_offset, "VIO in its own frame: offset up to this [m]");
   cmd->add_option("--camera-time-offset", p.field.camera_time_offset, "Detections stamped this late [s]");
   cmd->add_option("--camera-mount-error", p.field.camera_mount_error_deg, "Written camera mount off by [deg]");
+  cmd->add_option("--regime", o.regimes,
+                  "Real estimators' regimes over the profile, comma-separated: good_vio, mono_scale, vio_clock, epoch, "
+                  "big_hall (frontend/simulation/README.md lists each value; flags given explicitly win)")
+      ->delimiter(',')
+      ->check(CLI::IsMember(simulationRegimeNames()));
+  cmd->add_option("--scale-error-bias", p.vio.scale_error_bias,
+                  "VIO scale error of this magnitude, random sign, not in its covariance (a monocular VIO)");
+  cmd->add_option("--vio-time-offset", p.field.vio_time_offset,
+                  "VIO samples stamped this late against the ground truth's and camera's clock [s]");
+  cmd->add_option("--time-origin", p.field.time_origin, "Added to every written stamp [s] (e.g. a Unix time)");
+  cmd->add_option("--track-scale", p.track_scale, "The track scaled horizontally by this (gates farther apart)");
   cmd->add_flag("--no-plot", o.no_plot, "Do not write xy.png");
   for (const std::string& name : profileOptionNames()) {  // their defaults are the --profile's, not the struct's
     CLI::Option* option = cmd->get_option(name);

@@ -21,11 +21,12 @@ int fail(const std::string& message) {
   return 1;
 }
 
-// Unaligned position RMSE of the VIO against the truth at the same instants [m].
-double vioRmse(const SimulatedRace& race) {
+// Unaligned position RMSE of the VIO against the truth at the instants its samples show [m].
+double vioRmse(const SimulatedRace& race, const FieldErrorParams& race_field) {
   double sum = 0.0;
   for (const OdometrySample& sample : race.vio.samples) {
-    sum += (sample.odom_T_body.translation() - race.flight.at(sample.t).position).squaredNorm();
+    const double flight_time = sample.t - race_field.time_origin - race_field.vio_time_offset;  // the instant shown
+    sum += (sample.odom_T_body.translation() - race.flight.at(flight_time).position).squaredNorm();
   }
   return std::sqrt(sum / static_cast<double>(race.vio.samples.size()));
 }
@@ -79,13 +80,19 @@ void forEachProfileOption(const RaceSimParams& from, RaceSimParams& to, Visit&& 
   visit("--vio-frame-offset", from.field.vio_frame_offset, to.field.vio_frame_offset);
   visit("--camera-time-offset", from.field.camera_time_offset, to.field.camera_time_offset);
   visit("--camera-mount-error", from.field.camera_mount_error_deg, to.field.camera_mount_error_deg);
+  visit("--scale-error-bias", from.vio.scale_error_bias, to.vio.scale_error_bias);
+  visit("--vio-time-offset", from.field.vio_time_offset, to.field.vio_time_offset);
+  visit("--time-origin", from.field.time_origin, to.field.time_origin);
+  visit("--track-scale", from.track_scale, to.track_scale);
 }
 
-// The profile's parameters, except those the command line gave (`given`: the option names it counted, so a
-// flag given with the clean value, `--blur 0`, wins over the profile too).
-Status applyProfileUnderFlags(const std::string& profile, const std::set<std::string>& given, RaceSimParams& p) {
+// The profile's parameters and then the regimes', except those the command line gave (`given`: the option names it
+// counted, so a flag given with the clean value, `--blur 0`, wins over the profile too).
+Status applyProfileUnderFlags(const std::string& profile, const std::vector<std::string>& regimes,
+                              const std::set<std::string>& given, RaceSimParams& p) {
   const RaceSimParams flags = p;
   DG_RETURN_IF_ERROR(applySimulationProfile(profile, p));
+  for (const std::string& regime : regimes) DG_RETURN_IF_ERROR(applySimulationRegime(regime, p));
   forEachProfileOption(flags, p, [&given](const std::string& option, const auto& flag, auto& out) {
     if (given.count(option) > 0) out = flag;
   });
@@ -98,7 +105,8 @@ const std::vector<std::string>& simulatedFlightOnlyOptions() {
   static const std::vector<std::string> names = {
       "--laps", "--speed", "--gt-rate", "--vio-rate", "--max-lateral-acceleration", "--max-longitudinal-acceleration",
       "--yaw-rate-bias", "--velocity-bias", "--velocity-bias-random-walk", "--scale-error-sigma", "--lap-speed-variation",
-      "--lap-line-variation", "--vio-frame-yaw", "--vio-frame-offset", "--detections"};
+      "--lap-line-variation", "--vio-frame-yaw", "--vio-frame-offset", "--detections", "--regime", "--scale-error-bias",
+      "--vio-time-offset", "--time-origin", "--track-scale"};
   return names;
 }
 
@@ -121,7 +129,7 @@ namespace {
 Result<CameraModel> cameraAndProfile(SimulateOptions& o, const std::string& default_camera) {
   auto camera = loadCameraYaml(o.camera.empty() ? bundledDataDir() + "/cameras/" + default_camera : o.camera);
   if (!camera.ok()) return camera.status();
-  DG_RETURN_IF_ERROR(applyProfileUnderFlags(o.profile, o.given, o.params));
+  DG_RETURN_IF_ERROR(applyProfileUnderFlags(o.profile, o.regimes, o.given, o.params));
   if (!o.partial_gates.empty()) o.params.detection.partial_gates = o.partial_gates == "on";
   return camera;
 }
@@ -218,7 +226,7 @@ int runSimulateCommand(SimulateOptions o) {
   std::cout << "simulated " << (track->name.empty() ? o.track : track->name) << ", seed " << p.seed << ": "
             << race->flight.duration() << " s, " << race->flight.length() << " m, top speed "
             << race->flight.topSpeed() << " m/s\n"
-            << "  VIO: " << race->vio.samples.size() << " samples, unaligned position RMSE " << vioRmse(*race) << " m\n"
+            << "  VIO: " << race->vio.samples.size() << " samples, unaligned position RMSE " << vioRmse(*race, p.field) << " m\n"
             << "  detector: " << s.images << " images, " << s.visible << " gate views, " << race->detections.size()
             << " detections (" << s.missed << " missed, " << s.displaced_corner << " displaced corner, " << s.wrong_id
             << " wrong id, " << s.false_gates << " false gates";

@@ -28,6 +28,7 @@ struct SimulateOptions {
   bool no_plot = false;
   std::string partial_gates;  ///< "on" | "off" | empty: the profile's
   std::string profile = "realistic";  ///< simulationProfileNames(); a flag given explicitly wins over the profile
+  std::vector<std::string> regimes;   ///< simulationRegimeNames(), applied in turn over the profile, under the flags
   RaceSimParams params;
   std::set<std::string> given;  ///< the options the command line gave ("--blur", …): they win over the profile
 };

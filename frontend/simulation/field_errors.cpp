@@ -15,6 +15,12 @@ std::string fieldErrorsProblem(const FieldErrorParams& field, double map_positio
     if (!std::isfinite(value) || value < 0.0) return "field errors: frame yaw, offset and mount error must be >= 0";
   }
   if (!std::isfinite(field.camera_time_offset)) return "field errors: camera_time_offset must be finite";
+  if (!std::isfinite(field.vio_time_offset) || std::abs(field.vio_time_offset) > 1.0) {
+    return "field errors: vio_time_offset must be finite and within +-1 s";
+  }
+  if (!std::isfinite(field.time_origin) || field.time_origin < 0.0 || field.time_origin > 1e10) {
+    return "field errors: time_origin must be in [0, 1e10] s";
+  }
   return "";
 }
 

@@ -19,6 +19,12 @@ struct FieldErrorParams {
   /// The detections are stamped this much later than the instant the image shows [s] (camera vs VIO clock;
   /// negative: earlier).
   double camera_time_offset = 0.0;
+  /// The VIO's samples are stamped this much later than the instant they show [s] (VIO vs ground-truth clock;
+  /// negative: the VIO's clock runs behind). The camera's stamps keep the ground truth's clock.
+  double vio_time_offset = 0.0;
+  /// Every written stamp (ground truth, VIO, detections) is the flight's time plus this [s]: 0 starts the files at
+  /// take-off; a Unix time (≈ 1.76e9) writes them as a ROS bag or OpenVINS would.
+  double time_origin = 0.0;
   /// The written camera's body_T_camera is off from the one that made the images by a rotation of this angle
   /// about a random axis [deg] (a camera-mount calibration error).
   double camera_mount_error_deg = 0.0;

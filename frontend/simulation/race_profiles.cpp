@@ -65,4 +65,31 @@ Status applySimulationProfile(const std::string& name, RaceSimParams& params) {
   return Status();
 }
 
+const std::vector<std::string>& simulationRegimeNames() {
+  static const std::vector<std::string> names = {"good_vio", "mono_scale", "vio_clock", "epoch", "big_hall"};
+  return names;
+}
+
+Status applySimulationRegime(const std::string& name, RaceSimParams& params) {
+  if (name == "good_vio") {
+    VioDriftParams good = scaledDrift(0.2);  // the drift only: white noise and a scale bias (mono_scale) kept
+    good.position_noise = params.vio.position_noise;
+    good.rotation_noise = params.vio.rotation_noise;
+    good.scale_error_bias = params.vio.scale_error_bias;
+    params.vio = good;
+  } else if (name == "mono_scale") {
+    params.vio.scale_error_bias = 0.075;
+  } else if (name == "vio_clock") {
+    params.field.vio_time_offset = -0.050;
+  } else if (name == "epoch") {
+    params.field.time_origin = 1764288000.125;  // 2025-11-28 00:00:00.125 UTC; a multiple of 2^-3 s, exact in a double
+  } else if (name == "big_hall") {
+    params.track_scale = 2.5;
+  } else {
+    return Status(StatusCode::kInvalidArgument,
+                  "unknown simulation regime '" + name + "' (good_vio, mono_scale, vio_clock, epoch or big_hall)");
+  }
+  return Status();
+}
+
 }  // namespace dualgraph

@@ -23,4 +23,16 @@ const std::vector<std::string>& simulationProfileNames();
 /// the drift, own frame, ±10 % and 0.5 m. kInvalidArgument naming the known profiles otherwise.
 Status applySimulationProfile(const std::string& name, RaceSimParams& params);
 
+/// The regimes real estimators bring, each over a profile: "good_vio", "mono_scale", "vio_clock", "epoch",
+/// "big_hall".
+const std::vector<std::string>& simulationRegimeNames();
+
+/// Sets the few parameters a regime fixes (the second table in frontend/simulation/README.md) over whatever
+/// `params` holds (a profile first): good_vio: the VIO's drift at 0.2 times the model's defaults (≈ 0.08–0.17 m per
+/// 100 m flown); mono_scale: a scale error of 5.6–9.4 % (scale_error_bias 0.075) its covariance does not admit;
+/// vio_clock: the VIO's stamps 50 ms behind the ground truth's and camera's clock; epoch: every stamp on Unix time
+/// (time_origin 1764288000.125 s); big_hall: the track 2.5 times as wide (gates seen from 10–15 m). Several apply in
+/// turn. kInvalidArgument naming the known regimes otherwise.
+Status applySimulationRegime(const std::string& name, RaceSimParams& params);
+
 }  // namespace dualgraph

@@ -41,6 +41,8 @@ std::string raceSequenceYaml(const SimulatedRace& race, const Track& track, cons
       << "  vio_frame_yaw: " << p.field.vio_frame_yaw << "\n  vio_frame_offset: " << p.field.vio_frame_offset << "\n"
       << "  camera_time_offset: " << p.field.camera_time_offset << "\n"
       << "  camera_mount_error_deg: " << p.field.camera_mount_error_deg << "\n"
+      << "  vio_time_offset: " << p.field.vio_time_offset << "\n  time_origin: " << p.field.time_origin << "\n"
+      << "track_scale: " << p.track_scale << "\n"
       << "flight:\n"
       << "  laps: " << (p.override_laps ? f.laps : track.laps) << "\n"
       << "  max_speed: " << (p.override_speed ? f.max_speed : track.speed) << "\n"
@@ -52,7 +54,8 @@ std::string raceSequenceYaml(const SimulatedRace& race, const Track& track, cons
       << "  yaw_rate_bias: " << v.yaw_rate_bias << "\n  yaw_random_walk: " << v.yaw_random_walk << "\n"
       << "  velocity_bias: " << v.velocity_bias << "\n  vertical_velocity_bias: " << v.vertical_velocity_bias << "\n"
       << "  velocity_bias_random_walk: " << v.velocity_bias_random_walk << "\n  bias_spread: " << v.bias_spread << "\n"
-      << "  scale_error_sigma: " << v.scale_error_sigma << "\n  position_noise: " << v.position_noise << "\n"
+      << "  scale_error_sigma: " << v.scale_error_sigma << "\n  scale_error_bias: " << v.scale_error_bias << "\n"
+      << "  position_noise: " << v.position_noise << "\n"
       << "  rotation_noise: " << v.rotation_noise << "\n"
       << detectorYaml(p.detection)
       << "summary:  # measured on this flight, not parameters\n"
@@ -68,7 +71,7 @@ std::string raceSequenceYaml(const SimulatedRace& race, const Track& track, cons
       << "  pixel_sigma_mean: " << race.detection_stats.mean_pixel_sigma << "\n"
       << "  pixel_sigma_max: " << race.detection_stats.max_pixel_sigma << "\n"
       << "track: |\n";
-  std::istringstream track_text(trackToYaml(track));
+  std::istringstream track_text(trackToYaml(p.track_scale == 1.0 ? track : scaledTrack(track, p.track_scale)));
   for (std::string line; std::getline(track_text, line);) out << "  " << line << "\n";
   return out.str();
 }

@@ -48,14 +48,40 @@ Eigen::Isometry3d vioFrame(const FieldErrorParams& field, std::uint64_t seed) {
   return world_T_odom;
 }
 
+// Every stamp onto the written clocks: the time origin, and the VIO's own offset (the detections already carry the
+// camera's). A flight on the simulator's clock keeps its bits.
+void shiftClocks(const FieldErrorParams& field, SimulatedRace& race) {
+  if (field.time_origin == 0.0 && field.vio_time_offset == 0.0) return;
+  for (auto& [t, pose] : race.ground_truth) t += field.time_origin;
+  for (OdometrySample& sample : race.vio.samples) sample.t += field.time_origin + field.vio_time_offset;
+  for (SimulatedDetection& detection : race.detections) detection.corners.t += field.time_origin;
+  for (GateObservation& observation : race.pose_detections) observation.t += field.time_origin;
+}
+
 }  // namespace
+
+Track scaledTrack(const Track& track, double scale) {
+  Track scaled = track;
+  for (TrackGate& gate : scaled.gates) gate.position.head<2>() *= scale;
+  TrackPath& path = scaled.path;
+  path.center *= scale;
+  path.semi_axis_x *= scale;
+  path.semi_axis_y *= scale;
+  path.lemniscate_a *= scale;
+  for (Eigen::Vector3d& waypoint : path.waypoints) waypoint.head<2>() *= scale;
+  return scaled;
+}
 
 const char* detectionOutputName(RaceSimParams::DetectionOutput output) {
   return output == RaceSimParams::DetectionOutput::kPoses ? "poses" : "corners";
 }
 
-Result<SimulatedRace> simulateRace(const Track& track, const CameraModel& camera, const RaceSimParams& params) {
-  if (track.gates.empty()) return invalid("the track has no gates");
+Result<SimulatedRace> simulateRace(const Track& given_track, const CameraModel& camera, const RaceSimParams& params) {
+  if (given_track.gates.empty()) return invalid("the track has no gates");
+  if (!(std::isfinite(params.track_scale) && params.track_scale > 0.0 && params.track_scale <= 100.0)) {
+    return invalid("track_scale must be in (0, 100]");
+  }
+  const Track track = params.track_scale == 1.0 ? given_track : scaledTrack(given_track, params.track_scale);
   if (!(std::isfinite(params.gt_rate) && params.gt_rate >= 100.0)) return invalid("gt_rate must be >= 100 Hz");
   if (!(std::isfinite(params.vio_rate) && params.vio_rate > 0.0)) return invalid("vio_rate must be > 0");
   const std::string field_problem = fieldErrorsProblem(params.field, params.map_position_sigma, params.map_yaw_sigma);
@@ -127,6 +153,7 @@ Result<SimulatedRace> simulateRace(const Track& track, const CameraModel& camera
   }
 
   race.map = perturbedMap(track, params.map_position_sigma, params.map_yaw_sigma, params.seed);
+  shiftClocks(field, race);
   return race;
 }
 

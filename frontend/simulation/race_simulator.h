@@ -34,13 +34,21 @@ struct RaceSimParams {
   double map_position_sigma = 0.0;  ///< σ of the perturbation of the written map's gate centres [m] (per axis)
   double map_yaw_sigma = 0.0;       ///< σ of the perturbation of the written map's gate yaw [rad]
   FieldErrorParams field;           ///< VIO frame, camera clock and mount (each from its own stream)
+  /// The track flown and mapped is the given one scaled by this horizontally (scaledTrack): 2.5 turns the RATM
+  /// ellipse's 8 m between gates into 20 m, a big hall where gates are seen from 10–15 m. > 0.
+  double track_scale = 1.0;
 };
+
+/// `track` with every gate centre, path centre, ellipse semi-axis, lemniscate size and waypoint scaled by `scale`
+/// in x and y [m]; heights, gate sizes and yaws kept.
+Track scaledTrack(const Track& track, double scale);
 
 /// "corners" or "poses".
 const char* detectionOutputName(RaceSimParams::DetectionOutput output);
 
 /// A simulated race: the flight, its ground truth, the drifting VIO, the detections and the map as
-/// the sequence folder will hold it.
+/// the sequence folder will hold it. `flight` keeps the simulator's clock (0 at take-off); every stamp below is that
+/// time plus field.time_origin (plus vio_time_offset for the VIO, camera_time_offset for the detections).
 struct SimulatedRace {
   Flight flight;
   std::vector<std::pair<double, Eigen::Isometry3d>> ground_truth;  ///< (t [s], world_T_body) at gt_rate
@@ -56,8 +64,8 @@ struct SimulatedRace {
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
-/// Flies `track` (which must have a path) with `camera` and simulates all sensors. kInvalidArgument
-/// for invalid parameters, a track without path or gates, an invalid camera.
+/// Flies `track` (which must have a path; scaled by params.track_scale) with `camera` and simulates all sensors.
+/// kInvalidArgument for invalid parameters, a track without path or gates, an invalid camera.
 Result<SimulatedRace> simulateRace(const Track& track, const CameraModel& camera, const RaceSimParams& params);
 
 }  // namespace dualgraph

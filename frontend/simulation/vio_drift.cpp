@@ -23,6 +23,7 @@ Status validateVioDriftParams(const VioDriftParams& p) {
       {"velocity_bias_random_walk", p.velocity_bias_random_walk},
       {"bias_spread", p.bias_spread},
       {"scale_error_sigma", p.scale_error_sigma},
+      {"scale_error_bias", p.scale_error_bias},
       {"position_noise", p.position_noise},
       {"rotation_noise", p.rotation_noise},
   };
@@ -62,7 +63,8 @@ Result<OdometryLog> simulateVio(const std::vector<double>& t,
   const double horizontal = params.velocity_bias * magnitude();
   Eigen::Vector3d velocity_bias(horizontal * std::cos(direction), horizontal * std::sin(direction),
                                 randomSign() * params.vertical_velocity_bias * magnitude());
-  const double scale_error = params.scale_error_sigma * normal(rng);
+  double scale_error = params.scale_error_sigma * normal(rng);
+  if (params.scale_error_bias > 0.0) scale_error += randomSign() * params.scale_error_bias * magnitude();
 
   const double bias_bound = 1.0 + params.bias_spread;
   const double q_r = std::pow(params.yaw_rate_bias * bias_bound, 2) + std::pow(params.yaw_random_walk, 2);

@@ -23,7 +23,8 @@ namespace dualgraph {
 /// Per flight (from the seed): the yaw-rate bias b_ψ = ±yaw_rate_bias · m (random sign), the initial
 /// velocity bias b_v,0 of norm velocity_bias · m in a random horizontal direction plus a vertical
 /// component ±vertical_velocity_bias · m, and the scale error λ ~ N(0, scale_error_sigma²), with
-/// m ~ U[1 − bias_spread, 1 + bias_spread].
+/// m ~ U[1 − bias_spread, 1 + bias_spread]; with scale_error_bias > 0 (a monocular VIO's scale), λ also gets
+/// ±scale_error_bias · m (random sign, drawn after the others so that 0 keeps a flight's bits).
 ///
 /// Reported covariance (the 21 TUM columns, frontend/io/FORMATS.md): the absolute covariance of odom_T_body,
 /// metric [t; θ], a right perturbation in the body frame, propagated as a random walk
@@ -33,7 +34,8 @@ namespace dualgraph {
 ///         speed (σ_bv² t_k: the variance the velocity bias's random walk has reached);
 ///   q_r = (yaw_rate_bias · (1 + bias_spread))² + σ_ψ²   [rad²/s],
 /// so that `toRelativeCovariances` gives back Q Δt: an honest bound on the drift between keyframes
-/// (biases treated as a random walk with a 1 s correlation time), not a tuned number.
+/// (biases treated as a random walk with a 1 s correlation time), not a tuned number. The scale bias is left out
+/// of it, as a monocular VIO does not know its scale error.
 struct VioDriftParams {
   double yaw_rate_bias = 0.002;             ///< [rad/s] magnitude of b_ψ (≈ 11° per 95 s)
   double yaw_random_walk = 0.0005;          ///< σ_ψ [rad/√s]
@@ -42,6 +44,7 @@ struct VioDriftParams {
   double velocity_bias_random_walk = 0.002; ///< σ_bv [m/s/√s] per axis
   double bias_spread = 0.25;                ///< m ∈ [1 − spread, 1 + spread], in [0, 1)
   double scale_error_sigma = 0.005;         ///< σ of λ (dimensionless)
+  double scale_error_bias = 0.0;            ///< magnitude of λ's bias (dimensionless; 0.075: a monocular VIO)
   double position_noise = 0.001;            ///< white n_p per axis [m]
   double rotation_noise = 0.0005;           ///< white n_R per axis [rad]
 };

@@ -142,6 +142,31 @@ TEST(SimulateCli, BadTracksExitOneNamingFileLineAndField) {
   }
 }
 
+TEST(SimulateCli, RegimesApplyOverTheProfileUnderTheFlagsAndAreRecorded) {
+  const std::string common = "simulate --track " + track("ratm_ellipse.yaml") + " --laps 1 --no-plot --out " + tempDir();
+  ASSERT_EQ(runDualgraph(common + "/regimes --regime epoch,vio_clock,big_hall,mono_scale,good_vio").exit_code, 0);
+  ASSERT_EQ(runDualgraph(common + "/regime_flag --regime vio_clock --vio-time-offset -0.02").exit_code, 0);
+  std::ifstream file(tempDir() + "/regimes/sequence.yaml"), flag_file(tempDir() + "/regime_flag/sequence.yaml");
+  std::stringstream yaml, flag_yaml;
+  yaml << file.rdbuf();
+  flag_yaml << flag_file.rdbuf();
+  for (const char* line : {"  vio_time_offset: -0.050000000000000003\n", "  time_origin: 1764288000.125\n",
+                           "track_scale: 2.5\n", "  scale_error_bias: 0.074999999999999997\n",
+                           "  pixel_sigma: 3\n"}) {  // the realistic profile's detector under the regimes
+    EXPECT_NE(yaml.str().find(line), std::string::npos) << line << yaml.str();
+  }
+  EXPECT_NE(flag_yaml.str().find("  vio_time_offset: -0.02"), std::string::npos) << flag_yaml.str();
+  // The files carry the clocks: Unix-time stamps, the VIO 50 ms before the ground truth.
+  auto vio = readTrajectory(tempDir() + "/regimes/vio.tum");
+  auto gt = readTrajectory(tempDir() + "/regimes/gt.tum");
+  ASSERT_TRUE(vio.ok() && gt.ok());
+  EXPECT_DOUBLE_EQ(gt->samples.front().t, 1764288000.125);
+  EXPECT_NEAR(vio->samples.front().t, 1764288000.075, 1e-6);
+  // An unknown regime is a usage error; regimes are for simulated flights (a recorded VIO keeps its own clock).
+  EXPECT_EQ(runDualgraph(common + "/bad_regime --regime fast_vio").exit_code, 2);
+  EXPECT_EQ(runDualgraph("simulate --flight a.tum --vio b.tum --regime epoch --out " + tempDir() + "/rec").exit_code, 2);
+}
+
 TEST(SimulateCli, UsageErrorsExitTwo) {
   EXPECT_EQ(runDualgraph("simulate --profile clean --out " + tempDir() + "/x").exit_code, 2);  // no --track
   EXPECT_EQ(runDualgraph("simulate --profile clean --track " + track("ratm_ellipse.yaml") + " --out " + tempDir() +
