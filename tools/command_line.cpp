@@ -244,7 +244,8 @@ CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
   cmd->add_option("--out", o.out, "Output folder (created)")->required();
   cmd->add_option("--vio", o.vio,
                   "Odometry file read instead of the sequence's vio.tum: TUM, TUM + 21 covariance columns, OpenVINS "
-                  "traj_estimate.txt or EuRoC CSV, recognised from its content (default: SEQUENCE/vio.tum)");
+                  "traj_estimate.txt or EuRoC CSV, recognised from its content; - reads it from stdin (or name a pipe), "
+                  "read once and kept in the run folder as vio.tum (default: SEQUENCE/vio.tum)");
   cmd->add_option("--config", o.config, "Configuration YAML (default: the bundled data/config/default.yaml)");
   cmd->add_option("--mode", o.mode, "dual or single (default: the config's)")->check(CLI::IsMember({"dual", "single"}));
   cmd->add_option("--d-main", o.d_main, "Main-graph keyframe distance [m] (default: the config's)")

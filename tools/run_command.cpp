@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "dualgraph/frontend/io/run_config.h"
+#include "dualgraph/frontend/io/trajectory_io.h"
 #include "dualgraph/frontend/evaluation/run_folder.h"
 #include "tools/data_dir.h"
 #include "tools/staged_folder.h"
@@ -49,6 +50,14 @@ std::string describeUnused(const SequenceRunResult& run) {
        << run.localizer_counters.observations_rejected << " refused by the Localizer";
   if (!run.localizer_counters.last_error.empty()) text << " (last: " << run.localizer_counters.last_error << ")";
   return text.str();
+}
+
+// Standard input (`-`) or a file that is not a regular one (a named pipe, /dev/stdin): read once, not kept.
+bool isStream(const std::string& path) {
+  if (path.empty()) return false;
+  if (path == "-") return true;
+  std::error_code error;
+  return std::filesystem::exists(path, error) && !std::filesystem::is_regular_file(path, error);
 }
 
 }  // namespace
@@ -94,8 +103,15 @@ int runRunCommand(const RunOptions& o) {
   // written: a failure leaves no partial run (a half-written folder would mix with an older run's files).
   auto staged = StagedFolder::create(o.out);
   if (!staged.ok()) return fail(staged.status().message());
+  // An odometry read from a stream cannot be read again (by `report`): the run folder keeps it, as it was read.
+  const bool streamed = isStream(o.vio);
+  if (streamed) {
+    const Status kept = writeTumOdometry(staged->file("vio.tum"), sequence->odometry);
+    if (!kept.ok()) return fail(staged->unstaged(kept).message());
+  }
+  const std::string vio_kept = streamed ? (std::filesystem::path(o.out) / "vio.tum").string() : o.vio;
   const Status written = writeRunFolder(staged->path(), o.sequence, params->localizer, *run, *metrics,
-                                        params->self_calibration_after_s > 0.0 ? &self_calibration : nullptr, o.vio);
+                                        params->self_calibration_after_s > 0.0 ? &self_calibration : nullptr, vio_kept);
   if (!written.ok()) return fail(staged->unstaged(written).message());
   const Status committed = staged->commit();
   if (!committed.ok()) return fail(committed.message());

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <iterator>
 #include <limits>
 
@@ -61,21 +62,37 @@ std::vector<std::string> splitFields(std::string_view text, FieldSeparator separ
   return fields;
 }
 
-Result<std::vector<TextLine>> readTextLines(const std::string& path, FieldSeparator separator) {
+Result<std::string> readWholeText(const std::string& path) {
+  std::string text;
+  if (path == "-") {
+    text.assign(std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>());
+    if (std::cin.bad()) return Status(StatusCode::kIoError, "stdin: read failed");
+    return text;
+  }
   std::error_code error;
   if (!std::filesystem::exists(path, error)) return Status(StatusCode::kNotFound, path + ": no such file");
   if (std::filesystem::is_directory(path, error)) return Status(StatusCode::kIoError, path + ": is a directory");
   std::ifstream in(path, std::ios::binary);
   if (!in) return Status(StatusCode::kIoError, path + ": cannot open for reading");
+  text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  if (in.bad()) return Status(StatusCode::kIoError, path + ": read failed");
+  return text;
+}
+
+Result<std::vector<TextLine>> textLines(std::string_view text, const std::string& source, FieldSeparator separator) {
+  static constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+  if (text.substr(0, kByteOrderMark.size()) == kByteOrderMark) text.remove_prefix(kByteOrderMark.size());
   std::vector<TextLine> lines;
-  std::string text;
   int number = 0;
-  while (std::getline(in, text)) {
+  while (!text.empty()) {
+    const size_t end = text.find('\n');
+    const std::string_view raw = text.substr(0, end);
+    text.remove_prefix(end == std::string_view::npos ? text.size() : end + 1);
     ++number;
-    if (text.find('\0') != std::string::npos) {
-      return Status(StatusCode::kParseError, path + ":" + std::to_string(number) + ": NUL byte (not a text file?)");
+    if (raw.find('\0') != std::string_view::npos) {
+      return Status(StatusCode::kParseError, source + ":" + std::to_string(number) + ": NUL byte (not a text file?)");
     }
-    std::string_view content = trim(text);
+    std::string_view content = trim(raw);
     if (content.empty()) continue;
     TextLine line;
     line.number = number;
@@ -84,9 +101,16 @@ Result<std::vector<TextLine>> readTextLines(const std::string& path, FieldSepara
     line.fields = splitFields(content, separator);
     lines.push_back(std::move(line));
   }
-  if (in.bad()) return Status(StatusCode::kIoError, path + ": read failed after line " + std::to_string(number));
   return lines;
 }
+
+Result<std::vector<TextLine>> readTextLines(const std::string& path, FieldSeparator separator) {
+  Result<std::string> text = readWholeText(path);
+  if (!text.ok()) return text.status();
+  return textLines(*text, inputName(path), separator);
+}
+
+std::string inputName(const std::string& path) { return path == "-" ? "stdin" : path; }
 
 bool looksNumeric(std::string_view text) {
   double value = 0.0;

@@ -30,9 +30,17 @@ struct TextLine {
 /// The fields of one line (no comment handling).
 std::vector<std::string> splitFields(std::string_view text, FieldSeparator separator);
 
-/// Every non-blank line of `path` in order (comments included, flagged). kNotFound when the file
-/// does not exist, kIoError when it cannot be read; a NUL byte is a kParseError naming the line.
+/// Every non-blank line of `path` in order (comments included, flagged), read once (readWholeText, so `-` or a pipe
+/// works too). kNotFound when the file does not exist, kIoError when it cannot be read; a NUL byte is a kParseError
+/// naming the line. A UTF-8 byte-order mark at the start is skipped.
 Result<std::vector<TextLine>> readTextLines(const std::string& path, FieldSeparator separator);
+/// The whole of `path` in one read: a file, a named pipe or `/dev/stdin`, or `-` for standard input (an input that
+/// cannot be read twice). kNotFound / kIoError as readTextLines.
+Result<std::string> readWholeText(const std::string& path);
+/// The lines of text already read, as readTextLines; `source` names it in errors ("source:line: ...").
+Result<std::vector<TextLine>> textLines(std::string_view text, const std::string& source, FieldSeparator separator);
+/// How errors name `path`: "stdin" for `-`, else the path.
+std::string inputName(const std::string& path);
 
 /// Strict reading of one line's fields by index; every error is a kParseError whose message reads
 /// "source:line: field 'NAME': why" (or "source:line: why" for the whole line). Numbers must parse

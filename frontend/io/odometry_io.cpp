@@ -110,13 +110,14 @@ bool isUnknownCovariance(const Matrix6d& covariance) {
   return Eigen::LLT<Matrix6d>(covariance).info() != Eigen::Success;
 }
 
-Result<OdometryLog> readTumOdometry(const std::string& path) {
-  Result<std::vector<TextLine>> lines = readTextLines(path, FieldSeparator::kCommaOrWhitespace);
-  if (!lines.ok()) return lines.status();
+namespace {
+
+// readTumOdometry on lines already read; `path` names the source in errors.
+Result<OdometryLog> tumFromLines(const std::string& path, const std::vector<TextLine>& lines) {
   OdometryLog log;
   size_t form = 0;  // fields per row, fixed by the first data row
   int form_line = 0;
-  for (const TextLine& line : *lines) {
+  for (const TextLine& line : lines) {
     if (line.comment) continue;
     const RowReader row(path, line);
     if (row.size() == 20) {
@@ -142,8 +143,16 @@ Result<OdometryLog> readTumOdometry(const std::string& path) {
       DG_RETURN_IF_ERROR(appendCovariance(row, covariance, "covariance (fields cov_00..cov_55)", log));
     }
   }
-  if (log.samples.empty()) return noDataRows(path, *lines);
+  if (log.samples.empty()) return noDataRows(path, lines);
   return log;
+}
+
+}  // namespace
+
+Result<OdometryLog> readTumOdometry(const std::string& path) {
+  Result<std::vector<TextLine>> lines = readTextLines(path, FieldSeparator::kCommaOrWhitespace);
+  if (!lines.ok()) return lines.status();
+  return tumFromLines(inputName(path), *lines);
 }
 
 const char* trajectoryFormatName(TrajectoryFormat format) {
@@ -156,9 +165,10 @@ const char* trajectoryFormatName(TrajectoryFormat format) {
   return "unknown";
 }
 
-Result<OdometryLog> readOpenVinsOdometry(const std::string& path) {
-  Result<std::vector<TextLine>> lines = readTextLines(path, FieldSeparator::kCommaOrWhitespace);
-  if (!lines.ok()) return lines.status();
+namespace {
+
+// readOpenVinsOdometry on lines already read; `path` names the source in errors.
+Result<OdometryLog> openVinsFromLines(const std::string& path, const std::vector<TextLine>& lines) {
   static const std::vector<std::string> kRotation = {"Pr11", "Pr12", "Pr13", "Pr22", "Pr23", "Pr33"};
   static const std::vector<std::string> kPosition = {"Pt11", "Pt12", "Pt13", "Pt22", "Pt23", "Pt33"};
   auto readUpper = [](const RowReader& row, size_t first, const std::vector<std::string>& names, Eigen::Matrix3d& out) {
@@ -171,7 +181,7 @@ Result<OdometryLog> readOpenVinsOdometry(const std::string& path) {
     return Status();
   };
   OdometryLog log;
-  for (const TextLine& line : *lines) {
+  for (const TextLine& line : lines) {
     if (line.comment) continue;
     const RowReader row(path, line);
     DG_RETURN_IF_ERROR(row.expectFieldCount({20}));
@@ -191,30 +201,64 @@ Result<OdometryLog> readOpenVinsOdometry(const std::string& path) {
     DG_RETURN_IF_ERROR(appendSample(row, "timestamp", t, p, q, log));
     DG_RETURN_IF_ERROR(appendCovariance(row, covariance, "covariance (fields Pr11..Pr33, Pt11..Pt33)", log));
   }
-  if (log.samples.empty()) return noDataRows(path, *lines);
+  if (log.samples.empty()) return noDataRows(path, lines);
   return log;
 }
 
+}  // namespace
+
+Result<OdometryLog> readOpenVinsOdometry(const std::string& path) {
+  Result<std::vector<TextLine>> lines = readTextLines(path, FieldSeparator::kCommaOrWhitespace);
+  if (!lines.ok()) return lines.status();
+  return openVinsFromLines(inputName(path), *lines);
+}
+
+namespace {
+
+Result<OdometryLog> eurocFromLines(const std::string& path, const std::vector<TextLine>& lines);
+
+// Whether the first non-blank line of `text` starts with `prefix` (after a byte-order mark and leading spaces).
+bool firstLineStarts(std::string_view text, std::string_view prefix) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  while (!text.empty()) {
+    const size_t end = text.find('\n');
+    std::string_view line = text.substr(0, end);
+    text.remove_prefix(end == std::string_view::npos ? text.size() : end + 1);
+    const size_t start = line.find_first_not_of(" \t\r");
+    if (start == std::string_view::npos) continue;
+    return line.substr(start, prefix.size()) == prefix;
+  }
+  return false;
+}
+
+}  // namespace
+
 Result<OdometryLog> readTrajectory(const std::string& path, TrajectoryFormat* format) {
-  std::ifstream in(path);
-  if (!in) return readTumOdometry(path);  // its own message (missing, a folder, unreadable)
+  Result<std::string> text = readWholeText(path);  // once: `-` or a pipe cannot be read twice
+  if (!text.ok()) return text.status();
+  const std::string source = inputName(path);
   // The first non-blank line, and the field count of the first data line (comments skipped).
-  std::string first, line;
+  Result<std::vector<TextLine>> lines = textLines(*text, source, FieldSeparator::kCommaOrWhitespace);
+  if (!lines.ok()) return lines.status();
   size_t data_fields = 0;
   bool openvins_header = false;
-  while (std::getline(in, line)) {
-    const size_t start = line.find_first_not_of(" \t\r");
-    if (start == std::string::npos) continue;
-    if (first.empty()) first = line.substr(start);
-    if (line[start] == '#') {
-      openvins_header = openvins_header || line.find("Pr11") != std::string::npos;
+  for (const TextLine& line : *lines) {
+    if (line.comment) {
+      for (const std::string& field : line.fields) openvins_header = openvins_header || field.find("Pr11") != std::string::npos;
       continue;
     }
-    data_fields = splitFields(line, FieldSeparator::kCommaOrWhitespace).size();
+    data_fields = line.fields.size();
     break;
   }
+  // EuRoC's header: the first line starts `#timestamp` or names p_RS_R_x.
+  const TextLine* head = lines->empty() ? nullptr : &lines->front();
+  const bool euroc_header =
+      head != nullptr &&
+      ((head->comment && firstLineStarts(*text, "#timestamp")) ||
+       std::any_of(head->fields.begin(), head->fields.end(),
+                   [](const std::string& field) { return field.find("p_RS_R_x") != std::string::npos; }));
   TrajectoryFormat found = TrajectoryFormat::kTum;
-  if (first.compare(0, 10, "#timestamp") == 0 || first.find("p_RS_R_x") != std::string::npos) {
+  if (euroc_header) {
     found = TrajectoryFormat::kEuroc;
   } else if ((openvins_header && data_fields != 8) || data_fields == 20) {
     found = TrajectoryFormat::kOpenVins;  // OpenVINS' header over 8-field rows: its poses without covariance (TUM)
@@ -223,17 +267,22 @@ Result<OdometryLog> readTrajectory(const std::string& path, TrajectoryFormat* fo
   }
   if (format != nullptr) *format = found;
   switch (found) {
-    case TrajectoryFormat::kEuroc: return readEurocOdometry(path);
-    case TrajectoryFormat::kOpenVins: return readOpenVinsOdometry(path);
-    default: return readTumOdometry(path);
+    case TrajectoryFormat::kEuroc: {
+      Result<std::vector<TextLine>> csv = textLines(*text, source, FieldSeparator::kComma);
+      if (!csv.ok()) return csv.status();
+      return eurocFromLines(source, *csv);
+    }
+    case TrajectoryFormat::kOpenVins: return openVinsFromLines(source, *lines);
+    default: return tumFromLines(source, *lines);
   }
 }
 
-Result<OdometryLog> readEurocOdometry(const std::string& path) {
-  Result<std::vector<TextLine>> lines = readTextLines(path, FieldSeparator::kComma);
-  if (!lines.ok()) return lines.status();
-  if (lines->empty()) return noDataRows(path, *lines);
-  const TextLine& header = lines->front();
+namespace {
+
+// readEurocOdometry on lines already read; `path` names the source in errors.
+Result<OdometryLog> eurocFromLines(const std::string& path, const std::vector<TextLine>& lines) {
+  if (lines.empty()) return noDataRows(path, lines);
+  const TextLine& header = lines.front();
   if (!header.comment && !header.fields.empty() && looksNumeric(header.fields[0])) {
     return RowReader(path, header).lineError("EuRoC header line required (#timestamp [ns],p_RS_R_x [m],...)");
   }
@@ -241,8 +290,8 @@ Result<OdometryLog> readEurocOdometry(const std::string& path) {
   DG_RETURN_IF_ERROR(eurocColumns(path, header, column));
   OdometryLog log;
   std::int64_t previous_ns = 0;
-  for (size_t i = 1; i < lines->size(); ++i) {
-    const TextLine& line = (*lines)[i];
+  for (size_t i = 1; i < lines.size(); ++i) {
+    const TextLine& line = (lines)[i];
     if (line.comment) continue;
     const RowReader row(path, line);
     DG_RETURN_IF_ERROR(row.expectFieldCount({header.fields.size()}));
@@ -268,8 +317,16 @@ Result<OdometryLog> readEurocOdometry(const std::string& path) {
     // Two stamps a few ns apart can round to the same double far from the epoch: appendSample catches it.
     DG_RETURN_IF_ERROR(appendSample(row, "timestamp", nanosecondsToSeconds(ns), Eigen::Vector3d(v[0], v[1], v[2]), q, log));
   }
-  if (log.samples.empty()) return noDataRows(path, *lines);
+  if (log.samples.empty()) return noDataRows(path, lines);
   return log;
+}
+
+}  // namespace
+
+Result<OdometryLog> readEurocOdometry(const std::string& path) {
+  Result<std::vector<TextLine>> lines = readTextLines(path, FieldSeparator::kComma);
+  if (!lines.ok()) return lines.status();
+  return eurocFromLines(inputName(path), *lines);
 }
 
 Result<RelativeCovarianceReport> toRelativeCovariances(OdometryLog& log, double floor) {

@@ -24,7 +24,7 @@ Result<Sequence> loadSequence(const std::string& dir, const Matrix6d& default_de
   Sequence sequence;
   sequence.dir = dir;
   sequence.vio_path = vio_path.empty() ? file("vio.tum") : vio_path;
-  if (!fs::exists(sequence.vio_path, error)) {
+  if (sequence.vio_path != "-" && !fs::exists(sequence.vio_path, error)) {  // `-`: standard input
     return Status(StatusCode::kNotFound, sequence.vio_path + ": missing (the odometry is required)");
   }
   auto odometry = readTrajectory(sequence.vio_path, &sequence.vio_format);

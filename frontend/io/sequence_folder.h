@@ -45,7 +45,8 @@ struct Sequence {
 /// covariance (metric [t; θ], m², rad²). Every reader's error is passed on unchanged (file, line, field);
 /// missing required files, both or neither detection file, or corners without a camera are
 /// kNotFound / kInvalidArgument naming the folder and the file. A non-empty `vio_path` is read instead of
-/// DIR/vio.tum (which may then be absent), e.g. OpenVINS' traj_estimate.txt where it was written.
+/// DIR/vio.tum (which may then be absent), e.g. OpenVINS' traj_estimate.txt where it was written, or `-` for
+/// standard input (read once, as a pipe is; errors name it "stdin").
 Result<Sequence> loadSequence(const std::string& dir, const Matrix6d& default_detection_covariance,
                               const std::string& vio_path = "");
 

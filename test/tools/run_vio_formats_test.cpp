@@ -3,6 +3,8 @@
 // run; run.yaml names the file, `report` reads it back without the sequence's vio.tum; a missing file exits 1.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -195,6 +197,57 @@ TEST(RunVioFormats, EurocOdometryGivesTheTumRunAndReportReadsItBack) {
   ASSERT_FALSE(fs::exists(euroc + "/vio.tum"));
   const CommandRun report = runDualgraph("report --run " + euroc + "_run --out " + euroc + "_report.html");
   EXPECT_EQ(report.exit_code, 0) << report.err;
+}
+
+TEST(RunVioFormats, OdometryFromStdinOrAPipeGivesTheFileRunAndTheRunFolderKeepsIt) {
+  const std::string lap = simulatedLap();
+  const std::string base = tempDir() + "/vio_stream";
+  const CommandRun file = runDualgraph("run --quiet --sequence " + lap + " --out " + base + "_file");
+  ASSERT_EQ(file.exit_code, 0) << file.err;
+  // Standard input, as `cat vio.tum | dualgraph run --vio -` gives it.
+  const CommandRun piped = runDualgraph("run --quiet --sequence " + lap + " --vio - --out " + base + "_stdin < " + lap + "/vio.tum");
+  ASSERT_EQ(piped.exit_code, 0) << piped.err;
+  EXPECT_EQ(readFile(base + "_file/estimate.tum"), readFile(base + "_stdin/estimate.tum"));
+  // A named pipe: read once (its format recognised from the same read).
+  const std::string fifo = base + "_fifo";
+  fs::remove(fifo);
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const CommandRun from_fifo = runDualgraph("run --quiet --sequence " + lap + " --vio " + fifo + " --out " + base +
+                                            "_fifo_run & cat " + lap + "/vio.tum > " + fifo + "; wait");
+  EXPECT_EQ(readFile(base + "_file/estimate.tum"), readFile(base + "_fifo_run/estimate.tum"));
+  // What was read is kept beside the run (a stream cannot be read again) and run.yaml names it: report reads it.
+  ASSERT_TRUE(fs::exists(base + "_stdin/vio.tum"));
+  const auto kept = tumRows(base + "_stdin/vio.tum"), given = tumRows(lap + "/vio.tum");
+  ASSERT_EQ(kept.size(), given.size());
+  double largest = 0.0;  // the same numbers (the covariance as read back: symmetrised, to rounding)
+  for (size_t r = 0; r < kept.size(); ++r) {
+    ASSERT_EQ(kept[r].size(), given[r].size()) << r;
+    for (size_t c = 0; c < kept[r].size(); ++c) largest = std::max(largest, std::abs(kept[r][c] - given[r][c]));
+  }
+  EXPECT_LT(largest, 1e-12);
+  EXPECT_NE(readFile(base + "_stdin/run.yaml").find(base + "_stdin/vio.tum"), std::string::npos)
+      << readFile(base + "_stdin/run.yaml");
+  const CommandRun report = runDualgraph("report --run " + base + "_stdin --out " + base + "_report.html");
+  EXPECT_EQ(report.exit_code, 0) << report.err;
+  // Bad or empty input on stdin: exit 1, the line named as stdin's.
+  const std::string bad = testing::writeFile("bad_stream.tum", "0.0 0 0 0 0 0 0 1\n0.01 0 0 x 0 0 0 1\n");
+  const CommandRun malformed = runDualgraph("run --sequence " + lap + " --vio - --out " + base + "_bad < " + bad);
+  EXPECT_EQ(malformed.exit_code, 1);
+  EXPECT_NE(malformed.err.find("stdin:2: field"), std::string::npos) << malformed.err;
+  const CommandRun empty = runDualgraph("run --sequence " + lap + " --vio - --out " + base + "_empty < /dev/null");
+  EXPECT_EQ(empty.exit_code, 1);
+  EXPECT_NE(empty.err.find("stdin: no data rows"), std::string::npos) << empty.err;
+}
+
+TEST(RunVioFormats, AUtf8ByteOrderMarkIsSkipped) {
+  const std::string lap = simulatedLap();
+  const std::string with_bom = tempDir() + "/vio_bom.tum";
+  std::ofstream(with_bom, std::ios::binary) << "\xEF\xBB\xBF" << readFile(lap + "/vio.tum");
+  const CommandRun plain = runDualgraph("run --quiet --sequence " + lap + " --out " + tempDir() + "/vio_bom_plain");
+  const CommandRun bom = runDualgraph("run --quiet --sequence " + lap + " --vio " + with_bom + " --out " + tempDir() + "/vio_bom_run");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  ASSERT_EQ(bom.exit_code, 0) << bom.err;
+  EXPECT_EQ(readFile(tempDir() + "/vio_bom_plain/estimate.tum"), readFile(tempDir() + "/vio_bom_run/estimate.tum"));
 }
 
 TEST(RunVioFormats, AMissingOrMalformedVioFileExitsOneNamingIt) {
