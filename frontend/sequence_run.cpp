@@ -45,27 +45,35 @@ Result<SequenceRunResult> replay(StreamingLocalizer& pipeline, const Sequence& s
   for (; next < instants.size(); ++next) never_given += instants[next].size();
   Result<PipelineResults> finished = pipeline.finish();
   if (!finished.ok()) return finished.status();
-  const PipelineCounters& c = finished->pipeline_counters;
-  result.keyframes = std::move(finished->keyframes);
-  result.stats = std::move(finished->stats);
-  result.localizer_counters = finished->localizer_counters;
-  result.frontend_counters = finished->frontend_counters;
+  return sequenceRunResult(std::move(result.estimate), std::move(finished).value(), static_cast<int>(never_given),
+                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
+}  // namespace
+
+SequenceRunResult sequenceRunResult(std::vector<CorrectedPose> estimate, PipelineResults finished, int never_given,
+                                    double wall_seconds) {
+  SequenceRunResult result;
+  const PipelineCounters& c = finished.pipeline_counters;
+  result.estimate = std::move(estimate);
+  result.keyframes = std::move(finished.keyframes);
+  result.stats = std::move(finished.stats);
+  result.localizer_counters = finished.localizer_counters;
+  result.frontend_counters = finished.frontend_counters;
   result.pipeline_counters = c;
-  result.pipeline_counters.detections_after_odometry += static_cast<int>(never_given);
+  result.pipeline_counters.detections_after_odometry += never_given;
   result.detections_before_odometry = c.detections_before_odometry;
-  result.detections_after_odometry = c.detections_after_odometry + static_cast<int>(never_given);
+  result.detections_after_odometry = c.detections_after_odometry + never_given;
   result.detections_frame_search_only = c.detections_frame_search_only;
   result.observations_rejected = c.observations_rejected + c.detections_unplaced;
   result.frame_checks = c.frame_checks;
   result.frame_checks_replaced = c.frame_checks_replaced;
-  result.initialization = finished->initialization;
-  result.camera_switched_at = finished->camera_switched_at;
-  result.self_calibration = finished->self_calibration;
-  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.initialization = finished.initialization;
+  result.camera_switched_at = finished.camera_switched_at;
+  result.self_calibration = finished.self_calibration;
+  result.wall_seconds = wall_seconds;
   return result;
 }
-
-}  // namespace
 
 std::vector<DetectionInstant> detectionInstants(const Sequence& sequence) {
   std::vector<DetectionInstant> instants;

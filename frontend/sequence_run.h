@@ -13,6 +13,7 @@
 #include "dualgraph/frontend/io/sequence_folder.h"
 #include "dualgraph/frontend/pipeline/detection_instant.h"
 #include "dualgraph/frontend/pipeline/pipeline_report.h"
+#include "dualgraph/frontend/pipeline/streaming_localizer.h"
 
 namespace dualgraph {
 
@@ -59,6 +60,13 @@ using RunProgress = std::function<void(size_t done, size_t total)>;
 /// detections are counted (SequenceRunResult, PipelineCounters).
 Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRunParams& params,
                                       const RunProgress& progress = {});
+
+/// A run's result from what the pipeline gave (as runSequence assembles it, for a caller feeding a
+/// StreamingLocalizer itself, e.g. `dualgraph live`): `estimate` the pose of every accepted odometry sample in order,
+/// `finished` StreamingLocalizer::finish's results, `never_given` detections that came after the odometry ended
+/// (counted as after it), `wall_seconds` the run's wall time [s].
+SequenceRunResult sequenceRunResult(std::vector<CorrectedPose> estimate, PipelineResults finished, int never_given,
+                                    double wall_seconds);
 
 /// The sequence's detections as a detector delivers them: one instant per stamp (camera clock), in file order.
 std::vector<DetectionInstant> detectionInstants(const Sequence& sequence);

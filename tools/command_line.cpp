@@ -263,6 +263,23 @@ CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
   return cmd;
 }
 
+CLI::App* addLiveCommand(CLI::App& app, LiveOptions& o) {
+  CLI::App* cmd = app.add_subcommand(
+      "live", "Localise a live record stream (odometry and detections as they arrive): a pose line per odometry record");
+  cmd->add_option("--input", o.input, "The record stream: - (stdin), a file or a named pipe (frontend/io/FORMATS.md)");
+  cmd->add_option("--map", o.map, "Gate map YAML (gates.yaml)")->required();
+  cmd->add_option("--camera", o.camera, "Camera YAML (needed for corner records)");
+  cmd->add_option("--config", o.config, "Configuration YAML (default: the bundled data/config/default.yaml)");
+  cmd->add_option("--gt", o.gt, "Ground truth for the run folder's metrics (TUM, EuRoC CSV or OpenVINS)");
+  cmd->add_option("--poses", o.poses, "Where the pose lines go: - (stdout), a file or a named pipe");
+  cmd->add_option("--out", o.out, "Run folder written at the end of the stream (with the stream as OUT/sequence)");
+  cmd->add_flag("--quiet", o.quiet, "No summary line (warnings still go to stderr)");
+  cmd->add_option("--max-lost-share", o.max_lost_share_pct,
+                  "With --out: exit 4 when lost for more than this share of the time after the first lock [%]")
+      ->check(CLI::Range(0.0, 100.0));
+  return cmd;
+}
+
 CLI::App* addAblationCommand(CLI::App& app, AblationOptions& o) {
   CLI::App* cmd = app.add_subcommand("ablation", "Simulate and run the paper's ablation: Tables I-IV (Markdown + CSV)");
   cmd->add_option("--tracks", o.tracks, "Track YAML files (default: the bundled RATM ellipse and lemniscate)")

@@ -7,6 +7,7 @@
 #include "tools/ablation_command.h"
 #include "tools/calibrate_command.h"
 #include "tools/eval_command.h"
+#include "tools/live_command.h"
 #include "tools/optimize_command.h"
 #include "tools/report_command.h"
 #include "tools/run_command.h"
@@ -26,6 +27,7 @@ CLI::App* addOptimizeCommand(CLI::App& app, OptimizeOptions& options);
 CLI::App* addEvalCommand(CLI::App& app, EvalOptions& options);
 CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& options);
 CLI::App* addRunCommand(CLI::App& app, RunOptions& options);
+CLI::App* addLiveCommand(CLI::App& app, LiveOptions& options);
 CLI::App* addAblationCommand(CLI::App& app, AblationOptions& options);
 CLI::App* addReportCommand(CLI::App& app, ReportOptions& options);
 CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& options);

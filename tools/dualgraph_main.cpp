@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
   CLI::App* simulate = dualgraph::tools::addSimulateCommand(app, simulate_options);
   dualgraph::tools::RunOptions run_options;
   CLI::App* run = dualgraph::tools::addRunCommand(app, run_options);
+  dualgraph::tools::LiveOptions live_options;
+  CLI::App* live = dualgraph::tools::addLiveCommand(app, live_options);
   dualgraph::tools::AblationOptions ablation_options;
   CLI::App* ablation = dualgraph::tools::addAblationCommand(app, ablation_options);
   dualgraph::tools::ReportOptions report_options;
@@ -37,6 +39,7 @@ int main(int argc, char** argv) {
     if (eval->parsed()) return dualgraph::tools::runEvalCommand(eval_options);
     if (simulate->parsed()) return dualgraph::tools::runSimulateCommand(simulate_options);
     if (run->parsed()) return dualgraph::tools::runRunCommand(run_options);
+    if (live->parsed()) return dualgraph::tools::runLiveCommand(live_options);
     if (ablation->parsed()) return dualgraph::tools::runAblationCommand(ablation_options);
     if (report->parsed()) return dualgraph::tools::runReportCommand(report_options);
     if (calibrate->parsed()) return dualgraph::tools::runCalibrateCommand(calibrate_options);

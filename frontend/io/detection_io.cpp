@@ -85,6 +85,32 @@ Status noDataRows(const std::string& path, size_t lines) {
 
 }  // namespace
 
+Status readCornerRow(const RowReader& row, const double* previous_t, CornerDetection& out) {
+  DG_RETURN_IF_ERROR(row.expectFieldCount({10}));
+  out.line = row.lineNumber();
+  DG_RETURN_IF_ERROR(readStampAndGate(row, previous_t ? *previous_t : 0.0, previous_t == nullptr, out.t, out.gate_id));
+  return readCorners(row, out);
+}
+
+Status readPoseRow(const RowReader& row, const double* previous_t, const Matrix6d& default_covariance,
+                   GateObservation& out) {
+  DG_RETURN_IF_ERROR(row.expectFieldCount({9, 30}));
+  double t = 0.0;
+  int gate_id = -1;
+  DG_RETURN_IF_ERROR(readStampAndGate(row, previous_t ? *previous_t : 0.0, previous_t == nullptr, t, gate_id));
+  Eigen::Vector3d p;
+  for (int k = 0; k < 3; ++k) DG_RETURN_IF_ERROR(row.readDouble(2 + static_cast<size_t>(k), poseNames()[2 + static_cast<size_t>(k)], p[k]));
+  Eigen::Quaterniond q;
+  DG_RETURN_IF_ERROR(readQuaternion(row, 5, QuaternionOrder::kXyzw, {"qx", "qy", "qz", "qw"}, q));
+  Matrix6d covariance = default_covariance;
+  if (row.size() == 30) DG_RETURN_IF_ERROR(readCovariance(row, 9, covariance));
+  Eigen::Isometry3d body_T_gate = Eigen::Isometry3d::Identity();
+  body_T_gate.linear() = q.toRotationMatrix();
+  body_T_gate.translation() = p;
+  out = GateObservation::pose(t, gate_id, body_T_gate, covariance);
+  return Status();
+}
+
 Result<std::vector<CornerDetection>> readCornerDetections(const std::string& path) {
   Result<std::vector<TextLine>> lines = readTextLines(path, FieldSeparator::kComma);
   if (!lines.ok()) return lines.status();
@@ -99,12 +125,8 @@ Result<std::vector<CornerDetection>> readCornerDetections(const std::string& pat
       if (*header) continue;
     }
     const RowReader row(path, line);
-    DG_RETURN_IF_ERROR(row.expectFieldCount({10}));
     CornerDetection detection;
-    detection.line = line.number;
-    DG_RETURN_IF_ERROR(readStampAndGate(row, detections.empty() ? 0.0 : detections.back().t, detections.empty(),
-                                        detection.t, detection.gate_id));
-    DG_RETURN_IF_ERROR(readCorners(row, detection));
+    DG_RETURN_IF_ERROR(readCornerRow(row, detections.empty() ? nullptr : &detections.back().t, detection));
     detections.push_back(detection);
   }
   if (detections.empty()) return noDataRows(path, lines->size());
@@ -130,21 +152,10 @@ Result<std::vector<GateObservation>> readPoseDetections(const std::string& path,
       if (*header) continue;
     }
     const RowReader row(path, line);
-    DG_RETURN_IF_ERROR(row.expectFieldCount({9, 30}));
-    double t = 0.0;
-    int gate_id = -1;
-    DG_RETURN_IF_ERROR(readStampAndGate(row, observations.empty() ? 0.0 : observations.back().t,
-                                        observations.empty(), t, gate_id));
-    Eigen::Vector3d p;
-    for (int k = 0; k < 3; ++k) DG_RETURN_IF_ERROR(row.readDouble(2 + k, names[2 + k], p[k]));
-    Eigen::Quaterniond q;
-    DG_RETURN_IF_ERROR(readQuaternion(row, 5, QuaternionOrder::kXyzw, {"qx", "qy", "qz", "qw"}, q));
-    Matrix6d covariance = default_covariance;
-    if (row.size() == 30) DG_RETURN_IF_ERROR(readCovariance(row, 9, covariance));
-    Eigen::Isometry3d body_T_gate = Eigen::Isometry3d::Identity();
-    body_T_gate.linear() = q.toRotationMatrix();
-    body_T_gate.translation() = p;
-    observations.push_back(GateObservation::pose(t, gate_id, body_T_gate, covariance));
+    GateObservation observation;
+    DG_RETURN_IF_ERROR(readPoseRow(row, observations.empty() ? nullptr : &observations.back().t, default_covariance,
+                                   observation));
+    observations.push_back(observation);
     if (lines_out != nullptr) lines_out->push_back(line.number);
   }
   if (observations.empty()) return noDataRows(path, lines->size());

@@ -32,6 +32,16 @@ Result<std::vector<CornerDetection>> readCornerDetections(const std::string& pat
 Result<std::vector<GateObservation>> readPoseDetections(const std::string& path, const Matrix6d& default_covariance,
                                                         std::vector<int>* lines = nullptr);
 
+class RowReader;
+
+/// One data row of corners.csv (10 fields, as readCornerDetections reads them) into `out` (its line set). With
+/// `previous_t`, a stamp before it is an error. Errors name the row's source, line and field.
+Status readCornerRow(const RowReader& row, const double* previous_t, CornerDetection& out);
+/// One data row of detections.csv (9 fields, or 30 with the covariance; `default_covariance` otherwise, not checked
+/// here), as readPoseDetections reads them, into `out`. With `previous_t`, a stamp before it is an error.
+Status readPoseRow(const RowReader& row, const double* previous_t, const Matrix6d& default_covariance,
+                   GateObservation& out);
+
 /// Writes corner detections in the CSV form readCornerDetections reads (with the header line,
 /// 17 significant digits; `nan,nan` for a corner not seen). Atomic (temporary file + rename). kInvalidArgument
 /// naming the detection for a non-finite value (other than a corner NaN in both coordinates), fewer than 2 corners, gate_id < -1 or a decreasing time stamp; kIoError on write failure.

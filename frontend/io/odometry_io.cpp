@@ -149,6 +149,28 @@ Result<OdometryLog> tumFromLines(const std::string& path, const std::vector<Text
 
 }  // namespace
 
+Status readTumRow(const RowReader& row, OdometrySample& sample, std::optional<Matrix6d>& covariance) {
+  DG_RETURN_IF_ERROR(row.expectFieldCount({8, 29}));
+  Eigen::Vector3d p;
+  Eigen::Quaterniond q;
+  DG_RETURN_IF_ERROR(readTumPose(row, "t", sample.t, p, q));
+  sample.odom_T_body = Eigen::Isometry3d::Identity();
+  sample.odom_T_body.linear() = q.toRotationMatrix();
+  sample.odom_T_body.translation() = p;
+  covariance.reset();
+  if (row.size() != 29) return Status();
+  Matrix6d entries;
+  DG_RETURN_IF_ERROR(readCovarianceEntries(row, 8, entries));
+  if (isUnknownCovariance(entries)) {
+    covariance = Matrix6d::Zero();
+    return Status();
+  }
+  const Status valid = checkCovariance(entries, "covariance (fields cov_00..cov_55)");
+  if (!valid.ok()) return Status(valid.code(), row.location() + ": " + valid.message());
+  covariance = entries;
+  return Status();
+}
+
 Result<OdometryLog> readTumOdometry(const std::string& path) {
   Result<std::vector<TextLine>> lines = readTextLines(path, FieldSeparator::kCommaOrWhitespace);
   if (!lines.ok()) return lines.status();

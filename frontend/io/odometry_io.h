@@ -2,6 +2,7 @@
 // Odometry files (TUM with optional covariances, OpenVINS traj_estimate, EuRoC CSV), relative covariances and increments.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,13 @@ Result<OdometryLog> readOpenVinsOdometry(const std::string& path);
 /// (v_RS_R_*, b_w_RS_S_*, b_a_RS_S_*) are ignored; an unknown or repeated column is an error naming it.
 /// No covariance.
 Result<OdometryLog> readEurocOdometry(const std::string& path);
+
+class RowReader;
+
+/// One TUM row as readTumOdometry reads it (8 fields, or 29 with the absolute covariance): `sample` gets t [s] and
+/// odom_T_body; `covariance` the row's covariance (all zero when unknown, isUnknownCovariance; otherwise checked),
+/// empty for 8 fields. Errors name the row's source, line and field; the order of stamps is the caller's.
+Status readTumRow(const RowReader& row, OdometrySample& sample, std::optional<Matrix6d>& covariance);
 
 /// A trajectory file's format, as readTrajectory recognised it.
 enum class TrajectoryFormat {

@@ -1,0 +1,214 @@
+// SPDX-License-Identifier: MIT
+#include "tools/live_command.h"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <optional>
+
+#include "dualgraph/frontend/evaluation/run_folder.h"
+#include "dualgraph/frontend/evaluation/run_metrics.h"
+#include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/delimited_text.h"
+#include "dualgraph/frontend/io/live_stream.h"
+#include "dualgraph/frontend/io/run_config.h"
+#include "dualgraph/frontend/io/track_io.h"
+#include "dualgraph/frontend/pipeline/streaming_localizer.h"
+#include "dualgraph/frontend/sequence_run.h"
+#include "tools/data_dir.h"
+#include "tools/run_command.h"
+#include "tools/staged_folder.h"
+
+namespace dualgraph::tools {
+namespace {
+
+int fail(const std::string& message) {
+  std::cerr << "dualgraph live: " << message << "\n";
+  return 1;
+}
+
+// The stream as it came, kept as a sequence (OUT/sequence): what `run --sequence` replays to the same answer.
+class Recording {
+ public:
+  Recording(const Track& map, std::optional<CameraModel> camera) {
+    sequence_.map = map;
+    sequence_.camera = std::move(camera);
+  }
+  // A row with a covariance after one without (or the reverse) cannot be one vio.tum: the reader's rule.
+  Status addOdometry(const LiveRecord& record, const std::string& where) {
+    const bool with = record.covariance.has_value();
+    if (!sequence_.odometry.samples.empty() && with != !sequence_.odometry.absolute_covariances.empty()) {
+      return Status(StatusCode::kParseError, where + ": covariance on every odom record or on none");
+    }
+    sequence_.odometry.samples.push_back(record.odometry);
+    if (with) sequence_.odometry.absolute_covariances.push_back(*record.covariance);
+    return Status();
+  }
+  Status addDetection(const LiveRecord& record, const std::string& where) {
+    const bool corners = record.kind == LiveRecord::Kind::kCorners;
+    if (detections_ > 0 && corners != sequence_.has_corners) {
+      return Status(StatusCode::kParseError, where + ": corners and pose records in one stream (one detector kind)");
+    }
+    sequence_.has_corners = corners;
+    if (corners) {
+      sequence_.corners.push_back(record.corners);
+    } else {
+      sequence_.pose_detections.push_back(record.pose);
+    }
+    ++detections_;
+    return Status();
+  }
+  Sequence& sequence() { return sequence_; }
+
+ private:
+  Sequence sequence_;
+  size_t detections_ = 0;
+};
+
+const char* stateWord(TrackingState state) { return trackingStateName(state); }
+
+}  // namespace
+
+int runLiveCommand(const LiveOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  auto params = loadRunConfig(o.config.empty() ? bundledDataDir() + "/config/default.yaml" : o.config);
+  if (!params.ok()) return fail(params.status().message());
+  auto map = loadTrackYaml(o.map);
+  if (!map.ok()) return fail(map.status().message());
+  std::optional<CameraModel> camera;
+  if (!o.camera.empty()) {
+    auto loaded = loadCameraYaml(o.camera);
+    if (!loaded.ok()) return fail(loaded.status().message());
+    camera = *loaded;
+  }
+  std::optional<OdometryLog> truth;
+  if (!o.gt.empty()) {
+    auto loaded = readTrajectory(o.gt);
+    if (!loaded.ok()) return fail(loaded.status().message());
+    truth = std::move(loaded).value();
+  }
+  auto created = StreamingLocalizer::create(*params, *map, camera, PipelineThreading::kCallerThread);
+  if (!created.ok()) return fail(created.status().message());
+  StreamingLocalizer& pipeline = **created;
+
+  std::ifstream input_file;
+  if (o.input != "-") {
+    input_file.open(o.input, std::ios::binary);  // a named pipe: waits here for its writer
+    if (!input_file) return fail(o.input + ": cannot open for reading");
+  }
+  std::istream& input = o.input == "-" ? std::cin : input_file;
+  std::ofstream poses_file;
+  if (o.poses != "-") {
+    poses_file.open(o.poses);
+    if (!poses_file) return fail(o.poses + ": cannot open for writing");
+  }
+  std::ostream& poses = o.poses == "-" ? std::cout : poses_file;
+  poses << std::setprecision(17);
+
+  const std::string source = inputName(o.input);
+  const Matrix6d pose_covariance = params->defaultPoseDetectionCovariance();
+  Recording recording(*map, camera);
+  std::vector<CorrectedPose> estimate;
+  DetectionInstant pending;  // the records of one detection instant: consecutive, one stamp, one kind
+  auto handOver = [&] {
+    if (pending.size() > 0) (void)pipeline.addDetections(pending);  // a refusal is counted by the pipeline
+    pending = DetectionInstant{};
+  };
+  Status stream_error;
+  std::string line;
+  int number = 0;
+  while (std::getline(input, line)) {
+    ++number;
+    auto parsed = parseLiveRecord(line, number, source, pose_covariance);
+    if (!parsed.ok()) {
+      stream_error = parsed.status();
+      break;
+    }
+    if (!parsed->has_value()) continue;
+    const LiveRecord& record = **parsed;
+    const std::string where = source + ":" + std::to_string(number);
+    if (record.kind == LiveRecord::Kind::kEnd) break;
+    if (record.kind == LiveRecord::Kind::kOdometry) {
+      handOver();
+      stream_error = recording.addOdometry(record, where);
+      if (!stream_error.ok()) break;
+      OdometryInput sample;
+      sample.t = record.odometry.t;
+      sample.odom_T_body = record.odometry.odom_T_body;
+      sample.absolute_covariance = record.covariance;
+      Result<PoseUpdate> update = pipeline.addOdometry(sample);
+      if (!update.ok()) continue;  // refused and counted (PipelineCounters): no pose for it
+      estimate.push_back(update->pose);
+      const Eigen::Isometry3d& pose = update->pose.world_T_body;
+      Eigen::Quaterniond q(pose.linear());
+      if (q.w() < 0.0) q.coeffs() = -q.coeffs();  // w >= 0, as estimate.tum writes it
+      poses << "pose " << update->pose.t << ' ' << pose.translation().x() << ' ' << pose.translation().y() << ' '
+            << pose.translation().z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w() << ' '
+            << stateWord(update->pose.state) << std::endl;  // flushed: a consumer sees it at once
+      continue;
+    }
+    stream_error = recording.addDetection(record, where);
+    if (!stream_error.ok()) break;
+    const bool corners = record.kind == LiveRecord::Kind::kCorners;
+    if (pending.size() > 0 && (pending.t != record.t() || corners != !pending.corners.empty())) handOver();
+    pending.t = record.t();
+    if (corners) {
+      pending.corners.push_back(record.corners);
+    } else {
+      pending.poses.push_back(record.pose);
+    }
+  }
+  handOver();
+  if (input.bad()) stream_error = Status(StatusCode::kIoError, source + ": read failed after line " + std::to_string(number));
+  if (recording.sequence().odometry.samples.empty()) {
+    return fail(stream_error.ok() ? source + ": no odom record (the stream ended before any odometry)"
+                                  : stream_error.message());
+  }
+  Result<PipelineResults> finished = pipeline.finish();
+  if (!finished.ok()) return fail(finished.status().message());
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const SequenceRunResult run = sequenceRunResult(std::move(estimate), std::move(finished).value(), 0, wall);
+
+  Sequence& sequence = recording.sequence();
+  sequence.ground_truth = truth;
+  int exit_code = stream_error.ok() ? 0 : 1;
+  if (!o.out.empty()) {
+    sequence.dir = (std::filesystem::path(o.out) / "sequence").string();
+    auto metrics = computeRunMetrics(sequence, run);
+    if (!metrics.ok()) return fail(metrics.status().message());
+    auto staged = StagedFolder::create(o.out);
+    if (!staged.ok()) return fail(staged.status().message());
+    Status written = writeSequence(staged->file("sequence"), sequence);
+    if (written.ok()) {
+      written = writeRunFolder(staged->path(), sequence.dir, params->localizer, run, *metrics,
+                               params->self_calibration_after_s > 0.0 ? &run.self_calibration : nullptr);
+    }
+    if (!written.ok()) return fail(staged->unstaged(written).message());
+    const Status committed = staged->commit();
+    if (!committed.ok()) return fail(committed.message());
+    if (exit_code == 0 && metrics->detections_used == 0) exit_code = kExitNothingLocalised;
+    if (exit_code == 0 && (metrics->lost_share_pct > o.max_lost_share_pct || metrics->final_state == TrackingState::kLost)) {
+      exit_code = kExitMostlyLost;
+    }
+  }
+  const PipelineCounters& refused = run.pipeline_counters;
+  const int odometry_refused = refused.odometry_invalid + refused.odometry_not_after_previous;
+  if (odometry_refused > 0) {
+    std::cerr << "dualgraph live: warning: " << odometry_refused << " odom records refused (" << refused.odometry_invalid
+              << " not finite or not rigid, " << refused.odometry_not_after_previous
+              << " not after the previous): no pose line for them\n";
+  }
+  if (!stream_error.ok()) {
+    std::cerr << "dualgraph live: " << stream_error.message() << " (the stream stopped there; the outputs hold what "
+              << "came before)\n";
+  } else if (!o.quiet) {
+    std::cerr << "dualgraph live: " << run.estimate.size() << " poses from " << sequence.odometry.samples.size()
+              << " odom records and " << (sequence.has_corners ? sequence.corners.size() : sequence.pose_detections.size())
+              << " detections" << (o.out.empty() ? "" : "; wrote " + o.out) << "\n";
+  }
+  return exit_code;
+}
+
+}  // namespace dualgraph::tools
