@@ -22,7 +22,7 @@ shared=${DUALGRAPH_SHARED_DIR:-$root/../shared}
 cxx=${FUZZ_CXX:-$(command -v clang++-14 || command -v clang++ || true)}
 [ -n "$cxx" ] || { echo "run.sh: clang++ not found (apt-get install clang-14 libclang-rt-14-dev)" >&2; exit 1; }
 all_targets=(fuzz_g2o fuzz_tum fuzz_euroc fuzz_corner_detections fuzz_pose_detections fuzz_track_yaml
-             fuzz_camera_yaml fuzz_localizer_params_yaml fuzz_run_config fuzz_ratm_json)
+             fuzz_camera_yaml fuzz_localizer_params_yaml fuzz_run_config fuzz_ratm_json fuzz_live_stream)
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=("${all_targets[@]}")
 
