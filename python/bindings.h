@@ -12,6 +12,8 @@ void bindGraph(pybind11::module_& m);
 void bindLocalizer(pybind11::module_& m);
 /// RunConfig, Sequence, GateFrontend, run_sequence (frontend_bindings.cpp).
 void bindFrontend(pybind11::module_& m);
+/// dualgraph.StreamingLocalizer (pipeline_bindings.cpp).
+void bindPipeline(pybind11::module_& m);
 /// TrajectoryMetrics, evaluate_trajectory, read_trajectory (evaluation_bindings.cpp).
 void bindEvaluation(pybind11::module_& m);
 

@@ -66,6 +66,16 @@ void bindSequence(py::module_& m) {
         }
         return out;
       }, "Per sample: the relative covariance (6, 6) metric [t; theta] [m^2, rad^2], or None.")
+      .def_property_readonly("odometry_absolute_covariances", [](const Sequence& s) -> py::object {
+        const auto& covariances = s.odometry.absolute_covariances;
+        if (covariances.size() != s.odometry.samples.size()) return py::none();
+        py::array_t<double> out({static_cast<py::ssize_t>(covariances.size()), py::ssize_t{6}, py::ssize_t{6}});
+        for (size_t k = 0; k < covariances.size(); ++k) {
+          Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(out.mutable_data() + 36 * k) = covariances[k];
+        }
+        return out;
+      }, "The file's absolute covariances (n, 6, 6) metric [t; theta] [m^2, rad^2] (all zero: unknown), as a VIO "
+         "publishes them (StreamingLocalizer.add_odometry takes them), or None when the file has none.")
       .def("odometry_pose_at", [](const Sequence& s, double t) {
         const auto& samples = s.odometry.samples;
         if (samples.empty()) raise(Status(StatusCode::kFailedPrecondition, s.dir + ": no odometry samples"));

@@ -18,5 +18,6 @@ PYBIND11_MODULE(dualgraph, m) {
   dualgraph::python::bindGraph(m);
   dualgraph::python::bindLocalizer(m);
   dualgraph::python::bindFrontend(m);
+  dualgraph::python::bindPipeline(m);
   dualgraph::python::bindEvaluation(m);
 }
