@@ -246,6 +246,9 @@ CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
                   "Odometry file read instead of the sequence's vio.tum: TUM, TUM + 21 covariance columns, OpenVINS "
                   "traj_estimate.txt or EuRoC CSV, recognised from its content; - reads it from stdin (or name a pipe), "
                   "read once and kept in the run folder as vio.tum (default: SEQUENCE/vio.tum)");
+  cmd->add_option("--gt", o.gt,
+                  "Ground truth read instead of the sequence's gt.tum (TUM, EuRoC CSV or OpenVINS, recognised from its "
+                  "content): metrics.json and report use it (default: SEQUENCE/gt.tum when it exists)");
   cmd->add_option("--config", o.config, "Configuration YAML (default: the bundled data/config/default.yaml)");
   cmd->add_option("--mode", o.mode, "dual or single (default: the config's)")->check(CLI::IsMember({"dual", "single"}));
   cmd->add_option("--d-main", o.d_main, "Main-graph keyframe distance [m] (default: the config's)")

@@ -2,6 +2,7 @@
 #include "tools/eval_command.h"
 
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <Eigen/Geometry>
 #include <iostream>
@@ -113,6 +114,12 @@ int runEvalCommand(const EvalOptions& o) {
   const auto alignment = parseTrajectoryAlignment(o.align);
   if (!alignment.ok()) return fail(alignment.status().message());
   if (!o.json.empty()) {  // before the work, not after it
+    std::error_code error;
+    for (const std::string& input : {o.gt, o.est}) {
+      if (std::filesystem::exists(o.json, error) && std::filesystem::equivalent(o.json, input, error)) {
+        return fail("--json " + o.json + " is an input (" + input + "): it would be overwritten");
+      }
+    }
     const Status writable = checkWritableFile(o.json);
     if (!writable.ok()) return fail(writable.message());
   }

@@ -72,8 +72,28 @@ int runRunCommand(const RunOptions& o) {
   if (o.d_single > 0) params->localizer.d_single = o.d_single;
   const Status valid = validateLocalizerParams(params->localizer);
   if (!valid.ok()) return fail(valid.message());
+  // The run folder replaces files in --out: none of them may be an input, nor --out the sequence folder.
+  namespace fs = std::filesystem;
+  std::error_code same_error;
+  if (fs::exists(o.out, same_error) && fs::equivalent(o.out, o.sequence, same_error)) {
+    return fail("--out " + o.out + " is the sequence folder: give the run its own folder");
+  }
+  for (const char* output : {"estimate.tum", "keyframes.tum", "tracking_state.csv", "stats.csv", "run.yaml",
+                             "metrics.json", isStream(o.vio) ? "vio.tum" : "estimate.tum"}) {  // vio.tum: a stream's
+    for (const std::string& input : {o.vio, o.gt, o.config}) {
+      if (!input.empty() && input != "-" && fs::exists(input, same_error) &&
+          fs::equivalent(fs::path(o.out) / output, input, same_error)) {
+        return fail("--out " + o.out + " would overwrite the input " + input + " (the run writes " + output + ")");
+      }
+    }
+  }
   auto sequence = loadSequence(o.sequence, params->defaultPoseDetectionCovariance(), o.vio);
   if (!sequence.ok()) return fail(sequence.status().message());
+  if (!o.gt.empty()) {
+    auto truth = readTrajectory(o.gt);
+    if (!truth.ok()) return fail(truth.status().message());
+    sequence->ground_truth = std::move(truth).value();
+  }
   int unknown_gates_skipped = 0;
   if (!params->localizer.mapping) {  // a mapping run's detector may name gates the map does not hold yet
     Result<int> skipped = checkDetectionGateIds(*sequence, o.skip_unknown_gates);
@@ -111,7 +131,8 @@ int runRunCommand(const RunOptions& o) {
   }
   const std::string vio_kept = streamed ? (std::filesystem::path(o.out) / "vio.tum").string() : o.vio;
   const Status written = writeRunFolder(staged->path(), o.sequence, params->localizer, *run, *metrics,
-                                        params->self_calibration_after_s > 0.0 ? &self_calibration : nullptr, vio_kept);
+                                        params->self_calibration_after_s > 0.0 ? &self_calibration : nullptr, vio_kept,
+                                        o.gt);
   if (!written.ok()) return fail(staged->unstaged(written).message());
   const Status committed = staged->commit();
   if (!committed.ok()) return fail(committed.message());

@@ -10,6 +10,7 @@ namespace dualgraph::tools {
 struct RunOptions {
   std::string sequence;
   std::string vio;     ///< empty: SEQUENCE/vio.tum; otherwise the odometry file read instead (any readTrajectory format)
+  std::string gt;      ///< empty: SEQUENCE/gt.tum when it exists; otherwise the ground truth read instead
   std::string config;  ///< empty: the bundled data/config/default.yaml
   std::string out;
   std::string mode;    ///< empty: the config's; dual | single

@@ -67,6 +67,10 @@ Status readRunYaml(const fs::path& path, RunReport& run) {
       const fs::path file(vio.as<std::string>());
       run.vio_path = (file.is_absolute() ? file : path.parent_path() / file).string();
     }
+    if (const YAML::Node gt = (*root)["gt"]; gt && gt.IsScalar()) {
+      const fs::path file(gt.as<std::string>());
+      run.gt_path = (file.is_absolute() ? file : path.parent_path() / file).string();
+    }
     if (const YAML::Node mode = (*root)["mode"]; mode && mode.IsScalar()) run.mode = mode.as<std::string>();
     std::ostringstream thresholds;
     for (const char* key : {"d_main", "d_temp", "d_single"}) {
@@ -196,11 +200,14 @@ Status writeTrackingStates(const std::string& path, const std::vector<CorrectedP
 
 // run.yaml: the sequence (absolute) and the graph settings of the run, for `dualgraph report`.
 Status writeRunYaml(const std::string& path, const std::string& sequence, const std::string& vio_path,
-                    const LocalizerParams& p) {
+                    const std::string& gt_path, const LocalizerParams& p) {
   return writeFileAtomically(path, [&](std::ostream& out) {
     out << "sequence: \"" << jsonEscape(std::filesystem::absolute(sequence).lexically_normal().string()) << "\"\n";
     if (!vio_path.empty()) {
       out << "vio: \"" << jsonEscape(std::filesystem::absolute(vio_path).lexically_normal().string()) << "\"\n";
+    }
+    if (!gt_path.empty()) {
+      out << "gt: \"" << jsonEscape(std::filesystem::absolute(gt_path).lexically_normal().string()) << "\"\n";
     }
     out << "mode: " << localizerModeName(p.mode) << "\n";
     if (p.mode == LocalizerMode::kDual) out << "d_main: " << p.d_main << "\nd_temp: " << p.d_temp << "\n";
@@ -304,13 +311,14 @@ std::string folderName(const std::string& dir) {
 
 Status writeRunFolder(const std::string& dir, const std::string& sequence_dir, const LocalizerParams& params,
                       const SequenceRunResult& run, const RunMetrics& metrics,
-                      const SelfCalibrationReport* self_calibration, const std::string& vio_path) {
+                      const SelfCalibrationReport* self_calibration, const std::string& vio_path,
+                      const std::string& gt_path) {
   const fs::path folder(dir);
   DG_RETURN_IF_ERROR(writeTum((folder / "estimate.tum").string(), stampedPoses(mapPoses(run.estimate))));
   DG_RETURN_IF_ERROR(writeTrackingStates((folder / "tracking_state.csv").string(), run.estimate));
   DG_RETURN_IF_ERROR(writeTum((folder / "keyframes.tum").string(), stampedPoses(run.keyframes)));
   DG_RETURN_IF_ERROR(writeStats((folder / "stats.csv").string(), run.stats, run.keyframes, params));
-  DG_RETURN_IF_ERROR(writeRunYaml((folder / "run.yaml").string(), sequence_dir, vio_path, params));
+  DG_RETURN_IF_ERROR(writeRunYaml((folder / "run.yaml").string(), sequence_dir, vio_path, gt_path, params));
   return writeJsonFile((folder / "metrics.json").string(), metricsJson(metrics, run, self_calibration));
 }
 
@@ -334,8 +342,9 @@ Result<RunReport> loadRunReport(const std::string& run_dir, const std::string& s
   auto vio = readPoses(run.vio_path.empty() ? sequence / "vio.tum" : fs::path(run.vio_path));
   if (!vio.ok()) return vio.status();
   run.vio = std::move(*vio);
-  if (fs::exists(sequence / "gt.tum")) {
-    auto gt = readPoses(sequence / "gt.tum");
+  const fs::path gt_file = run.gt_path.empty() ? sequence / "gt.tum" : fs::path(run.gt_path);
+  if (!run.gt_path.empty() || fs::exists(gt_file)) {
+    auto gt = readPoses(gt_file);
     if (!gt.ok()) return gt.status();
     run.ground_truth = std::move(*gt);
   }

@@ -26,7 +26,8 @@ namespace dualgraph {
 ///                  rejected_edges,skipped_gates,observations,temp_nodes,temp_edges,temp_iterations,temp_ms,
 ///                  termination` (row 0: the first keyframe, not optimised)
 ///   run.yaml       `sequence:` (absolute), `vio:` (absolute; only when `vio_path` is given: the odometry file read
-///                  instead of SEQUENCE/vio.tum), `mode:` and the keyframe thresholds (`d_main`, `d_temp` or `d_single`)
+///                  instead of SEQUENCE/vio.tum), `gt:` (absolute; only when `gt_path` is given: the ground truth read
+///                  instead of SEQUENCE/gt.tum), `mode:` and the keyframe thresholds (`d_main`, `d_temp` or `d_single`)
 ///   metrics.json   RunMetrics' figures, always: `has_ground_truth` 1/0, the ATE figures null without ground truth
 ///                  (non-finite values as null); frontend/evaluation/OUTPUTS.md lists every key
 /// kIoError naming the file that could not be written.
@@ -35,7 +36,8 @@ namespace dualgraph {
 /// `_mount_change_deg`, `_iterations` and `_why_not` (a string, empty when applied).
 Status writeRunFolder(const std::string& dir, const std::string& sequence_dir, const LocalizerParams& params,
                       const SequenceRunResult& run, const RunMetrics& metrics,
-                      const SelfCalibrationReport* self_calibration = nullptr, const std::string& vio_path = "");
+                      const SelfCalibrationReport* self_calibration = nullptr, const std::string& vio_path = "",
+                      const std::string& gt_path = "");
 
 /// What `dualgraph report` shows of one run folder, read by loadRunReport.
 struct RunReport {
@@ -43,6 +45,7 @@ struct RunReport {
   std::string run_dir;       ///< as given
   std::string sequence_dir;  ///< from run.yaml, or the override
   std::string vio_path;      ///< run.yaml's `vio:` (a run given --vio), or empty: SEQUENCE/vio.tum
+  std::string gt_path;       ///< run.yaml's `gt:` (a run given --gt), or empty: SEQUENCE/gt.tum when it exists
   std::string mode;          ///< "dual", "single", or empty when unknown (no run.yaml)
   std::string thresholds;    ///< e.g. "d_main 2 m, d_temp 0.1 m" (run.yaml), or empty
   StampedPoses ground_truth;  ///< world_T_body [s, m]; empty when the sequence has no gt.tum

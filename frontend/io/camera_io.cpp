@@ -10,6 +10,7 @@
 
 #include "dualgraph/core/atomic_file.h"
 #include "dualgraph/core/token_reader.h"
+#include "dualgraph/frontend/io/kalibr_camera.h"
 #include "dualgraph/frontend/io/yaml_fields.h"
 
 namespace dualgraph {
@@ -50,6 +51,7 @@ Status locateInvalid(const std::string& source, const Status& status, const Mark
 }  // namespace
 
 Result<CameraModel> parseCameraYaml(const std::string& yaml_text, const std::string& source) {
+  if (looksLikeKalibrChain(yaml_text)) return parseKalibrCameraYaml(yaml_text, source);  // its cam0
   try {
     auto root = loadMapping(yaml_text, source);
     if (!root.ok()) return root.status();

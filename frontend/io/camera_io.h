@@ -27,7 +27,8 @@ namespace dualgraph {
 ///
 /// Unknown or duplicate keys, missing required keys, lists of the wrong length, non-finite or
 /// non-numeric values and an invalid camera (CameraModel::validate) are kParseError with
-/// "path:LINE: field 'NAME': why"; an unreadable file is kIoError.
+/// "path:LINE: field 'NAME': why"; an unreadable file is kIoError. A Kalibr camera chain or OpenVINS's
+/// kalibr_imucam_chain.yaml (a top-level `cam0`) is read as it is: its cam0 (frontend/io/kalibr_camera.h).
 Result<CameraModel> loadCameraYaml(const std::string& path);
 /// The same from text; `source_name` stands for the file in messages.
 Result<CameraModel> parseCameraYaml(const std::string& yaml_text, const std::string& source_name);

@@ -250,6 +250,44 @@ TEST(RunVioFormats, AUtf8ByteOrderMarkIsSkipped) {
   EXPECT_EQ(readFile(tempDir() + "/vio_bom_plain/estimate.tum"), readFile(tempDir() + "/vio_bom_run/estimate.tum"));
 }
 
+TEST(RunVioFormats, GroundTruthFromElsewhereAndNoOutputOverAnInput) {
+  const std::string lap = simulatedLap();
+  const std::string without = tempDir() + "/gt_elsewhere_seq";
+  fs::remove_all(without);
+  fs::copy(lap, without, fs::copy_options::recursive);
+  const std::string truth = tempDir() + "/gt_elsewhere.tum";
+  fs::rename(without + "/gt.tum", truth);
+  // --gt: the metrics and the report use it; run.yaml names it.
+  const CommandRun with = runDualgraph("run --quiet --sequence " + without + " --gt " + truth + " --out " + without + "_run");
+  ASSERT_EQ(with.exit_code, 0) << with.err;
+  const CommandRun plain = runDualgraph("run --quiet --sequence " + lap + " --out " + without + "_plain");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_EQ(testing::jsonNumber(readFile(without + "_run/metrics.json"), "ate_m"),
+            testing::jsonNumber(readFile(without + "_plain/metrics.json"), "ate_m"));
+  EXPECT_NE(readFile(without + "_run/run.yaml").find("gt: \"" + fs::absolute(truth).lexically_normal().string()),
+            std::string::npos) << readFile(without + "_run/run.yaml");
+  const CommandRun report = runDualgraph("report --run " + without + "_run --out " + without + "_report.html");
+  EXPECT_EQ(report.exit_code, 0) << report.err;
+  EXPECT_NE(readFile(without + "_report.html").find("ground truth\" fill=\"none\""), std::string::npos)
+      << "the ground truth drawn, from --gt";
+  // --out may not be the sequence folder, nor make a run file of an input; eval --json may not be an input.
+  const CommandRun into_sequence = runDualgraph("run --quiet --sequence " + without + " --out " + without);
+  EXPECT_EQ(into_sequence.exit_code, 1);
+  EXPECT_NE(into_sequence.err.find("is the sequence folder"), std::string::npos) << into_sequence.err;
+  const std::string folder = tempDir() + "/gt_elsewhere_out";
+  fs::create_directories(folder);
+  fs::copy_file(truth, folder + "/metrics.json", fs::copy_options::overwrite_existing);
+  const std::string before = readFile(folder + "/metrics.json");
+  const CommandRun over = runDualgraph("run --quiet --sequence " + without + " --gt " + folder + "/metrics.json --out " + folder);
+  EXPECT_EQ(over.exit_code, 1);
+  EXPECT_NE(over.err.find("would overwrite the input"), std::string::npos) << over.err;
+  EXPECT_EQ(readFile(folder + "/metrics.json"), before);
+  const CommandRun eval = runDualgraph("eval --gt " + truth + " --est " + without + "_run/estimate.tum --json " + truth);
+  EXPECT_EQ(eval.exit_code, 1);
+  EXPECT_NE(eval.err.find("is an input"), std::string::npos) << eval.err;
+  EXPECT_EQ(tumRows(truth).size(), tumRows(lap + "/gt.tum").size()) << "the ground truth is left as it was";
+}
+
 TEST(RunVioFormats, AMissingOrMalformedVioFileExitsOneNamingIt) {
   const std::string missing = tempDir() + "/no_such_odometry.txt";
   const CommandRun run = runDualgraph("run --sequence " + simulatedLap() + " --vio " + missing + " --out " +
