@@ -48,6 +48,9 @@ class Recording {
   }
   Status addDetection(const LiveRecord& record, const std::string& where) {
     const bool corners = record.kind == LiveRecord::Kind::kCorners;
+    if (corners && !sequence_.camera) {
+      return Status(StatusCode::kParseError, where + ": a corners record needs the camera (--camera camera.yaml)");
+    }
     if (detections_ > 0 && corners != sequence_.has_corners) {
       return Status(StatusCode::kParseError, where + ": corners and pose records in one stream (one detector kind)");
     }

@@ -132,6 +132,10 @@ TEST(LiveCli, ABadStreamExitsOneNamingTheLineAfterWritingWhatCameBefore) {
       {"odom 0 0 0 0 0 0 0 1\ncorners 0.005 1 1 2 3 4 5 6 7 8\npose 0.006 1 1 0 0 0 0 0 1\n",
        "stdin:3: corners and pose records in one stream"},
   };
+  const std::string no_camera = testing::writeFile("live_no_camera.txt", "odom 0 0 0 0 0 0 0 1\ncorners 0.005 1 1 2 3 4 5 6 7 8\n");
+  const CommandRun without = runDualgraph("live --map " + sequence + "/gates.yaml < " + no_camera);
+  EXPECT_EQ(without.exit_code, 1);
+  EXPECT_NE(without.err.find("stdin:2: a corners record needs the camera"), std::string::npos) << without.err;
   int k = 0;
   for (const Case& c : cases) {
     const std::string stream = testing::writeFile("live_bad_" + std::to_string(k++) + ".txt", c.stream);
