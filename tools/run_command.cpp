@@ -202,10 +202,11 @@ int runRunCommand(const RunOptions& o) {
   std::cout << "\n  odometry " << sequence->vio_path << " (" << trajectoryFormatName(sequence->vio_format) << ", "
             << sequence->odometry.samples.size() << " samples, "
             << (sequence->odometry.absolute_covariances.empty() ? "no covariance" : "with covariances")
-            << ")\n";
+            << ", t0 = " << formatTimestamp(sequence->odometry.samples.front().t) << " s; times below from t0)\n";
+  const double t0 = sequence->odometry.samples.front().t;
   if (run->initialization) {
     const Eigen::Isometry3d& frame = run->initialization->world_T_odom;
-    std::cout << "  VIO frame found at t=" << run->initialization->locked_at << " s from " << run->initialization->inliers
+    std::cout << "  VIO frame found at t0 + " << run->initialization->locked_at - t0 << " s from " << run->initialization->inliers
               << " agreeing detections (runner-up " << run->initialization->runner_up << "): yaw "
               << std::atan2(frame.linear()(1, 0), frame.linear()(0, 0)) * 180.0 / M_PI << " deg, offset "
               << frame.translation().norm() << " m\n";
