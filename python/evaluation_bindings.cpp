@@ -112,7 +112,10 @@ for; rotation error the geodesic angle of R_gt^-1 * R_aligned [deg]; RPE over tr
 
   m.def("evaluate_trajectory",
         [](TrajectoryLike gt, TrajectoryLike est, const std::string& align, double max_gap_s,
-           const std::vector<double>& rpe_distances_m, double max_dt_s) {
+           const std::vector<double>& rpe_distances_m, double max_dt_s, double min_associated) {
+          if (!(min_associated >= 0.0 && min_associated <= 1.0)) {
+            raiseInvalid("min_associated: expected a share in [0, 1], got " + std::to_string(min_associated));
+          }
           TrajectoryMetricsParams params;
           params.alignment = unwrap(parseTrajectoryAlignment(align));  // every mode the library knows, by its name
           params.max_gap_s = max_gap_s;
@@ -124,9 +127,19 @@ for; rotation error the geodesic angle of R_gt^-1 * R_aligned [deg]; RPE over tr
             py::gil_scoped_release release;
             return evaluateTrajectory(gt_poses, est_poses, params);
           }();
-          return unwrap(std::move(metrics));
+          TrajectoryMetrics result = unwrap(std::move(metrics));
+          // As `dualgraph eval --min-associated`: figures from a sliver of the estimate are a plausible wrong answer.
+          if (static_cast<double>(result.associated) < min_associated * static_cast<double>(result.estimate_poses)) {
+            raise(Status(StatusCode::kFailedPrecondition,
+                         "only " + std::to_string(result.associated) + " of " + std::to_string(result.estimate_poses) +
+                             " estimate poses have ground truth (below min_associated " + std::to_string(min_associated) +
+                             "): the two trajectories do not cover the same time (another clock, or nanoseconds read "
+                             "as seconds?)"));
+          }
+          return result;
         },
         "gt"_a, "est"_a, "align"_a = "se3", "max_gap_s"_a = 0.1, py::arg_v("rpe_distances_m", std::vector<double>{1.0, 10.0}, "(1.0, 10.0)"), "max_dt_s"_a = 0.0,
+        "min_associated"_a = 0.5,
         R"doc(ATE and RPE of an estimate against ground truth, as `dualgraph eval --align ALIGN`.
 
 gt, est: a trajectory file path (TUM `t x y z qx qy qz qw` [s, m] or EuRoC CSV [ns], as read_trajectory),
@@ -137,7 +150,8 @@ paired with the ground truth interpolated at its stamp (`eval --max-gap`); max_d
 the ground-truth pose of the nearest stamp within max_dt_s (`eval --max-dt`, evo's association). align: the name of an alignment of
 frontend/evaluation/trajectory_metrics.h ('se3' Umeyama without scale, '4dof' yaw + translation, 'none', and
 any mode added there). rpe_distances_m: the RPE windows [m]. Raises InvalidArgumentError for a bad input or
-alignment name, FailedPreconditionError when nothing can be associated or too few poses to align.)doc");
+alignment name, FailedPreconditionError when nothing can be associated, too few poses to align, or fewer than
+min_associated [1] of the estimate's poses have ground truth (`eval --min-associated`, 0.5; 0 accepts any).)doc");
 
   m.def("read_trajectory",
         [](PathLike path) {

@@ -162,6 +162,17 @@ class Inputs(unittest.TestCase):
             dualgraph.evaluate_trajectory(gt, late)
         with self.assertRaises(dualgraph.NotFoundError if hasattr(dualgraph, "NotFoundError") else dualgraph.Error):
             dualgraph.read_trajectory("/nonexistent/traj.tum")
+        # As `dualgraph eval --min-associated 0.5`: an estimate that mostly lies outside the ground truth is refused,
+        # not summarised from the sliver that overlaps; 0 accepts it.
+        n = len(est)
+        mostly_after = est.copy()
+        mostly_after[:, 0] += (gt[-1, 0] - gt[0, 0]) * 0.8
+        overlap = dualgraph.evaluate_trajectory(gt, mostly_after, min_associated=0.0, rpe_distances_m=[])
+        self.assertLess(overlap.associated, n // 2)
+        with self.assertRaisesRegex(dualgraph.FailedPreconditionError, "below min_associated"):
+            dualgraph.evaluate_trajectory(gt, mostly_after, rpe_distances_m=[])
+        with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "min_associated"):
+            dualgraph.evaluate_trajectory(gt, est, min_associated=1.5)
 
 
 if __name__ == "__main__":
