@@ -63,7 +63,7 @@ TEST(CliUsage, AnUnknownCommandNamesTheNearestAndExitsTwo) {
   const CommandRun british = runDualgraph("optimise file.g2o");
   EXPECT_EQ(british.exit_code, 2);
   EXPECT_NE(british.err.find("unknown command 'optimise' (did you mean 'optimize'?)"), std::string::npos) << british.err;
-  EXPECT_NE(british.err.find("the commands are optimize, eval, simulate, run, ablation, report, calibrate"),
+  EXPECT_NE(british.err.find("the commands are optimize, eval, simulate, run, live, ablation, report, calibrate"),
             std::string::npos) << british.err;
   EXPECT_EQ(std::count(british.err.begin(), british.err.end(), '\n'), 1) << british.err;
   const CommandRun far = runDualgraph("frobnicate");
