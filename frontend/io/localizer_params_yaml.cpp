@@ -85,6 +85,40 @@ constexpr LandmarkModel kLandmarks[] = {LandmarkModel::kPose, LandmarkModel::kPo
 constexpr LmDamping kDampings[] = {LmDamping::kIdentity, LmDamping::kDiagonal};
 constexpr TemporarySolverKind kTemporarySolvers[] = {TemporarySolverKind::kBlock, TemporarySolverKind::kGraph};
 
+// The keys read otherwise than as a plain number, integer or flag.
+using Text = const std::string&;
+struct OtherField {
+  const char* name;
+  Status (*read)(Text source, Text name, const YAML::Node& value, LocalizerParams& params);
+};
+const OtherField kOtherFields[] = {
+    {"mode", [](Text s, Text n, const YAML::Node& v,
+                LocalizerParams& p) { return readEnum(s, n, v, kModes, &localizerModeName, p.mode); }},
+    {"landmark", [](Text s, Text n, const YAML::Node& v,
+                    LocalizerParams& p) { return readEnum(s, n, v, kLandmarks, &landmarkModelName, p.landmark); }},
+    {"linear_solver", [](Text s, Text n, const YAML::Node& v,
+                         LocalizerParams& p) { return readLinearSolver(s, n, v, p.linear_solver); }},
+    {"lm_damping", [](Text s, Text n, const YAML::Node& v,
+                      LocalizerParams& p) { return readEnum(s, n, v, kDampings, &lmDampingName, p.lm_damping); }},
+    {"temp_solver",
+     [](Text s, Text n, const YAML::Node& v, LocalizerParams& p) {
+       return readEnum(s, n, v, kTemporarySolvers, &temporarySolverKindName, p.temp_solver);
+     }},
+    {"robust_kernel",
+     [](Text s, Text n, const YAML::Node& v, LocalizerParams& p) { return readString(s, n, v, p.robust_kernel); }},
+    {"initial_world_T_body",
+     [](Text s, Text n, const YAML::Node& v, LocalizerParams& p) {
+       Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
+       DG_RETURN_IF_ERROR(readTransform(s, n, v, start, TransformParts::kBoth));
+       p.initial_world_T_body = start;
+       return Status::okStatus();
+     }},
+    {"initial_world_T_odom",
+     [](Text s, Text n, const YAML::Node& v, LocalizerParams& p) {
+       return readTransform(s, n, v, p.initial_world_T_odom, TransformParts::kKeepMissing);
+     }},
+};
+
 /// Reads one `name: value` pair into `params`; an unknown name is an error at the key.
 Status readField(const std::string& source, const YAML::Node& key, const YAML::Node& value,
                  LocalizerParams& params) {
@@ -98,22 +132,8 @@ Status readField(const std::string& source, const YAML::Node& key, const YAML::N
   for (const auto& slot : kBoolFields) {
     if (name == slot.name) return readBool(source, name, value, params.*slot.member);
   }
-  if (name == "mode") return readEnum(source, name, value, kModes, &localizerModeName, params.mode);
-  if (name == "landmark") return readEnum(source, name, value, kLandmarks, &landmarkModelName, params.landmark);
-  if (name == "linear_solver") return readLinearSolver(source, name, value, params.linear_solver);
-  if (name == "lm_damping") return readEnum(source, name, value, kDampings, &lmDampingName, params.lm_damping);
-  if (name == "temp_solver") {
-    return readEnum(source, name, value, kTemporarySolvers, &temporarySolverKindName, params.temp_solver);
-  }
-  if (name == "robust_kernel") return readString(source, name, value, params.robust_kernel);
-  if (name == "initial_world_T_body") {
-    Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
-    DG_RETURN_IF_ERROR(readTransform(source, name, value, start, TransformParts::kBoth));
-    params.initial_world_T_body = start;
-    return Status::okStatus();
-  }
-  if (name == "initial_world_T_odom") {
-    return readTransform(source, name, value, params.initial_world_T_odom, TransformParts::kKeepMissing);
+  for (const auto& slot : kOtherFields) {
+    if (name == slot.name) return slot.read(source, name, value, params);
   }
   return fieldError(source, key.Mark(), name, "unknown key");
 }
@@ -214,6 +234,18 @@ Result<LocalizerParams> parseLocalizerParams(const std::string& yaml_text, const
   Result<YAML::Node> root = loadDocument(yaml_text, source_name);
   if (!root.ok()) return root.status();
   return readLocalizerParams(source_name, *root, other_sections);
+}
+
+const std::vector<std::string>& localizerParamKeys() {
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> out;
+    for (const auto& slot : kNumberFields) out.emplace_back(slot.name);
+    for (const auto& slot : kIntegerFields) out.emplace_back(slot.name);
+    for (const auto& slot : kBoolFields) out.emplace_back(slot.name);
+    for (const auto& slot : kOtherFields) out.emplace_back(slot.name);
+    return out;
+  }();
+  return keys;
 }
 
 Result<LocalizerParams> loadLocalizerParams(const std::string& path) {

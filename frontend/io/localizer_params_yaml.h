@@ -33,6 +33,9 @@ namespace dualgraph {
 Result<LocalizerParams> parseLocalizerParams(const std::string& yaml_text, const std::string& source_name,
                                              const std::vector<std::string>& other_sections = {});
 
+/// Every key parseLocalizerParams accepts (data/config/default.yaml lists each with its default and unit, tested).
+const std::vector<std::string>& localizerParamKeys();
+
 /// Reads the file (kIoError naming it when unreadable) and parses it.
 Result<LocalizerParams> loadLocalizerParams(const std::string& path);
 

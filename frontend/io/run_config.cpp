@@ -50,6 +50,99 @@ Status readTimeOffset(const std::string& source, const std::string& field, const
   return Status();
 }
 
+// Every key of the `frontend:` section and how it is read: the one table runConfigFrontendKeys lists.
+using Text = const std::string&;
+using Node = const YAML::Node&;
+struct FrontendField {
+  const char* name;
+  Status (*read)(Text source, Text field, Node value, SequenceRunParams& params);
+};
+const FrontendField kFrontendFields[] = {
+    {"trust_ids", [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.frontend.trust_ids); }},
+    {"pixel_sigma",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.frontend.pnp.pixel_sigma); }},
+    {"adaptive_pixel_sigma",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.frontend.adaptive_pixel_sigma); }},
+    {"partial_gates",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.frontend.partial_gates); }},
+    {"upright_prior_sigma_deg",
+     [](Text s, Text f, Node v, SequenceRunParams& p) {
+       const Status read = readNumber(s, f, v, p.frontend.upright_prior_sigma_deg);
+       if (!read.ok() || p.frontend.upright_prior_sigma_deg >= 0.0) return read;
+       return fieldError(s, v.Mark(), f, "must be >= 0 (0: no upright prior)");
+     }},
+    {"max_reprojection_rms",
+     [](Text s, Text f, Node v, SequenceRunParams& p) {
+       return readPositive(s, f, v, p.frontend.pnp.max_reprojection_rms);
+     }},
+    {"min_range",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.frontend.pnp.min_range); }},
+    {"max_range",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.frontend.pnp.max_range); }},
+    {"min_corner_angle_deg",
+     [](Text s, Text f, Node v, SequenceRunParams& p) {
+       return readNumber(s, f, v, p.frontend.pnp.min_corner_angle_deg);
+     }},
+    {"max_condition_number",
+     [](Text s, Text f, Node v, SequenceRunParams& p) {
+       return readPositive(s, f, v, p.frontend.pnp.max_condition_number);
+     }},
+    {"pnp_covariance",
+     [](Text s, Text f, Node v, SequenceRunParams& p) {
+       return readPnpCovariance(s, f, v, p.frontend.pnp.covariance_model);
+     }},
+    {"max_refinement_iterations",
+     [](Text s, Text f, Node v, SequenceRunParams& p) {
+       return readNonNegativeInt(s, f, v, p.frontend.pnp.max_refinement_iterations, 0);
+     }},
+    {"max_association_distance",
+     [](Text s, Text f, Node v, SequenceRunParams& p) {
+       return readPositive(s, f, v, p.frontend.association.max_distance);
+     }},
+    {"max_normal_angle",
+     [](Text s, Text f, Node v, SequenceRunParams& p) {
+       return readNumber(s, f, v, p.frontend.association.max_normal_angle);
+     }},
+    {"allow_reversed", [](Text s, Text f, Node v,
+                          SequenceRunParams& p) { return readBool(s, f, v, p.frontend.association.allow_reversed); }},
+    {"mapping_min_sightings",
+     [](Text s, Text f, Node v, SequenceRunParams& p) {
+       return readNonNegativeInt(s, f, v, p.frontend.association.mapping_min_sightings, 1);
+     }},
+    {"mapping_consistency",
+     [](Text s, Text f, Node v, SequenceRunParams& p) {
+       return readPositive(s, f, v, p.frontend.association.mapping_consistency);
+     }},
+    {"initialization",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readInitialization(s, f, v, p.auto_initialize); }},
+    {"initialization_min_inliers",
+     [](Text s, Text f, Node v, SequenceRunParams& p) {
+       return readNonNegativeInt(s, f, v, p.initialization.min_inliers, 1);
+     }},
+    {"pose_detection_sigma_t",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.pose_detection_sigma_t); }},
+    {"pose_detection_sigma_r",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.pose_detection_sigma_r); }},
+    {"relocalization_sigma_t",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.relocalization.sigma_t); }},
+    {"relocalization_sigma_r",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.relocalization.sigma_r); }},
+    {"relocalization_global_after_s",
+     [](Text s, Text f, Node v, SequenceRunParams& p) {
+       return readPositive(s, f, v, p.relocalization.global_after_s);
+     }},
+    {"relocalization_replace_ratio",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readShare(s, f, v, p.relocalization.replace_ratio); }},
+    {"time_offset",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readTimeOffset(s, f, v, p.time_offset); }},
+    {"max_detection_lead_s",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.max_detection_lead_s); }},
+    {"max_odometry_gap_s",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_gap_s); }},
+    {"self_calibration_after_s",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.self_calibration_after_s); }},
+};
+
 Status readFrontend(const std::string& source, const YAML::Node& section, SequenceRunParams& params) {
   if (!section.IsMap()) return fieldError(source, section.Mark(), "frontend", "expected a mapping, got " + describe(section));
   GatePnpParams& pnp = params.frontend.pnp;
@@ -60,42 +153,12 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
     const std::string field = "frontend." + key;
     const YAML::Node& value = entry.second;
     if (!marks.emplace(key, entry.first.Mark()).second) return fieldError(source, entry.first.Mark(), field, "duplicate key");
-    Status status;
-    if (key == "trust_ids") status = readBool(source, field, value, params.frontend.trust_ids);
-    else if (key == "pixel_sigma") status = readPositive(source, field, value, pnp.pixel_sigma);
-    else if (key == "adaptive_pixel_sigma") status = readBool(source, field, value, params.frontend.adaptive_pixel_sigma);
-    else if (key == "partial_gates") status = readBool(source, field, value, params.frontend.partial_gates);
-    else if (key == "upright_prior_sigma_deg") {
-      status = readNumber(source, field, value, params.frontend.upright_prior_sigma_deg);
-      if (status.ok() && params.frontend.upright_prior_sigma_deg < 0.0) {
-        status = fieldError(source, value.Mark(), field, "must be >= 0 (0: no upright prior)");
-      }
+    const FrontendField* known = nullptr;
+    for (const FrontendField& candidate : kFrontendFields) {
+      if (key == candidate.name) known = &candidate;
     }
-    else if (key == "max_reprojection_rms") status = readPositive(source, field, value, pnp.max_reprojection_rms);
-    else if (key == "min_range") status = readNumber(source, field, value, pnp.min_range);
-    else if (key == "max_range") status = readPositive(source, field, value, pnp.max_range);
-    else if (key == "min_corner_angle_deg") status = readNumber(source, field, value, pnp.min_corner_angle_deg);
-    else if (key == "max_condition_number") status = readPositive(source, field, value, pnp.max_condition_number);
-    else if (key == "pnp_covariance") status = readPnpCovariance(source, field, value, pnp.covariance_model);
-    else if (key == "max_refinement_iterations") status = readNonNegativeInt(source, field, value, pnp.max_refinement_iterations, 0);
-    else if (key == "max_association_distance") status = readPositive(source, field, value, association.max_distance);
-    else if (key == "max_normal_angle") status = readNumber(source, field, value, association.max_normal_angle);
-    else if (key == "allow_reversed") status = readBool(source, field, value, association.allow_reversed);
-    else if (key == "mapping_min_sightings") status = readNonNegativeInt(source, field, value, association.mapping_min_sightings, 1);
-    else if (key == "mapping_consistency") status = readPositive(source, field, value, association.mapping_consistency);
-    else if (key == "initialization") status = readInitialization(source, field, value, params.auto_initialize);
-    else if (key == "initialization_min_inliers") status = readNonNegativeInt(source, field, value, params.initialization.min_inliers, 1);
-    else if (key == "pose_detection_sigma_t") status = readPositive(source, field, value, params.pose_detection_sigma_t);
-    else if (key == "pose_detection_sigma_r") status = readPositive(source, field, value, params.pose_detection_sigma_r);
-    else if (key == "relocalization_sigma_t") status = readPositive(source, field, value, params.relocalization.sigma_t);
-    else if (key == "relocalization_sigma_r") status = readPositive(source, field, value, params.relocalization.sigma_r);
-    else if (key == "relocalization_global_after_s") status = readPositive(source, field, value, params.relocalization.global_after_s);
-    else if (key == "relocalization_replace_ratio") status = readShare(source, field, value, params.relocalization.replace_ratio);
-    else if (key == "time_offset") status = readTimeOffset(source, field, value, params.time_offset);
-    else if (key == "max_detection_lead_s") status = readPositive(source, field, value, params.max_detection_lead_s);
-    else if (key == "max_odometry_gap_s") status = readNumber(source, field, value, params.max_odometry_gap_s);
-    else if (key == "self_calibration_after_s") status = readNumber(source, field, value, params.self_calibration_after_s);
-    else return fieldError(source, entry.first.Mark(), field, "unknown key");
+    if (known == nullptr) return fieldError(source, entry.first.Mark(), field, "unknown key");
+    const Status status = known->read(source, field, value, params);
     DG_RETURN_IF_ERROR(status);
   }
   auto markOf = [&](const std::string& key) {
@@ -127,6 +190,15 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
 }
 
 }  // namespace
+
+const std::vector<std::string>& runConfigFrontendKeys() {
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> out;
+    for (const FrontendField& field : kFrontendFields) out.emplace_back(field.name);
+    return out;
+  }();
+  return keys;
+}
 
 Matrix6d SequenceRunParams::defaultPoseDetectionCovariance() const {
   Vector6d variance;

@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "dualgraph/core/status.h"
 #include "dualgraph/dual_graph/localizer_params.h"
@@ -89,6 +90,8 @@ struct SequenceRunParams {
 /// kInvalidArgument for a `localizer:` value out of range (validateLocalizerParams, as
 /// localizer_params_yaml.h documents); kIoError for an unreadable file.
 Result<SequenceRunParams> parseRunConfig(const std::string& yaml_text, const std::string& source_name);
+/// Every key the `frontend:` section accepts, in the reader's order (data/config/default.yaml lists each, tested).
+const std::vector<std::string>& runConfigFrontendKeys();
 Result<SequenceRunParams> loadRunConfig(const std::string& path);
 
 }  // namespace dualgraph
