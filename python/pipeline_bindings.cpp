@@ -26,6 +26,7 @@ struct PyStreaming {
   std::unique_ptr<StreamingLocalizer> pipeline;
   std::vector<CorrectedPose> estimate;
   bool finished = false;
+  bool worker = false;  ///< threading='worker': time_offset belongs to the worker thread
 
   StreamingLocalizer& live() {
     if (finished) raise(Status(StatusCode::kFailedPrecondition, "StreamingLocalizer: finish() was called"));
@@ -42,6 +43,7 @@ PipelineThreading threadingFrom(const std::string& name) {
 std::unique_ptr<PyStreaming> make(const SequenceRunParams& config, const Track& map, std::optional<CameraModel> camera,
                                   const std::string& threading) {
   auto out = std::make_unique<PyStreaming>();
+  out->worker = threadingFrom(threading) == PipelineThreading::kWorker;
   out->pipeline = unwrap(StreamingLocalizer::create(config, map, std::move(camera), threadingFrom(threading)));
   return out;
 }
@@ -160,8 +162,17 @@ dualgraph.Error naming why and are counted (finish().localizer_counters / the ru
            },
            "The last published view (any thread): {'t', 'map_T_odom' (7,), 'world_T_body' (7,), 'state', 'covariance', "
            "'samples', 'updates'}.")
-      .def_property_readonly("time_offset", [](PyStreaming& s) { return s.live().timeOffset(); },
-                             "The camera-to-VIO clock offset applied to detections handed over now [s] (caller mode).")
+      .def_property_readonly("time_offset",
+                             [](PyStreaming& s) {
+                               if (s.worker) {
+                                 raise(Status(StatusCode::kFailedPrecondition,
+                                              "StreamingLocalizer.time_offset: threading='caller' only (the worker "
+                                              "thread owns it)"));
+                               }
+                               return s.live().timeOffset();
+                             },
+                             "The camera-to-VIO clock offset applied to detections handed over now [s] (threading="
+                             "'caller' only).")
       .def("finish",
            [](PyStreaming& s) {
              StreamingLocalizer& pipeline = s.live();

@@ -72,6 +72,8 @@ class Streaming(unittest.TestCase):
         poses = self.sequence.odometry_matrices
         for k in range(200):
             pipeline.add_odometry(times[k], poses[k])
+        with self.assertRaisesRegex(dualgraph.FailedPreconditionError, "caller"):
+            pipeline.time_offset  # the worker thread's
         result = pipeline.finish()
         self.assertEqual(len(result.estimate[0]), 200)
         self.assertEqual(pipeline.snapshot()["samples"], 200)
