@@ -29,45 +29,49 @@ int fail(const std::string& message) {
   return 1;
 }
 
-// The stream as it came, kept as a sequence (OUT/sequence): what `run --sequence` replays to the same answer.
+// What the pipeline took from the stream, kept as a sequence (OUT/sequence): `run --sequence` replays it to the same
+// answer. Records the pipeline refused (counted in its counters) are not in it: a file cannot hold them.
 class Recording {
  public:
   Recording(const Track& map, std::optional<CameraModel> camera) {
     sequence_.map = map;
     sequence_.camera = std::move(camera);
   }
-  // A row with a covariance after one without (or the reverse) cannot be one vio.tum: the reader's rule.
-  Status addOdometry(const LiveRecord& record, const std::string& where) {
-    const bool with = record.covariance.has_value();
-    if (!sequence_.odometry.samples.empty() && with != !sequence_.odometry.absolute_covariances.empty()) {
-      return Status(StatusCode::kParseError, where + ": covariance on every odom record or on none");
+  // Checked as each record arrives: what one sequence folder cannot hold stops the stream.
+  Status check(const LiveRecord& record, const std::string& where) {
+    if (record.kind == LiveRecord::Kind::kOdometry) {
+      const bool with = record.covariance.has_value();
+      if (odometry_seen_ && with != odometry_with_covariance_) {  // the reader's rule for one vio.tum
+        return Status(StatusCode::kParseError, where + ": covariance on every odom record or on none");
+      }
+      odometry_seen_ = true;
+      odometry_with_covariance_ = with;
+      return Status();
     }
-    sequence_.odometry.samples.push_back(record.odometry);
-    if (with) sequence_.odometry.absolute_covariances.push_back(*record.covariance);
-    return Status();
-  }
-  Status addDetection(const LiveRecord& record, const std::string& where) {
     const bool corners = record.kind == LiveRecord::Kind::kCorners;
     if (corners && !sequence_.camera) {
       return Status(StatusCode::kParseError, where + ": a corners record needs the camera (--camera camera.yaml)");
     }
-    if (detections_ > 0 && corners != sequence_.has_corners) {
+    if (detections_seen_ && corners != sequence_.has_corners) {
       return Status(StatusCode::kParseError, where + ": corners and pose records in one stream (one detector kind)");
     }
+    detections_seen_ = true;
     sequence_.has_corners = corners;
-    if (corners) {
-      sequence_.corners.push_back(record.corners);
-    } else {
-      sequence_.pose_detections.push_back(record.pose);
-    }
-    ++detections_;
     return Status();
+  }
+  void keepOdometry(const LiveRecord& record) {
+    sequence_.odometry.samples.push_back(record.odometry);
+    if (record.covariance) sequence_.odometry.absolute_covariances.push_back(*record.covariance);
+  }
+  void keepInstant(const DetectionInstant& instant) {
+    sequence_.corners.insert(sequence_.corners.end(), instant.corners.begin(), instant.corners.end());
+    sequence_.pose_detections.insert(sequence_.pose_detections.end(), instant.poses.begin(), instant.poses.end());
   }
   Sequence& sequence() { return sequence_; }
 
  private:
   Sequence sequence_;
-  size_t detections_ = 0;
+  bool odometry_seen_ = false, odometry_with_covariance_ = false, detections_seen_ = false;
 };
 
 const char* stateWord(TrackingState state) { return trackingStateName(state); }
@@ -115,8 +119,8 @@ int runLiveCommand(const LiveOptions& o) {
   Recording recording(*map, camera);
   std::vector<CorrectedPose> estimate;
   DetectionInstant pending;  // the records of one detection instant: consecutive, one stamp, one kind
-  auto handOver = [&] {
-    if (pending.size() > 0) (void)pipeline.addDetections(pending);  // a refusal is counted by the pipeline
+  auto handOver = [&] {  // a refusal is counted by the pipeline (metrics.json), and not recorded
+    if (pending.size() > 0 && pipeline.addDetections(pending).ok()) recording.keepInstant(pending);
     pending = DetectionInstant{};
   };
   Status stream_error;
@@ -133,16 +137,17 @@ int runLiveCommand(const LiveOptions& o) {
     const LiveRecord& record = **parsed;
     const std::string where = source + ":" + std::to_string(number);
     if (record.kind == LiveRecord::Kind::kEnd) break;
+    stream_error = recording.check(record, where);
+    if (!stream_error.ok()) break;
     if (record.kind == LiveRecord::Kind::kOdometry) {
       handOver();
-      stream_error = recording.addOdometry(record, where);
-      if (!stream_error.ok()) break;
       OdometryInput sample;
       sample.t = record.odometry.t;
       sample.odom_T_body = record.odometry.odom_T_body;
       sample.absolute_covariance = record.covariance;
       Result<PoseUpdate> update = pipeline.addOdometry(sample);
-      if (!update.ok()) continue;  // refused and counted (PipelineCounters): no pose for it
+      if (!update.ok()) continue;  // refused and counted (PipelineCounters): no pose for it, not recorded
+      recording.keepOdometry(record);
       estimate.push_back(update->pose);
       const Eigen::Isometry3d& pose = update->pose.world_T_body;
       Eigen::Quaterniond q(pose.linear());
@@ -152,8 +157,6 @@ int runLiveCommand(const LiveOptions& o) {
             << stateWord(update->pose.state) << std::endl;  // flushed: a consumer sees it at once
       continue;
     }
-    stream_error = recording.addDetection(record, where);
-    if (!stream_error.ok()) break;
     const bool corners = record.kind == LiveRecord::Kind::kCorners;
     if (pending.size() > 0 && (pending.t != record.t() || corners != !pending.corners.empty())) handOver();
     pending.t = record.t();
@@ -166,7 +169,7 @@ int runLiveCommand(const LiveOptions& o) {
   handOver();
   if (input.bad()) stream_error = Status(StatusCode::kIoError, source + ": read failed after line " + std::to_string(number));
   if (recording.sequence().odometry.samples.empty()) {
-    return fail(stream_error.ok() ? source + ": no odom record (the stream ended before any odometry)"
+    return fail(stream_error.ok() ? source + ": no odom record the pipeline could take (the stream ended before any)"
                                   : stream_error.message());
   }
   Result<PipelineResults> finished = pipeline.finish();

@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -117,6 +118,28 @@ TEST(LiveCli, PacingAndPoseDetectionsChangeNothing) {
   ASSERT_EQ(runDualgraph("run --quiet --sequence " + poses + " --out " + out + "_ref").exit_code, 0);
   ASSERT_EQ(liveThroughPipe(poses, "0", "--quiet --out " + out), 0);
   EXPECT_EQ(readFile(out + "/estimate.tum"), readFile(out + "_ref/estimate.tum"));
+}
+
+TEST(LiveCli, RecordsThePipelineRefusesAreCountedAndLeftOutOfTheRecording) {
+  const std::string sequence = flight("live_refused_lap", "--laps 1 --profile clean");
+  // The flight's stream with one odom record repeated (not after the previous one): refused, warned, not recorded.
+  const std::string stream = tempDir() + "/live_refused_stream.txt";
+  ASSERT_EQ(std::system((feeder() + " " + sequence + " --speed 0 > " + stream).c_str()), 0);
+  std::string text = readFile(stream);
+  const size_t first = text.find("odom ");
+  const size_t second = text.find("odom ", first + 5);
+  const size_t end = text.find('\n', second);
+  text.insert(end + 1, text.substr(second, end + 1 - second));  // the second odom record twice
+  const std::string doubled = testing::writeFile("live_refused_doubled.txt", text);
+  const std::string out = tempDir() + "/live_refused_run";
+  fs::remove_all(out);
+  const CommandRun run = runDualgraph("live" + mapAndCamera(sequence) + " --out " + out + " --poses " + out + "_poses.txt < " + doubled);
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("1 odom records refused (0 not finite or not rigid, 1 not after the previous)"), std::string::npos)
+      << run.err;
+  EXPECT_EQ(words(readFile(out + "_poses.txt")).size(), words(readFile(sequence + "/vio.tum")).size());
+  ASSERT_EQ(runDualgraph("run --quiet --sequence " + out + "/sequence --out " + out + "_replayed").exit_code, 0);
+  EXPECT_EQ(words(readFile(out + "_replayed/estimate.tum")).size(), words(readFile(out + "/estimate.tum")).size());
 }
 
 TEST(LiveCli, ABadStreamExitsOneNamingTheLineAfterWritingWhatCameBefore) {
