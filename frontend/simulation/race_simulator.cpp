@@ -10,7 +10,7 @@
 namespace dualgraph {
 namespace {
 
-Status invalid(const std::string& what) { return Status(StatusCode::kInvalidArgument, "race simulator: " + what); }
+Status invalidRace(const std::string& what) { return Status(StatusCode::kInvalidArgument, "race simulator: " + what); }
 
 // The gate frame of a PnP solution is fixed by the image corner order only up to the square's 90°
 // turns about its normal; a pose detector that knows the map reports the turn closest to the gate.
@@ -77,15 +77,15 @@ const char* detectionOutputName(RaceSimParams::DetectionOutput output) {
 }
 
 Result<SimulatedRace> simulateRace(const Track& given_track, const CameraModel& camera, const RaceSimParams& params) {
-  if (given_track.gates.empty()) return invalid("the track has no gates");
+  if (given_track.gates.empty()) return invalidRace("the track has no gates");
   if (!(std::isfinite(params.track_scale) && params.track_scale > 0.0 && params.track_scale <= 100.0)) {
-    return invalid("track_scale must be in (0, 100]");
+    return invalidRace("track_scale must be in (0, 100]");
   }
   const Track track = params.track_scale == 1.0 ? given_track : scaledTrack(given_track, params.track_scale);
-  if (!(std::isfinite(params.gt_rate) && params.gt_rate >= 100.0)) return invalid("gt_rate must be >= 100 Hz");
-  if (!(std::isfinite(params.vio_rate) && params.vio_rate > 0.0)) return invalid("vio_rate must be > 0");
+  if (!(std::isfinite(params.gt_rate) && params.gt_rate >= 100.0)) return invalidRace("gt_rate must be >= 100 Hz");
+  if (!(std::isfinite(params.vio_rate) && params.vio_rate > 0.0)) return invalidRace("vio_rate must be > 0");
   const std::string field_problem = fieldErrorsProblem(params.field, params.map_position_sigma, params.map_yaw_sigma);
-  if (!field_problem.empty()) return invalid(field_problem);
+  if (!field_problem.empty()) return invalidRace(field_problem);
   DG_RETURN_IF_ERROR(camera.validate());
   const FieldErrorParams& field = params.field;
   FlightParams flight_params = params.flight;
