@@ -15,6 +15,7 @@
 #include "dualgraph/frontend/io/live_stream.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/io/track_io.h"
+#include "dualgraph/frontend/io/trajectory_io.h"
 #include "dualgraph/frontend/pipeline/streaming_localizer.h"
 #include "dualgraph/frontend/sequence_run.h"
 #include "tools/data_dir.h"
@@ -73,8 +74,6 @@ class Recording {
   Sequence sequence_;
   bool odometry_seen_ = false, odometry_with_covariance_ = false, detections_seen_ = false;
 };
-
-const char* stateWord(TrackingState state) { return trackingStateName(state); }
 
 }  // namespace
 
@@ -149,12 +148,9 @@ int runLiveCommand(const LiveOptions& o) {
       if (!update.ok()) continue;  // refused and counted (PipelineCounters): no pose for it, not recorded
       recording.keepOdometry(record);
       estimate.push_back(update->pose);
-      const Eigen::Isometry3d& pose = update->pose.world_T_body;
-      Eigen::Quaterniond q(pose.linear());
-      if (q.w() < 0.0) q.coeffs() = -q.coeffs();  // w >= 0, as estimate.tum writes it
-      poses << "pose " << update->pose.t << ' ' << pose.translation().x() << ' ' << pose.translation().y() << ' '
-            << pose.translation().z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w() << ' '
-            << stateWord(update->pose.state) << std::endl;  // flushed: a consumer sees it at once
+      poses << "pose ";
+      writeTumRow(poses, update->pose.t, update->pose.world_T_body);
+      poses << ' ' << trackingStateName(update->pose.state) << std::endl;  // flushed: a consumer sees it at once
       continue;
     }
     const bool corners = record.kind == LiveRecord::Kind::kCorners;

@@ -9,17 +9,13 @@
 #include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
-namespace {
-
-void writePose(std::ostream& out, double t, const Eigen::Isometry3d& pose) {
+void writeTumRow(std::ostream& out, double t, const Eigen::Isometry3d& pose) {
   Eigen::Quaterniond q(pose.linear());
   if (q.w() < 0.0) q.coeffs() = -q.coeffs();
   const Eigen::Vector3d p = pose.translation();
   out << t << ' ' << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' '
       << q.w();
 }
-
-}  // namespace
 
 Status writeTum(const std::string& path, const StampedPoses& poses) {
   for (size_t i = 0; i < poses.size(); ++i) {
@@ -31,7 +27,7 @@ Status writeTum(const std::string& path, const StampedPoses& poses) {
     out.precision(std::numeric_limits<double>::max_digits10);
     out << "# t tx ty tz qx qy qz qw\n";
     for (const auto& [t, pose] : poses) {
-      writePose(out, t, pose);
+      writeTumRow(out, t, pose);
       out << '\n';
     }
     return Status();
@@ -60,7 +56,7 @@ Status writeTumOdometry(const std::string& path, const OdometryLog& log) {
     out << "# t tx ty tz qx qy qz qw" << (with_covariance ? " cov_00 cov_01 ... cov_55 (upper triangle, [t; theta])" : "")
         << '\n';
     for (size_t i = 0; i < log.samples.size(); ++i) {
-      writePose(out, log.samples[i].t, log.samples[i].odom_T_body);
+      writeTumRow(out, log.samples[i].t, log.samples[i].odom_T_body);
       if (with_covariance) {
         for (int r = 0; r < 6; ++r) {
           for (int c = r; c < 6; ++c) out << ' ' << log.absolute_covariances[i](r, c);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,6 +28,8 @@ StampedPoses stampedPosesFromSamples(const std::vector<OdometrySample>& samples)
 /// kInvalidArgument naming the index when a time or pose is not finite or the rotation is not a
 /// rotation; kIoError when the file cannot be written.
 Status writeTum(const std::string& path, const StampedPoses& poses);
+/// One `t tx ty tz qx qy qz qw` row (no newline; w ≥ 0) in the stream's precision, as writeTum writes it.
+void writeTumRow(std::ostream& out, double t, const Eigen::Isometry3d& pose);
 
 /// Writes an odometry log as TUM (the form readTumOdometry reads back bit-exact): one line per
 /// sample, followed by the 21 upper-triangular entries of its absolute covariance when the log has
