@@ -119,6 +119,9 @@ Status validateOptimisation(const LocalizerParams& params) {
     auto kernel = makeRobustKernel(params.robust_kernel);
     if (!kernel.ok()) return invalid("robust_kernel", kernel.status().message() + " (\"none\" for no kernel)");
   }
+  DG_RETURN_IF_ERROR(requireNonNegativeFinite("distilled_floor_range", params.distilled_floor_range));
+  DG_RETURN_IF_ERROR(requireNonNegativeFinite("distilled_floor_lateral", params.distilled_floor_lateral));
+  DG_RETURN_IF_ERROR(requireNonNegativeFinite("distilled_floor_rotation", params.distilled_floor_rotation));
   DG_RETURN_IF_ERROR(requireNonNegativeFinite("chi2_gate_pose", params.chi2_gate_pose));
   DG_RETURN_IF_ERROR(requireNonNegativeFinite("chi2_gate_point", params.chi2_gate_point));
   DG_RETURN_IF_ERROR(requirePositiveFinite("lost_after_s", params.lost_after_s));

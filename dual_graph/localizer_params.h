@@ -136,6 +136,15 @@ struct LocalizerParams {
   /// Robust kernel on detection and distilled edges: "none", or "huber:δ", "cauchy:δ", "tukey:δ", "dcs:δ"
   /// (δ in whitened-error units).
   std::string robust_kernel = "huber:3";
+  /// Dual mode: the systematic-error floor added to each distilled edge's covariance (SystematicFloor): σ along
+  /// the line of sight = distilled_floor_range · range, across it = distilled_floor_lateral · range, and
+  /// distilled_floor_rotation [rad] per axis. The detections a distilled edge averages share this part of their
+  /// error (a far gate's PnP range is biased short by 1–3 %, its orientation off by degrees, a camera mount
+  /// not yet calibrated), so it does not shrink with their number. Defaults 2 %, 1 %, 0.08 rad (4.6°): measured
+  /// on the real-VIO flights, the field table and every simulator regime (bench/README.md); 0 = none.
+  double distilled_floor_range = 0.02;     ///< [-]
+  double distilled_floor_lateral = 0.01;   ///< [-]
+  double distilled_floor_rotation = 0.08;  ///< [rad]
   /// χ² gate on a distilled (dual) or detection (single) edge against the main graph: the edge is rejected
   /// when eᵀS⁻¹e exceeds the threshold, S = the edge's covariance + the main graph's predicted covariance
   /// of the residual. Defaults: the 99.9 % quantiles of χ² with 6 and 3 degrees of freedom; 0 disables.

@@ -6,6 +6,7 @@
 #include "dualgraph/core/optimizer.h"
 #include "dualgraph/core/wall_clock.h"
 #include "dualgraph/dual_graph/edge_factories.h"
+#include "dualgraph/dual_graph/systematic_floor.h"
 #include "dualgraph/types/se3_covariance.h"
 #include "dualgraph/solvers/eigen_solver.h"
 #include "dualgraph/solvers/marginal_covariance.h"
@@ -304,6 +305,21 @@ Status TemporaryGraph::optimizeWithBlocks(const std::vector<int>& gate_vertices,
   return Status();
 }
 
+namespace {
+
+/// The distilled edge's information: the marginal must be usable on its own (a floor never hides a broken
+/// one), then the systematic floor is added to it.
+template <int N, typename What>
+Status distilledInformation(const Eigen::MatrixXd& marginal, const Eigen::Matrix<double, N, N>& floor_covariance,
+                            const What& what, Eigen::Matrix<double, N, N>& information) {
+  const Eigen::Matrix<double, N, N> fixed = marginal;
+  DG_RETURN_IF_ERROR(informationFromFixedCovariance<N>(fixed, what, information));
+  if (floor_covariance.isZero(0.0)) return Status();
+  return informationFromFixedCovariance<N>(Eigen::Matrix<double, N, N>(fixed + floor_covariance), what, information);
+}
+
+}  // namespace
+
 DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isometry3d& odom_T_keyframe,
                                           const OdometryHistory& history) {
   DistillationResult result;
@@ -336,6 +352,8 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
     return result;
   }
   const Eigen::Isometry3d keyframe_T_odom = odom_T_keyframe.inverse();
+  const SystematicFloor floor{params_.distilled_floor_range, params_.distilled_floor_lateral,
+                              params_.distilled_floor_rotation};  // zero: no floor
   result.gates.reserve(gate_ids.size());
   for (size_t g = 0; g < gate_ids.size(); ++g) {
     GateEdgeMeasurement distilled;
@@ -347,13 +365,18 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
     const auto what = [&] { return "distilled covariance of gate " + std::to_string(gate_ids[g]); };
     if (usable.ok() && params_.landmark == LandmarkModel::kPose) {
       distilled.node_T_gate = keyframe_T_odom * gate_estimates[g];
-      usable = informationFromFixedCovariance<6>(*covariance, what, distilled.pose_information);
+      Matrix6d floor_covariance = Matrix6d::Zero();
+      addFloorToPoseCovariance(floor, distilled.node_T_gate, floor_covariance);
+      usable = distilledInformation<6>(*covariance, floor_covariance, what, distilled.pose_information);
     } else if (usable.ok()) {
       distilled.p_node = keyframe_T_odom * gate_estimates[g].translation();
       distilled.node_T_gate.translation() = distilled.p_node;
       // The point's covariance is in odometry axes; the edge's error is in the keyframe's axes.
       const Eigen::Matrix3d rotation = keyframe_T_odom.linear();
-      usable = informationFromFixedCovariance<3>(rotation * *covariance * rotation.transpose(), what, distilled.point_information);
+      const Eigen::Matrix3d floor_covariance =
+          floorTranslationCovariance(floor, distilled.p_node, Eigen::Matrix3d::Identity());
+      usable = distilledInformation<3>(rotation * *covariance * rotation.transpose(), floor_covariance, what,
+                                       distilled.point_information);
     }
     if (!usable.ok()) {
       if (result.skipped_gates++ == 0) result.skip_reason = usable.message();

@@ -125,6 +125,9 @@ void bindParams(py::module_& m) {
                                      "fraction of chi2 [1]; 0 = off");
   DG_FIELD(robust_kernel, "kernel on detection and distilled edges: 'none', 'huber:D', 'cauchy:D', 'tukey:D', 'dcs:D' "
                           "(D in whitened-error units [sigma])");
+  DG_FIELD(distilled_floor_range, "systematic floor on a distilled edge: sigma along the line of sight per metre of range [-]");
+  DG_FIELD(distilled_floor_lateral, "systematic floor on a distilled edge: sigma across the line of sight per metre of range [-]");
+  DG_FIELD(distilled_floor_rotation, "systematic floor on a distilled edge: sigma of the gate orientation per axis [rad]");
   DG_FIELD(chi2_gate_pose, "chi-square gate on a pose edge against the main graph (99.9 % quantile, 6 dof) [1]; 0 disables");
   DG_FIELD(chi2_gate_point, "chi-square gate on a point edge (99.9 % quantile, 3 dof) [1]; 0 disables");
   DG_FIELD(lost_after_s, "tracking turns 'lost' when for this long no gate edge entered the main graph ... [s]");

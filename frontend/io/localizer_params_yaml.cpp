@@ -64,6 +64,9 @@ constexpr FieldSlot<double> kNumberFields[] = {
     {"temp_relative_decrease_stop", &LocalizerParams::temp_relative_decrease_stop},
     {"temp_model_decrease_stop", &LocalizerParams::temp_model_decrease_stop},
     {"chi2_gate_pose", &LocalizerParams::chi2_gate_pose}, {"chi2_gate_point", &LocalizerParams::chi2_gate_point},
+    {"distilled_floor_range", &LocalizerParams::distilled_floor_range},
+    {"distilled_floor_lateral", &LocalizerParams::distilled_floor_lateral},
+    {"distilled_floor_rotation", &LocalizerParams::distilled_floor_rotation},
     {"lost_after_s", &LocalizerParams::lost_after_s},
     {"detection_latency", &LocalizerParams::detection_latency},
 };

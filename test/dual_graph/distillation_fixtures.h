@@ -48,6 +48,9 @@ inline LocalizerParams exactParams(LandmarkModel model) {
   params.temp_max_iterations = 50;
   params.temp_relative_decrease_stop = 1e-14;  // to round-off: these tests compare with closed forms
   params.temp_model_decrease_stop = 0.0;  // off: the confirming step takes the estimate to round-off
+  params.distilled_floor_range = 0.0;  // no systematic floor: the closed forms are the marginal's
+  params.distilled_floor_lateral = 0.0;
+  params.distilled_floor_rotation = 0.0;
   return params;
 }
 

