@@ -142,9 +142,27 @@ CLI::App* addEvalCommand(CLI::App& app, EvalOptions& o) {
                                             "without a ground-truth sample within this many seconds are not associated "
                                             "(counted) [s]")
       ->check(positive());
-  cmd->add_option("--max-dt", o.max_dt_s, "Instead of interpolating, pair each estimate pose with the ground truth of "
-                                          "the nearest stamp within this many seconds, as evo (--t_max_diff, 0.01 there) [s]")
+  cmd->add_option("--association", o.association,
+                  "How poses are paired: interpolated (ground truth interpolated at each estimate stamp), nearest (each "
+                  "estimate pose with the ground truth of the nearest stamp within --max-dt), evo (as evo_ape / "
+                  "evo_rpe: each pose of the trajectory with fewer poses with the other's nearest stamp within --max-dt)")
+      ->check(CLI::IsMember({"interpolated", "nearest", "evo"}))
+      ->default_str("interpolated; nearest with --max-dt");
+  cmd->add_option("--max-dt", o.max_dt_s, "nearest and evo association: the largest time difference of a pair, evo's "
+                                          "--t_max_diff (0.01 s when not given); given alone, nearest association [s]")
       ->check(positive())->default_str("off");
+  cmd->add_option("--rpe-distances", o.rpe_distances_m, "RPE windows in metres of path, e.g. 1,10")
+      ->check(positive())
+      ->delimiter(',');
+  cmd->add_option("--rpe-frames", o.rpe_frames,
+                  "RPE windows in associated poses, e.g. 1 (evo_rpe's default: delta 1, delta_unit f)")
+      ->check(positive())
+      ->delimiter(',')
+      ->default_str("none");
+  cmd->add_option("--rpe-pairs", o.rpe_pairs,
+                  "RPE pairs: every (one from each pose; metres along the ground truth's path) or evo (evo_rpe's "
+                  "consecutive, non-overlapping pairs; metres along the estimate's path)")
+      ->check(CLI::IsMember({"every", "evo"}));
   cmd->add_option("--min-associated", o.min_associated,
                   "Fewer estimate poses with ground truth than this share is an error naming both time spans")
       ->check(CLI::Range(0.0, 1.0));

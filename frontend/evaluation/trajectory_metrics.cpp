@@ -4,7 +4,6 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <tuple>
 
@@ -16,13 +15,6 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / EIGEN_PI;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-/// A value for messages, 6 significant digits.
-std::string formatValue(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
-  return buffer;
-}
 
 /// Position RMSE [m] and rotation RMSE [deg] of the aligned estimate against the GT.
 std::pair<double, double> absoluteErrors(const TrajectoryAssociation& association, const AlignmentTransform& alignment) {
@@ -92,28 +84,6 @@ Eigen::Matrix3d alignmentRotation(const TrajectoryAssociation& association, Traj
 
 }  // namespace
 
-ErrorStatistics errorStatistics(std::vector<double> errors) {
-  ErrorStatistics s;
-  if (errors.empty()) return s;
-  const double n = static_cast<double>(errors.size());
-  double sum = 0.0, sum_squares = 0.0;
-  for (const double e : errors) {
-    sum += e;
-    sum_squares += e * e;
-  }
-  s.mean = sum / n;
-  s.rmse = std::sqrt(sum_squares / n);
-  double deviation = 0.0;
-  for (const double e : errors) deviation += (e - s.mean) * (e - s.mean);
-  s.std = std::sqrt(deviation / n);
-  std::sort(errors.begin(), errors.end());
-  const size_t middle = errors.size() / 2;
-  s.median = errors.size() % 2 == 1 ? errors[middle] : 0.5 * (errors[middle - 1] + errors[middle]);
-  s.min = errors.front();
-  s.max = errors.back();
-  return s;
-}
-
 const char* trajectoryAlignmentName(TrajectoryAlignment alignment) {
   switch (alignment) {
     case TrajectoryAlignment::kSE3: return "se3";
@@ -162,49 +132,12 @@ Result<AlignmentTransform> alignTrajectory(const TrajectoryAssociation& associat
   return out;
 }
 
-Result<RelativePoseError> relativePoseError(const TrajectoryAssociation& association, double distance_m, double scale) {
-  if (!(std::isfinite(distance_m) && distance_m > 0.0)) {
-    return Status(StatusCode::kInvalidArgument,
-                  "RPE distance " + formatValue(distance_m) + " m must be positive and finite");
-  }
-  // Path length along the GT from the first associated pose. A relative tolerance keeps round-off in
-  // the sum from skipping the sample that reaches Δ exactly.
-  std::vector<double> path_m(association.size(), 0.0);
-  for (size_t k = 1; k < association.size(); ++k) {
-    path_m[k] = path_m[k - 1] + (association.world_T_body_gt[k].second.translation() -
-                                 association.world_T_body_gt[k - 1].second.translation())
-                                    .norm();
-  }
-  const double reach_m = distance_m * (1.0 - 1e-9);
-  RelativePoseError rpe;
-  rpe.distance_m = distance_m;
-  double sum_translation = 0.0;
-  double sum_rotation = 0.0;
-  for (size_t i = 0; i + 1 < association.size(); ++i) {
-    const auto reached = std::lower_bound(path_m.begin() + i + 1, path_m.end(), path_m[i] + reach_m);
-    if (reached == path_m.end()) break;  // the rest of the path is shorter than Δ, for every later i too
-    const size_t j = reached - path_m.begin();
-    const Eigen::Isometry3d gt_i_T_j =
-        association.world_T_body_gt[i].second.inverse() * association.world_T_body_gt[j].second;
-    Eigen::Isometry3d est_i_T_j = association.estimate_T_body[i].second.inverse() * association.estimate_T_body[j].second;
-    est_i_T_j.translation() *= scale;
-    const Eigen::Isometry3d error = gt_i_T_j.inverse() * est_i_T_j;
-    sum_translation += error.translation().squaredNorm();
-    const double angle = so3Log(error.linear()).norm();
-    sum_rotation += angle * angle;
-    ++rpe.pairs;
-  }
-  const double n = static_cast<double>(rpe.pairs);
-  rpe.translation_rmse_m = rpe.pairs > 0 ? std::sqrt(sum_translation / n) : kNaN;
-  rpe.rotation_rmse_deg = rpe.pairs > 0 ? std::sqrt(sum_rotation / n) * kRadToDeg : kNaN;
-  return rpe;
-}
-
 Result<TrajectoryMetrics> evaluateTrajectory(const StampedPoses& world_T_body_gt, const StampedPoses& estimate_T_body,
                                              const TrajectoryMetricsParams& params) {
-  const auto association = params.max_dt_s > 0.0
-                               ? associateByNearestStamp(world_T_body_gt, estimate_T_body, params.max_dt_s)
-                               : associateByTime(world_T_body_gt, estimate_T_body, params.max_gap_s);
+  const auto association =
+      params.max_dt_s <= 0.0   ? associateByTime(world_T_body_gt, estimate_T_body, params.max_gap_s)
+      : params.evo_association ? associateAsEvo(world_T_body_gt, estimate_T_body, params.max_dt_s)
+                               : associateByNearestStamp(world_T_body_gt, estimate_T_body, params.max_dt_s);
   if (!association.ok()) return association.status();
   return evaluateAssociation(*association, estimate_T_body.size(), params);
 }
@@ -226,12 +159,21 @@ Result<TrajectoryMetrics> evaluateAssociation(const TrajectoryAssociation& assoc
   metrics.ate_4dof_m = four_dof.ok() ? absoluteErrors(association, *four_dof).first : kNaN;
   metrics.ate_unaligned_m = absoluteErrors(association, AlignmentTransform{}).first;
   for (const double distance_m : params.rpe_distances_m) {
-    const auto rpe = relativePoseError(association, distance_m, alignment->scale);
+    const auto rpe = relativePoseError(association, distance_m, alignment->scale, params.rpe_pairing);
     if (!rpe.ok()) return rpe.status();
     metrics.rpe.push_back(*rpe);
   }
+  for (const long frames : params.rpe_frames) {
+    const auto rpe = relativePoseErrorFrames(association, frames, alignment->scale, params.rpe_pairing);
+    if (!rpe.ok()) return rpe.status();
+    metrics.rpe_frames.push_back(*rpe);
+  }
   metrics.estimate_poses = static_cast<long>(estimate_poses);
   metrics.associated = static_cast<long>(association.size());
+  metrics.paired_from_ground_truth = association.paired_from_ground_truth;
+  metrics.paired_from_poses = association.paired_from_ground_truth || association.paired_from_poses > 0
+                                  ? association.paired_from_poses
+                                  : metrics.estimate_poses;
   metrics.before_span = association.before_span;
   metrics.after_span = association.after_span;
   metrics.beyond_gap = association.beyond_gap;
