@@ -4,19 +4,26 @@
 #
 #   DIR/include/dualgraph/{core,types,solvers,dual_graph,frontend}/*.h   (#include "dualgraph/core/graph.h"
 #                                                                        with -I DIR/include)
-#   DIR/lib/libdualgraph_{core,types,solvers,dual_graph,frontend}.{a|so.0.1.0}
+#   DIR/lib/libdualgraph_{core,types,solvers,dual_graph,onboard,frontend}.{a|so.0.1.0}
 #   DIR/lib/cmake/dualgraph/  dualgraphConfig.cmake (+ Version, one Targets file per component, FindCHOLMOD.cmake)
 #   DIR/lib/pkgconfig/dualgraph.pc (everything) and dualgraph-engine.pc (core, types, solvers: Eigen + CHOLMOD)
 #
-# find_package(dualgraph 0.1 CONFIG REQUIRED [COMPONENTS core types solvers dual_graph frontend]) gives the
+# find_package(dualgraph 0.1 CONFIG REQUIRED [COMPONENTS core types solvers dual_graph onboard frontend]) gives the
 # targets dualgraph::<component> of the components asked for and of those they need, finding only their
-# dependencies (the engine alone: Eigen, and CHOLMOD for a static build; frontend adds yaml-cpp and OpenCV).
-# No COMPONENTS: all five. The package and the .pc files are relocatable (paths relative to their own
+# dependencies (the engine alone: Eigen, and CHOLMOD for a static build; onboard adds yaml-cpp and OpenCV).
+# No COMPONENTS: all six. The package and the .pc files are relocatable (paths relative to their own
 # location; the system libraries by name), so --prefix at install time and a moved prefix work.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(DUALGRAPH_EXPORTED_LIBRARIES core types solvers dual_graph frontend)
+set(DUALGRAPH_EXPORTED_LIBRARIES core types solvers dual_graph onboard frontend)
+# The header folders of each library (repository paths); the two frontend libraries share frontend/.
+set(_dualgraph_headers_core core)
+set(_dualgraph_headers_types types)
+set(_dualgraph_headers_solvers solvers)
+set(_dualgraph_headers_dual_graph dual_graph)
+set(_dualgraph_headers_onboard frontend/gates frontend/io frontend/calibration frontend/pipeline)
+set(_dualgraph_headers_frontend frontend/simulation frontend/evaluation frontend/report)
 set(_dualgraph_install_targets "")
 foreach(_name ${DUALGRAPH_EXPORTED_LIBRARIES})
   if(NOT TARGET dualgraph_${_name})
@@ -35,12 +42,17 @@ foreach(_name ${DUALGRAPH_EXPORTED_LIBRARIES})
   # package does not promise its users (.ci/install-example fails if an installed header includes them);
   # gate_pnp_posterior.h and gate_pnp_upright.h are gate_pnp.cpp's own; block_product_avx2.h compiles only with
   # -mavx2 -mfma.
-  install(DIRECTORY "${PROJECT_SOURCE_DIR}/${_name}/"
-          DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/dualgraph/${_name}"
-          FILES_MATCHING PATTERN "*.h" PATTERN "yaml_fields.h" EXCLUDE PATTERN "localizer_params_node.h" EXCLUDE
-          PATTERN "gate_pnp_posterior.h" EXCLUDE PATTERN "gate_pnp_upright.h" EXCLUDE
-          PATTERN "block_product_avx2.h" EXCLUDE)
+  foreach(_folder ${_dualgraph_headers_${_name}})
+    install(DIRECTORY "${PROJECT_SOURCE_DIR}/${_folder}/"
+            DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/dualgraph/${_folder}"
+            FILES_MATCHING PATTERN "*.h" PATTERN "yaml_fields.h" EXCLUDE PATTERN "localizer_params_node.h" EXCLUDE
+            PATTERN "gate_pnp_posterior.h" EXCLUDE PATTERN "gate_pnp_upright.h" EXCLUDE
+            PATTERN "block_product_avx2.h" EXCLUDE)
+  endforeach()
 endforeach()
+# frontend/'s own headers (the sequence replay, calibrations by runs) belong to the offline library.
+file(GLOB _dualgraph_frontend_own_headers "${PROJECT_SOURCE_DIR}/frontend/*.h")
+install(FILES ${_dualgraph_frontend_own_headers} DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/dualgraph/frontend")
 
 # One export set per component, so that a consumer asking for the engine loads (and finds the dependencies
 # of) the engine only; dualgraphConfig.cmake includes the files of the components asked for.

@@ -13,6 +13,7 @@
 #include "dualgraph/frontend/io/sequence_folder.h"
 #include "dualgraph/frontend/pipeline/detection_instant.h"
 #include "dualgraph/frontend/pipeline/pipeline_report.h"
+#include "dualgraph/frontend/pipeline/sequence_input.h"
 #include "dualgraph/frontend/pipeline/streaming_localizer.h"
 
 namespace dualgraph {
@@ -67,12 +68,6 @@ Result<SequenceRunResult> runSequence(const Sequence& sequence, const SequenceRu
 /// (counted as after it), `wall_seconds` the run's wall time [s].
 SequenceRunResult sequenceRunResult(std::vector<CorrectedPose> estimate, PipelineResults finished, int never_given,
                                     double wall_seconds);
-
-/// The sequence's detections as a detector delivers them: one instant per stamp (camera clock), in file order.
-std::vector<DetectionInstant> detectionInstants(const Sequence& sequence);
-/// Odometry sample `k` (< samples.size()) as a VIO publishes it: with its absolute covariance when the log has
-/// them (converted inside the pipeline), else with the relative one it carries.
-OdometryInput odometryInput(const Sequence& sequence, size_t k);
 
 /// The camera-to-VIO clock offset a run uses [s]: params.time_offset when set, else the sequence camera's
 /// CameraModel::time_offset, else 0. Every detection stamped t is used at t − this.
