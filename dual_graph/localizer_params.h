@@ -69,7 +69,7 @@ struct LocalizerParams {
   /// Dual mode with pose landmarks: the odometry covariance above (whichever it is) scaled by σ factors learnt in
   /// flight from gates seen again, and the distilled gate edges' covariances by range (OdometryNoiseLearner); the
   /// odometry factors within [odom_scale_min, odom_scale_max], all 1 until enough gates were seen twice. Off by
-  /// default: it raised the simulated field table's mean ATE (bench/README.md, "Far gates and noise learnt").
+  /// default: it raised the simulated field table's mean ATE (bench/README.md, "Options measured and left off").
   bool learn_odometry_noise = false;
   double odom_scale_min = 0.05;  ///< lowest σ factor [-]
   double odom_scale_max = 3.0;   ///< highest σ factor [-]
@@ -99,8 +99,8 @@ struct LocalizerParams {
   /// are marginalised into one dense prior on the oldest free keyframe and the gates (`marginalizeVertex`)
   /// after they have been optimised in that many windows, so each update costs the same whatever the
   /// mission length. 0 = full batch (every keyframe free, the paper's main graph). ≥ 2 otherwise.
-  /// Default 10 (20 m at d_main = 2 m): on the simulated RATM races (seeds 1–3) the ATE stays within
-  /// 3 % of full batch while the update P95 drops from 8–12 ms to ≈ 1 ms (bench/README.md).
+  /// Default 10 (20 m at d_main = 2 m): on the simulated RATM races the ATE stays close to full batch's while
+  /// the update costs the same at any mission length (bench/README.md, "Main-graph update per keyframe").
   int main_window = 10;
   int temp_max_iterations = 20;      ///< LM iterations of each temporary graph
   /// Stop a temporary graph's LM when an iteration lowers χ² by less than this fraction. It starts at the
@@ -109,8 +109,8 @@ struct LocalizerParams {
   /// χ² − χ²_min is the squared Mahalanobis distance of the estimate from it under the marginals' own
   /// covariance, so stopping below 1e-4 · χ² leaves the estimate a small fraction of a σ away (usually far
   /// less) and saves the confirming iteration (one linearisation, factorisation and χ² per keyframe).
-  /// 1e-6 before (the engine's default is 1e-9); the simulated races' ATE (seeds 1–3, every Dual row)
-  /// moved by at most 1.1e-4 m (0.2 %), up or down.
+  /// (The engine's default is 1e-9; the effect of 1e-4 against 1e-6 on the simulated races' ATE is in
+  /// bench/README.md, "Distillation (temporary graph)".)
   double temp_relative_decrease_stop = 1e-4;
   /// Also stop a temporary graph's LM, without the confirming iteration, when after a well-predicted step
   /// (gain ratio > 0.75) the undamped Gauss–Newton step at the new estimate predicts a χ² decrease below
@@ -119,19 +119,19 @@ struct LocalizerParams {
   /// estimate is the one before that iteration's tiny step). 0 = off.
   double temp_model_decrease_stop = 1e-4;
   /// Main graph: kAuto (Eigen's simplicial LDLᵀ on these small systems, CHOLMOD when a full-batch main
-  /// graph grows past 3000 unknowns), measured fastest (solvers/auto_solver.h). Temporary graphs: CHOLMOD
+  /// graph grows past 3000 unknowns), the faster on these graphs (solvers/auto_solver.h). Temporary graphs: CHOLMOD
   /// when kCholmod, otherwise Eigen in the graph's own order (EigenOrdering::kNatural: a time-ordered
   /// chain, gates last, so the gates' marginals read only the factor's tail).
   LinearSolverKind linear_solver = LinearSolverKind::kAuto;
   /// Temporary graphs: kBlock (default) runs LM and the marginals on 6×6 blocks in the graph's id order
-  /// (about 10× faster at 11 gates / 50 poses, bench/README.md); kGraph the generic Optimizer with Eigen
+  /// (much faster; bench/README.md, "Distillation (temporary graph)"); kGraph the generic Optimizer with Eigen
   /// in that order (or CHOLMOD when `linear_solver` is kCholmod, which always takes this path). Both
   /// give the same distilled edges to round-off (test/dual_graph/block_lm_solver_test.cpp).
   TemporarySolverKind temp_solver = TemporarySolverKind::kBlock;
   /// Main and temporary graphs: Levenberg–Marquardt's damping (core/optimizer.h). kDiagonal: the gate
   /// priors and detections make max diag(H) far larger than a keyframe's own curvature, so g2o's λI
-  /// damps the keyframes hard and a cold solve takes 7–8 iterations where diagonal damping takes 4–5;
-  /// on the simulated races (seeds 1–3) the ATE is identical and the update P50 ≈ 12 % lower.
+  /// damps the keyframes hard and a cold solve takes more iterations than with diagonal damping, for the same
+  /// ATE on the simulated races (bench/README.md, "dualgraph and Ceres side by side").
   LmDamping lm_damping = LmDamping::kDiagonal;
   /// Robust kernel on detection and distilled edges: "none", or "huber:δ", "cauchy:δ", "tukey:δ", "dcs:δ"
   /// (δ in whitened-error units).
@@ -139,9 +139,10 @@ struct LocalizerParams {
   /// Dual mode: the systematic-error floor added to each distilled edge's covariance (SystematicFloor): σ along
   /// the line of sight = distilled_floor_range · range, across it = distilled_floor_lateral · range, and
   /// distilled_floor_rotation [rad] per axis. The detections a distilled edge averages share this part of their
-  /// error (a far gate's PnP range is biased short by 1–3 %, its orientation off by degrees, a camera mount
-  /// not yet calibrated), so it does not shrink with their number. Defaults 2 %, 1 %, 0.08 rad (4.6°): measured
-  /// on the real-VIO flights, the field table and every simulator regime (bench/README.md); 0 = none.
+  /// error (a far gate's PnP range biased short, its orientation off, a camera mount not yet calibrated), so it
+  /// does not shrink with their number. Defaults 2 %, 1 %, 0.08 rad (4.6°): chosen on the real-VIO flights, the
+  /// field table and the simulator's regimes together (bench/README.md, "Distilled edges: a systematic floor");
+  /// 0 = none.
   double distilled_floor_range = 0.02;     ///< [-]
   double distilled_floor_lateral = 0.01;   ///< [-]
   double distilled_floor_rotation = 0.08;  ///< [rad]

@@ -13,9 +13,8 @@ namespace dualgraph {
 /// `kMaxSimplicialDimension` unknowns, CHOLMOD supernodal above. Small systems (the dual graph's
 /// temporary graphs and fixed-lag main graph, a few hundred unknowns) spend most of a supernodal
 /// factorisation in per-supernode and BLAS-call overhead; large ones with fill need the supernodal
-/// BLAS kernels. Measured on this project's graphs (bench/README.md): main graph of 307 keyframes
-/// (≈ 1.9k unknowns) Eigen 3.21 vs CHOLMOD 3.27 ms per update, a 10-keyframe window 0.32 vs 0.44 ms;
-/// 1613 keyframes (≈ 9.7k unknowns, dense gate rows) Eigen 34 vs CHOLMOD 18.6 ms.
+/// BLAS kernels. The threshold is where the faster of the two changed on this project's main graphs
+/// (measured in bench/README.md, "Main-graph update per keyframe", the main graph's linear solver).
 class AutoSolver final : public LinearSolver {
  public:
   static constexpr int kMaxSimplicialDimension = 3000;

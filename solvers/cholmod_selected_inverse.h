@@ -19,7 +19,7 @@ namespace dualgraph {
 /// factorisation's flops. A supernodal factor is used as CHOLMOD laid it out; a simplicial one (LLᵀ or LDLᵀ,
 /// scaled to LLᵀ) is first copied into the same layout, its fundamental supernodes (runs of columns whose
 /// patterns nest: column j's rows below j+1 are column j+1's) found from the pattern, so both kinds take
-/// the same BLAS-3 path (the scalar column recursion was 3× slower on parking-garage's simplicial factor).
+/// the same BLAS-3 path (faster than a scalar column recursion; bench/README.md, "Marginals of every vertex").
 /// Σ is stored in the supernodal layout; reads map H's indices through CHOLMOD's permutation (L->Perm).
 /// Internal to solvers/: CholmodSolver owns one and recomputes it after each factorisation.
 class CholmodSelectedInverse {

@@ -19,7 +19,7 @@ enum class CholmodOrdering {
 enum class CholmodFactorization {
   /// CHOLMOD's own choice per analysed pattern (CHOLMOD_AUTO, what Ceres gets): supernodal when the
   /// factorisation's flops per nonzero of L reach 40 (dense supernodes, BLAS-3: sphere2500), simplicial on
-  /// sparser factors (2-D graphs, long chains: intel, parking-garage), where it is 1.6–2.2× faster.
+  /// sparser factors (2-D graphs, long chains: intel), where it is faster (bench/README.md, "CHOLMOD's choice").
   kAuto,
   kSupernodal,  ///< always supernodal (BLAS-3 on dense supernodes)
   kSimplicial,  ///< always simplicial (column by column)
@@ -29,8 +29,8 @@ enum class CholmodFactorization {
 struct CholmodOptions {
   CholmodFactorization factorization = CholmodFactorization::kAuto;
   /// kAuto: supernodal when the factorisation's flops per nonzero of L reach this (CHOLMOD's
-  /// `supernodal_switch`, its default 40). The crossover depends on the machine and its BLAS: measured
-  /// here between 52 (parking-garage, simplicial 1.4× faster) and 259 (sphere2500, supernodal 2.1× faster).
+  /// `supernodal_switch`, its default 40). The crossover depends on the machine and its BLAS (measured on the
+  /// public pose graphs in bench/README.md, "Engine phases, edge linearisation, CHOLMOD's choice, BLAS").
   double supernodal_switch = 40.0;
   CholmodOrdering ordering = CholmodOrdering::kDefault;
 };

@@ -19,9 +19,9 @@ namespace dualgraph {
 /// forming a dense inverse. Two ways to read them:
 /// - `blocks(ids)`: each vertex's own block, for any number of vertices at once. With a solver that has a
 ///   selected inverse (CHOLMOD) the entries of H⁻¹ on the factor's pattern are computed once per `compute`
-///   (Takahashi's recursion, about twice the flops of the factorisation) and every block is read from them:
-///   all 1660 poses of parking-garage in 4 ms after an 11 ms factorisation (bench/README.md), against 1.7 s
-///   by per-vertex solves. Other solvers (Eigen) solve each vertex's unit columns as `block(id)` does.
+///   (Takahashi's recursion, about twice the flops of the factorisation) and every block is read from them, at
+///   the price of a few factorisations for all vertices (measured in bench/README.md, "Marginals of every
+///   vertex"). Other solvers (Eigen) solve each vertex's unit columns as `block(id)` does.
 /// - `block(id)` / `jointBlock(ids)`: the unit columns of the requested free vertices are solved in one
 ///   block with the optimiser's factor and the rows of all requested vertices read from them (cost: one
 ///   solve with Σ tangentDim right-hand sides; the result is symmetrised); `jointBlock` gives the

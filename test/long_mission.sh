@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The long mission (issue 7, part 5; label "slow": not run in CI): simulate LAPS laps (default
-# 100) of the RATM ellipse, localise them with `dualgraph run` as onboard, and report the peak
+# The long mission (issue 7, part 5; ctest label "slow", run in CI by the README's test command): simulate
+# LAPS laps (default 100) of the RATM ellipse, localise them with `dualgraph run` as onboard, and report the peak
 # memory of both steps (/usr/bin/time -v), the main-graph optimisation time per keyframe from
 # stats.csv as P50 / P95 / max per block of 10 laps, and whether every output number is finite.
 #

@@ -35,7 +35,7 @@ struct GateFrontendParams {
   /// in the camera; the VIO's frame z up) to this σ on each tilt [deg] (solveGatePnp's UprightGatePrior), where the
   /// caller gives that attitude (the pipeline does); 0 (the default): no such prior. With 2° a far gate's tilt comes
   /// from gravity and its range is not pulled short, but the field and real-VIO tables do not gain and some VIO
-  /// jumps are noticed later (bench/README.md, "Upright gates").
+  /// jumps are noticed later (bench/README.md, "Options measured and left off by default").
   double upright_prior_sigma_deg = 0.0;
 };
 

@@ -39,7 +39,7 @@ const char* gatePnpRejectionName(GatePnpRejection rejection);
 enum class PnpCovarianceModel {
   kLaplace,        ///< σ² (JᵀJ)⁻¹ at the returned pose, mixed with IPPE's other basin when it found one
   kTiltPosterior,  ///< the posterior's second moment, the tilt integrated on a lattice (consistent; not the
-                   ///< default: the localizer's ATE is lower with kLaplace, see frontend/README.md)
+                   ///< default: the localizer's ATE is not lower with it, see frontend/gates/README.md)
 };
 
 struct GatePnpParams {
@@ -82,11 +82,9 @@ struct GatePnpParams {
 /// that reaches the alternative, the other four coordinates Gaussian given the tilt
 /// (frontend/gates/gate_pnp_posterior.h). kLaplace (default): σ² (JᵀJ)⁻¹, mixed with IPPE's other basin when it found
 /// one, w₁Σ₁ + w₂(Σ₂ + δδᵀ) (weights: each mode's Laplace mass).
-/// Consistency on the simulated RATM ellipse (σ = 1 px, first 1000 views, seed 1, test/frontend/
-/// simulator_sensors_test.cpp; band 5.79–6.22): mean NEES **6.13** with kTiltPosterior (6.17 below 6 m,
-/// 5.90 at 6–10 m, 6.23 beyond), 7.18 with kLaplace (7.7–7.8 beyond 6 m, where the tilt's likelihood
-/// is flat-topped or two-peaked). Cost per view on that flight: ≈ 380 µs vs ≈ 160 µs (bench
-/// BM_GatePnp_Solve).
+/// kTiltPosterior is consistent on the simulated RATM ellipse (test/frontend/simulator_sensors_test.cpp), kLaplace
+/// optimistic beyond 6 m, where the tilt's likelihood is flat-topped or two-peaked; kTiltPosterior costs about
+/// twice as much per view (NEES and cost: bench/README.md, "Gate PnP per detection").
 struct GatePnpSolution {
   GatePnpRejection rejection = GatePnpRejection::kNone;
   std::string message;  ///< why it was rejected (empty when accepted)

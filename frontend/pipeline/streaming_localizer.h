@@ -18,7 +18,8 @@ namespace dualgraph {
 /// Where StreamingLocalizer does its work.
 enum class PipelineThreading {
   /// Everything inside addOdometry, on the caller's thread: deterministic (`dualgraph run` replays this way), but a
-  /// sample that closes a keyframe or runs a frame search takes that long (≈ 1 ms at 11 gates).
+  /// sample that closes a keyframe, runs a frame search or the self-calibration takes that long (bench/README.md,
+  /// "Onboard pipeline per odometry sample").
   kCallerThread,
   /// addOdometry and addDetections only queue (microseconds) and answer from the last finished result; a worker
   /// thread does the work in arrival order. The graph sees the same inputs in the same order as kCallerThread when

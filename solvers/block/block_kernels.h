@@ -14,8 +14,8 @@ namespace dualgraph::block_kernels {
 /// build flags (SSE2: two doubles per instruction, no FMA). Eigen's fixed-size products of this size
 /// reload operands and broadcast every right-hand coefficient separately; these kernels keep two result
 /// columns (six packets) in registers, skip the exact zeros of triangular factors, and compute only the
-/// lower half of the symmetric update of a diagonal block. Measured on the temporary graph's pattern
-/// (61 blocks, 344 stored): factorisation 50 → 38 µs, selected inverse 62 → 55 µs (bench/README.md).
+/// lower half of the symmetric update of a diagonal block. Timed on the temporary graph's pattern by
+/// BM_BlockCholesky_TemporaryPattern (avx2:0; bench/README.md, "Distillation (temporary graph)").
 ///
 /// Blocks are column-major `Eigen::Matrix<double, 6, 6>` (16-byte aligned, as Eigen stores them). The
 /// A·B and A·Bᵀ kernels add or subtract their k-terms one by one into C's packets, in increasing k (Eigen
