@@ -323,6 +323,11 @@ CLI::App* addReportCommand(CLI::App& app, ReportOptions& o) {
   cmd->add_option("--run", o.runs, "Run folder of `dualgraph run` (repeat for several runs)")->required()->default_str("");
   cmd->add_option("--out", o.out, "HTML file to write; the PNGs <run>_xy.png, ... go next to it")->required();
   cmd->add_option("--sequence", o.sequence, "Sequence folder of every run (default: the one run.yaml names)");
+  cmd->add_option("--vio-frame", o.vio_frame,
+                  "Frame the VIO is drawn in: lock (through the frame the run found when it first locked; raw when it "
+                  "never did) or raw (its own frame)")
+      ->check(CLI::IsMember({"lock", "raw"}))
+      ->capture_default_str();
   return cmd;
 }
 

@@ -18,10 +18,18 @@ int fail(const std::string& message) {
 }  // namespace
 
 int runReportCommand(const ReportOptions& o) {
+  auto vio_frame = parseVioFrame(o.vio_frame);
+  if (!vio_frame.ok()) return fail(vio_frame.status().message());
+  RunReportOptions options;
+  options.vio_frame = *vio_frame;
   std::vector<RunReport> runs;
   for (const std::string& dir : o.runs) {
     auto run = loadRunReport(dir, o.sequence);
     if (!run.ok()) return fail(run.status().message());
+    if (options.vio_frame == VioFrame::kLock && !run->lock_world_T_odom) {
+      std::cerr << "dualgraph report: " << dir << ": no lock frame in metrics.json (the run never locked, did not "
+                << "search, or predates lock_world_T_odom_*): its VIO is drawn raw, in its own frame\n";
+    }
     runs.push_back(std::move(*run));
   }
   // The HTML and its PNGs are staged in a folder next to --out and moved there together.
@@ -29,7 +37,7 @@ int runReportCommand(const ReportOptions& o) {
   auto staged = StagedFolder::create(out.parent_path().string());
   if (!staged.ok()) return fail(staged.status().message());
   std::vector<std::string> written;
-  const Status status = writeRunReport(std::move(runs), staged->file(out.filename().string()), &written);
+  const Status status = writeRunReport(std::move(runs), staged->file(out.filename().string()), &written, options);
   if (!status.ok()) return fail(staged->unstaged(status).message());
   const Status committed = staged->commit();
   if (!committed.ok()) return fail(committed.message());

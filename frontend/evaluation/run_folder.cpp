@@ -217,6 +217,15 @@ Status writeRunYaml(const std::string& path, const std::string& sequence, const 
 }
 
 JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const SelfCalibrationReport* self) {
+  // The frame the search found when the localiser first locked (FrameInitializer), w >= 0 as in the TUM files.
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  const Eigen::Isometry3d* lock =
+      run.initialization && run.initialization->locked ? &run.initialization->world_T_odom : nullptr;
+  Eigen::Quaterniond lock_q = Eigen::Quaterniond::Identity();
+  if (lock != nullptr) {
+    lock_q = Eigen::Quaterniond(lock->linear()).normalized();
+    if (lock_q.w() < 0.0) lock_q.coeffs() *= -1.0;
+  }
   JsonObject json;
   json.add("has_ground_truth", m.has_ground_truth ? 1L : 0L)
       .add("ate_m", m.estimate.ate_se3_m)
@@ -259,6 +268,13 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
       .add("initialized", run.initialization ? (run.initialization->locked ? 1L : 0L) : -1L)
       .add("initialized_at_s", run.initialization && run.initialization->locked ? run.initialization->locked_at
                                                                                 : std::numeric_limits<double>::quiet_NaN())
+      .add("lock_world_T_odom_x_m", lock ? lock->translation().x() : kNaN)
+      .add("lock_world_T_odom_y_m", lock ? lock->translation().y() : kNaN)
+      .add("lock_world_T_odom_z_m", lock ? lock->translation().z() : kNaN)
+      .add("lock_world_T_odom_qx", lock ? lock_q.x() : kNaN)
+      .add("lock_world_T_odom_qy", lock ? lock_q.y() : kNaN)
+      .add("lock_world_T_odom_qz", lock ? lock_q.z() : kNaN)
+      .add("lock_world_T_odom_qw", lock ? lock_q.w() : kNaN)
       .add("pnp_rejected", run.frontend_counters.pnp_rejected)
       .add("not_associated", run.frontend_counters.not_associated)
       .add("reversed", run.frontend_counters.reversed)
@@ -299,6 +315,42 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
         .add("self_calibration_why_not", self->why_not);
   }
   return json;
+}
+
+// metrics.json's lock_world_T_odom_* (absent in older run folders, null when the run never locked): all seven
+// finite with a unit quaternion, or all null; anything else is an error naming the file.
+Status readLockFrame(const std::string& source, RunReport& run) {
+  static const char* const kKeys[] = {"lock_world_T_odom_x_m", "lock_world_T_odom_y_m", "lock_world_T_odom_z_m",
+                                      "lock_world_T_odom_qx",  "lock_world_T_odom_qy",  "lock_world_T_odom_qz",
+                                      "lock_world_T_odom_qw"};
+  double values[7];
+  int present = 0, finite = 0;
+  for (int i = 0; i < 7; ++i) {
+    values[i] = std::numeric_limits<double>::quiet_NaN();
+    for (const auto& [key, value] : run.metrics) {
+      if (key != kKeys[i]) continue;
+      values[i] = value;
+      ++present;
+      finite += std::isfinite(value) ? 1 : 0;
+    }
+  }
+  if (finite == 0) return Status();
+  if (present != 7 || finite != 7) {
+    return Status(StatusCode::kParseError,
+                  source + ": lock_world_T_odom_* must be seven numbers (x, y, z [m], qx, qy, qz, qw) or all null");
+  }
+  const Eigen::Quaterniond q(values[6], values[3], values[4], values[5]);
+  if (std::abs(q.norm() - 1.0) > 1e-6) {
+    return Status(StatusCode::kParseError, source + ": lock_world_T_odom_q* is not a unit quaternion");
+  }
+  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
+  frame.linear() = q.normalized().toRotationMatrix();
+  frame.translation() << values[0], values[1], values[2];
+  run.lock_world_T_odom = frame;
+  for (const auto& [key, value] : run.metrics) {
+    if (key == "initialized_at_s") run.lock_at_s = value;
+  }
+  return Status();
 }
 
 std::string folderName(const std::string& dir) {
@@ -350,6 +402,7 @@ Result<RunReport> loadRunReport(const std::string& run_dir, const std::string& s
   }
   if (!run.ground_truth.empty() || fs::exists(run_path / "metrics.json")) {
     DG_RETURN_IF_ERROR(readMetrics(run_path / "metrics.json", run));
+    DG_RETURN_IF_ERROR(readLockFrame((run_path / "metrics.json").string(), run));
   }
   DG_RETURN_IF_ERROR(requireFile(sequence / "gates.yaml"));
   auto track = loadTrackYaml((sequence / "gates.yaml").string());

@@ -19,6 +19,11 @@ Result<PlotFrame> plotFrame(const XyPlot& plot) {
     hi = hi.cwiseMax(p);
   };
   for (const PlotSeries& s : plot.series) std::for_each(s.points.begin(), s.points.end(), extend);
+  for (const PlotBand& band : plot.bands) {  // its y ends only: a band spans whatever x range the series give
+    for (double y : {band.lo, band.hi}) {
+      if (std::isfinite(y) && std::isfinite(lo.x())) extend({lo.x(), y});
+    }
+  }
   for (const PlotGate& g : plot.gates) {  // both ends of the bar, so that the whole gate stays inside the axes
     for (double side : {-0.5, 0.5}) extend(g.centre + side * g.size * Eigen::Vector2d(-std::sin(g.yaw), std::cos(g.yaw)));
   }
@@ -29,7 +34,8 @@ Result<PlotFrame> plotFrame(const XyPlot& plot) {
   PlotFrame f;
   f.width = plot.width;
   f.height = plot.height;
-  const double plot_w = plot.width - PlotFrame::kLeft - PlotFrame::kRight;
+  f.right = plot.colour_bar ? PlotFrame::kColourBarMargin : PlotFrame::kRight;
+  const double plot_w = plot.width - PlotFrame::kLeft - f.right;
   const double plot_h = plot.height - PlotFrame::kTop - PlotFrame::kBottom;
   f.sx = plot_w / (hi.x() - lo.x());
   f.sy = plot_h / (hi.y() - lo.y());
@@ -43,6 +49,30 @@ Result<PlotFrame> plotFrame(const XyPlot& plot) {
   f.lo = lo;
   f.hi = hi;
   return f;
+}
+
+std::vector<LegendEntry> legendEntries(const XyPlot& plot) {
+  std::vector<LegendEntry> out;
+  for (const PlotSeries& s : plot.series) {
+    if (!s.label.empty()) out.push_back({s.label, s.rgb, s.dashed, false});
+  }
+  for (const PlotBand& band : plot.bands) out.push_back({band.label, band.rgb, false, true});
+  return out;
+}
+
+std::array<std::uint8_t, 3> colourMapRgb(double u) {
+  // matplotlib's plasma at 0, 0.1, ..., 0.9.
+  static const double kStops[10][3] = {{13, 8, 135},   {65, 4, 157},    {106, 0, 168},  {143, 13, 164},
+                                       {177, 42, 144}, {204, 71, 120},  {225, 100, 98}, {242, 132, 75},
+                                       {252, 166, 54}, {252, 206, 37}};
+  const double x = std::isfinite(u) ? std::clamp(u, 0.0, 1.0) * 9.0 : 0.0;
+  const int k = std::min(static_cast<int>(x), 8);
+  const double w = x - k;
+  std::array<std::uint8_t, 3> rgb{};
+  for (int c = 0; c < 3; ++c) {
+    rgb[static_cast<size_t>(c)] = static_cast<std::uint8_t>(std::lround((1.0 - w) * kStops[k][c] + w * kStops[k + 1][c]));
+  }
+  return rgb;
 }
 
 double tickStep(double span, int target) {

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,12 @@ namespace dualgraph {
 /// writeXyPlotPng and renderXyPlotSvg alike.
 struct PlotFrame {
   static constexpr int kLeft = 80, kRight = 30, kTop = 50, kBottom = 60;  ///< margins [px]
+  static constexpr int kColourBarMargin = 110;  ///< the right margin with a colour bar [px]
+  static constexpr int kTitleBaseline = 22;     ///< the title's baseline [px from the top]
+  /// The legend's baseline with XyPlot::legend_above [px from the top]: a row of its own under the title's.
+  static constexpr int kLegendAboveBaseline = 42;
+  static constexpr double kBandOpacity = 0.3;   ///< a PlotBand's fill opacity
+  int right = kRight;                           ///< the right margin in use [px]
   Eigen::Vector2d lo = Eigen::Vector2d::Zero();  ///< data at the plot area's bottom-left corner [data units]
   Eigen::Vector2d hi = Eigen::Vector2d::Ones();  ///< data at its top-right corner [data units]
   double sx = 1.0, sy = 1.0;                     ///< scales [px per data unit]
@@ -27,6 +34,22 @@ struct PlotFrame {
     return {kLeft + (p.x() - lo.x()) * sx, kTop + (hi.y() - p.y()) * sy};
   }
 };
+
+/// One entry of a plot's legend, in the order drawn: the labelled series (a line, dashed as drawn), then the
+/// bands (a filled box).
+struct LegendEntry {
+  std::string label;
+  std::array<std::uint8_t, 3> rgb{0, 0, 0};
+  bool dashed = false;
+  bool box = false;  ///< a band's filled box rather than a line
+};
+
+/// The legend of `plot`: every series with a non-empty label, then every band.
+std::vector<LegendEntry> legendEntries(const XyPlot& plot);
+
+/// The report's continuous colour map at u ∈ [0, 1] (clamped; NaN → 0): matplotlib's "plasma" from 0 to
+/// 0.9 (dark blue through magenta to orange, no pale yellow on the white page).
+std::array<std::uint8_t, 3> colourMapRgb(double u);
 
 /// The frame of `plot`; kInvalidArgument ("plot too small", "nothing finite to plot") when the canvas
 /// is below 200×150 px or nothing finite is to be drawn.

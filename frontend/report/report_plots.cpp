@@ -9,14 +9,6 @@
 namespace dualgraph {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::string metres(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.2g", value);
-  return text;
-}
-
 std::vector<PlotGate> plotGates(const std::vector<TrackGate>& gates) {
   std::vector<PlotGate> out;
   for (const TrackGate& gate : gates) out.push_back({gate.position.head<2>(), gate.yaw, gate.size});
@@ -33,23 +25,22 @@ std::vector<Eigen::Vector2d> xyOf(const StampedPoses& poses) {
 }
 
 double reportTimeOrigin(const RunReport& run) {
-  const double first = run.estimate.empty() ? 0.0 : run.estimate.front().first;
+  const StampedPoses& flight = run.vio.empty() ? run.estimate : run.vio;
+  const double first = flight.empty() ? 0.0 : flight.front().first;
   return std::abs(first) >= 1000.0 ? first : 0.0;
 }
 
-Result<PositionErrors> positionErrors(const StampedPoses& ground_truth, const StampedPoses& poses, double t0) {
-  auto association = associateByTime(ground_truth, poses);
-  if (!association.ok()) return association.status();
-  PositionErrors out;
-  for (size_t i = 0; i < association->size(); ++i) {
-    const Eigen::Vector3d p = association->estimate_T_body[i].second.translation();
-    const double error = (association->world_T_body_gt[i].second.translation() - p).norm();
-    out.over_time.emplace_back(association->estimate_T_body[i].first - t0, error);
-    out.xy.push_back(p.head<2>());
-    out.errors.push_back(error);
-  }
-  out.stats = errorStatistics(out.errors);
-  return out;
+double sharedTimeOrigin(const std::vector<RunReport>& runs) {
+  double origin = 0.0;
+  for (size_t k = 0; k < runs.size(); ++k) origin = k == 0 ? reportTimeOrigin(runs[k]) : std::min(origin, reportTimeOrigin(runs[k]));
+  return origin;
+}
+
+std::string timeAxisLabel(double t0) {
+  if (t0 == 0.0) return "t [s]";
+  char text[64];
+  std::snprintf(text, sizeof text, "t [s] since %.3f s", t0);
+  return text;
 }
 
 std::array<std::uint8_t, 3> runColour(size_t k) {
@@ -57,38 +48,6 @@ std::array<std::uint8_t, 3> runColour(size_t k) {
                                                           {140, 86, 75},  {227, 119, 194}, {127, 127, 127}, {188, 189, 34},
                                                           {23, 190, 207}, {255, 127, 14}};
   return kPalette[k % 10];
-}
-
-XyPlot errorColouredTopView(const std::string& title, const PositionErrors& errors, const StampedPoses& ground_truth,
-                            const std::vector<TrackGate>& gates) {
-  static const std::array<std::uint8_t, 3> kBins[] = {{49, 54, 149}, {69, 117, 180}, {116, 173, 209}, {244, 109, 67}, {215, 48, 39}};
-  constexpr int kCount = 5;
-  XyPlot plot;
-  plot.title = title + " [m]";
-  plot.legend_above = true;
-  plot.gates = plotGates(gates);
-  // The ground truth first, so that the coloured estimate is drawn over it.
-  plot.series.push_back({"ground truth", xyOf(ground_truth), {0, 0, 0}, true});
-  const double lo = errors.stats.min, hi = errors.stats.max;
-  const double width = hi > lo ? (hi - lo) / kCount : 1.0;
-  std::vector<PlotSeries> bins(kCount);
-  for (int b = 0; b < kCount; ++b) {
-    // ASCII only: the PNG renderer's fonts have no dash beyond '-'. The unit is in the title.
-    bins[static_cast<size_t>(b)].label = metres(lo + b * width) + "-" + metres(b + 1 == kCount ? hi : lo + (b + 1) * width);
-    bins[static_cast<size_t>(b)].rgb = kBins[b];
-  }
-  // Each segment (k, k+1) belongs to the bin of its first point; a bin's polyline breaks (NaN) where it is left.
-  for (size_t k = 0; k + 1 < errors.xy.size(); ++k) {
-    const int b = std::clamp(static_cast<int>((errors.errors[k] - lo) / width), 0, kCount - 1);
-    std::vector<Eigen::Vector2d>& points = bins[static_cast<size_t>(b)].points;
-    if (!points.empty() && points.back() != errors.xy[k]) points.emplace_back(kNaN, kNaN);
-    if (points.empty() || points.back() != errors.xy[k]) points.push_back(errors.xy[k]);
-    points.push_back(errors.xy[k + 1]);
-  }
-  for (PlotSeries& bin : bins) {
-    if (!bin.points.empty()) plot.series.push_back(std::move(bin));
-  }
-  return plot;
 }
 
 XyPlot latencyDistribution(const std::string& title,
@@ -129,11 +88,12 @@ Result<OverlayPlots> makeOverlayPlots(const std::vector<RunReport>& runs) {
   plots.xy.title = "All runs: corrected trajectories, top view";
   plots.xy.legend_above = true;
   plots.xy.gates = plotGates(runs.front().gates);
-  plots.error.title = "All runs: position error of the corrected estimate, unaligned";
+  plots.error.title = "All runs: position error of the corrected estimate, no alignment";
   plots.error.equal_aspect = false;
   plots.error.legend_above = true;
   plots.error.height = 450;
-  plots.error.x_label = "t [s]";
+  const double t0 = sharedTimeOrigin(runs);
+  plots.error.x_label = timeAxisLabel(t0);
   plots.error.y_label = "[m]";
   std::vector<std::pair<std::string, std::vector<double>>> latencies;
   for (size_t k = 0; k < runs.size(); ++k) {
@@ -142,7 +102,7 @@ Result<OverlayPlots> makeOverlayPlots(const std::vector<RunReport>& runs) {
     plots.xy.series.push_back({label, xyOf(run.estimate), runColour(k), false});
     latencies.emplace_back(label, valuesOf(run.opt_ms));
     if (run.ground_truth.empty()) continue;
-    auto errors = positionErrors(run.ground_truth, run.estimate, reportTimeOrigin(run));
+    auto errors = positionErrors(run.ground_truth, run.estimate, t0);
     if (!errors.ok()) return Status(errors.status().code(), run.run_dir + ": " + errors.status().message());
     plots.error.series.push_back({label, std::move(errors->over_time), runColour(k), false});
   }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/frontend/report/svg_plot.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -34,7 +35,7 @@ std::string pointList(const std::vector<Eigen::Vector2d>& pixels) {
 }
 
 void writeAxes(std::ostream& svg, const XyPlot& plot, const PlotFrame& f) {
-  const double right = f.width - PlotFrame::kRight, bottom = f.height - PlotFrame::kBottom;
+  const double right = f.width - f.right, bottom = f.height - PlotFrame::kBottom;
   svg << "<g class=\"grid\" stroke=\"#e1e1e1\" stroke-width=\"1\">";
   std::ostringstream labels;
   for (double x : tickValues(f.lo.x(), f.hi.x(), TickArithmetic::kByIndex)) {
@@ -54,7 +55,8 @@ void writeAxes(std::ostream& svg, const XyPlot& plot, const PlotFrame& f) {
   svg << "</g>\n<g class=\"ticks\" font-size=\"12\" fill=\"#3c3c3c\">" << labels.str() << "</g>\n";
   svg << "<rect x=\"" << PlotFrame::kLeft << "\" y=\"" << PlotFrame::kTop << "\" width=\"" << right - PlotFrame::kLeft
       << "\" height=\"" << bottom - PlotFrame::kTop << "\" fill=\"none\" stroke=\"#3c3c3c\"/>\n";
-  svg << "<text x=\"" << PlotFrame::kLeft << "\" y=\"24\" font-size=\"16\">" << escapeXml(plot.title) << "</text>\n";
+  svg << "<text x=\"" << PlotFrame::kLeft << "\" y=\"" << PlotFrame::kTitleBaseline << "\" font-size=\"16\">"
+      << escapeXml(plot.title) << "</text>\n";
   svg << "<text x=\"" << (PlotFrame::kLeft + right) / 2 << "\" y=\"" << f.height - 16
       << "\" font-size=\"13\" text-anchor=\"middle\">" << escapeXml(plot.x_label) << "</text>\n";
   svg << "<text x=\"8\" y=\"" << PlotFrame::kTop - 10 << "\" font-size=\"13\">" << escapeXml(plot.y_label)
@@ -93,19 +95,61 @@ void writeSeries(std::ostream& svg, const PlotSeries& s, const PlotFrame& f, dou
   svg << "</g>\n";
 }
 
-// As the PNG: a column inside the plot area's top-right corner, or with legend_above one row in the
-// top margin, right-aligned (label widths estimated at 7 px per character).
-void writeLegend(std::ostream& svg, const XyPlot& plot) {
-  double x = plot.width - PlotFrame::kRight, y = plot.legend_above ? PlotFrame::kTop - 10 : PlotFrame::kTop + 20;
+// Each band a translucent rectangle over the plot area's width, under the series.
+void writeBands(std::ostream& svg, const XyPlot& plot, const PlotFrame& f) {
+  for (const PlotBand& band : plot.bands) {
+    const double y0 = f.pixel({f.lo.x(), band.hi}).y(), y1 = f.pixel({f.lo.x(), band.lo}).y();
+    if (!std::isfinite(y0) || !std::isfinite(y1)) continue;
+    svg << "<rect class=\"band\" data-label=\"" << escapeXml(band.label) << "\" x=\"" << PlotFrame::kLeft << "\" y=\""
+        << number(std::min(y0, y1)) << "\" width=\"" << f.width - f.right - PlotFrame::kLeft << "\" height=\""
+        << number(std::abs(y1 - y0)) << "\" fill=\"" << colour(band.rgb) << "\" fill-opacity=\"" << PlotFrame::kBandOpacity << "\"/>\n";
+  }
+}
+
+// As the PNG's: the colour map in 64 steps from lo (bottom) to hi (top) right of the plot area, ticks, label.
+void writeColourBar(std::ostream& svg, const ColourBar& bar, const PlotFrame& f) {
+  constexpr int kSteps = 64;
+  const double x0 = f.width - f.right + 20, top = PlotFrame::kTop, bottom = f.height - PlotFrame::kBottom;
+  const double step = (bottom - top) / kSteps;
+  svg << "<g class=\"colour-bar\" data-lo=\"" << tickLabel(bar.lo) << "\" data-hi=\"" << tickLabel(bar.hi) << "\">";
+  for (int k = 0; k < kSteps; ++k) {  // k = 0 at the bottom
+    svg << "<rect x=\"" << number(x0) << "\" y=\"" << number(bottom - (k + 1) * step) << "\" width=\"18\" height=\""
+        << number(step + 0.5) << "\" fill=\"" << colour(colourMapRgb((k + 0.5) / kSteps)) << "\"/>";
+  }
+  svg << "<rect x=\"" << number(x0) << "\" y=\"" << number(top) << "\" width=\"18\" height=\"" << number(bottom - top)
+      << "\" fill=\"none\" stroke=\"#3c3c3c\"/>";
+  const double span = bar.hi > bar.lo ? bar.hi - bar.lo : 1.0;
+  svg << "<g font-size=\"12\" fill=\"#3c3c3c\">";
+  for (double v : tickValues(bar.lo, bar.lo + span, TickArithmetic::kByIndex)) {
+    const double y = bottom - (v - bar.lo) / span * (bottom - top);
+    svg << "<line x1=\"" << number(x0 + 18) << "\" y1=\"" << number(y) << "\" x2=\"" << number(x0 + 22) << "\" y2=\""
+        << number(y) << "\" stroke=\"#3c3c3c\"/><text x=\"" << number(x0 + 25) << "\" y=\"" << number(y + 4) << "\">"
+        << tickLabel(v) << "</text>";
+  }
+  svg << "<text x=\"" << number(x0 - 10) << "\" y=\"" << number(bottom + 22) << "\" font-size=\"13\">"
+      << escapeXml(bar.label) << "</text></g></g>\n";
+}
+
+// As the PNG: a column inside the plot area's top-right corner, or with legend_above one row under the title,
+// right-aligned (label widths estimated at 7 px per character); legendEntries' lines and boxes.
+void writeLegend(std::ostream& svg, const XyPlot& plot, const PlotFrame& f) {
+  const std::vector<LegendEntry> legend = legendEntries(plot);
+  const double right = f.width - f.right;
+  double x = right, y = plot.legend_above ? PlotFrame::kLegendAboveBaseline : PlotFrame::kTop + 20;
   svg << "<g class=\"legend\" font-size=\"13\">";
-  for (size_t i = 0; i < plot.series.size(); ++i) {
-    const PlotSeries& s = plot.series[plot.legend_above ? plot.series.size() - 1 - i : i];
-    if (plot.legend_above) x -= 38 + 7.0 * static_cast<double>(s.label.size());
-    const double left = plot.legend_above ? x : plot.width - PlotFrame::kRight - 190;
-    svg << "<line x1=\"" << number(left) << "\" y1=\"" << number(y - 4) << "\" x2=\"" << number(left + 30)
-        << "\" y2=\"" << number(y - 4) << "\" stroke=\"" << colour(s.rgb) << "\" stroke-width=\"2\""
-        << (s.dashed ? " stroke-dasharray=\"8 5\"" : "") << "/>";
-    svg << "<text x=\"" << number(left + 38) << "\" y=\"" << number(y) << "\">" << escapeXml(s.label) << "</text>";
+  for (size_t i = 0; i < legend.size(); ++i) {
+    const LegendEntry& e = legend[plot.legend_above ? legend.size() - 1 - i : i];
+    if (plot.legend_above) x -= 38 + 7.0 * static_cast<double>(e.label.size());
+    const double left = plot.legend_above ? x : right - 190;
+    if (e.box) {
+      svg << "<rect x=\"" << number(left) << "\" y=\"" << number(y - 10) << "\" width=\"30\" height=\"12\" fill=\""
+          << colour(e.rgb) << "\" fill-opacity=\"" << PlotFrame::kBandOpacity << "\"/>";
+    } else {
+      svg << "<line x1=\"" << number(left) << "\" y1=\"" << number(y - 4) << "\" x2=\"" << number(left + 30)
+          << "\" y2=\"" << number(y - 4) << "\" stroke=\"" << colour(e.rgb) << "\" stroke-width=\"2\""
+          << (e.dashed ? " stroke-dasharray=\"8 5\"" : "") << "/>";
+    }
+    svg << "<text x=\"" << number(left + 38) << "\" y=\"" << number(y) << "\">" << escapeXml(e.label) << "</text>";
     x -= 20;
     y += plot.legend_above ? 0 : 22;
   }
@@ -172,9 +216,11 @@ Result<std::string> renderXyPlotSvg(const XyPlot& plot, double tolerance_px) {
       << escapeXml(plot.title) << "\" font-family=\"sans-serif\">\n";
   svg << "<rect width=\"" << plot.width << "\" height=\"" << plot.height << "\" fill=\"#ffffff\"/>\n";
   writeAxes(svg, plot, *frame);
+  writeBands(svg, plot, *frame);
   writeGates(svg, plot, *frame);
   for (const PlotSeries& s : plot.series) writeSeries(svg, s, *frame, tolerance_px);
-  writeLegend(svg, plot);
+  if (plot.colour_bar) writeColourBar(svg, *plot.colour_bar, *frame);
+  writeLegend(svg, plot, *frame);
   svg << "</svg>";
   return svg.str();
 }

@@ -22,9 +22,10 @@ std::vector<Eigen::Vector2d> simplifyPolyline(const std::vector<Eigen::Vector2d>
 std::string escapeXml(const std::string& text);
 
 /// `plot` as one <svg> element (viewBox = width × height px, class "plot"): grid, ticks, axis labels,
-/// title; gates as grey <polygon class="gate">; each series a <g class="series" data-label=...> of
-/// <polyline>s (broken at non-finite points, simplified within `tolerance_px` [px], coordinates to
-/// 0.1 px, dashed series with stroke-dasharray); a legend in the top margin; laid out by plotFrame
+/// title; bands as translucent <rect class="band" data-label=...>; gates as grey <polygon class="gate">; each
+/// series a <g class="series" data-label=...> of <polyline>s (broken at non-finite points, simplified within
+/// `tolerance_px` [px], coordinates to 0.1 px, dashed series with stroke-dasharray); the colour bar as
+/// <g class="colour-bar" data-lo=... data-hi=...>; the legend (legendEntries); laid out by plotFrame
 /// (plot_frame.h), as writeXyPlotPng. Errors as plotFrame.
 Result<std::string> renderXyPlotSvg(const XyPlot& plot, double tolerance_px = 0.25);
 

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
-// The run report: SVG plots map data to the PNG's pixels (a known tiny trajectory), polylines are
-// simplified within tolerance and broken at non-finite points, the HTML is well formed enough
-// (balanced svg/table/polyline tags, no NaN/inf text) with the gates and the three series; a run
-// folder written here reads back, and a missing or malformed file is named in the error.
+// The run report: the HTML is well formed enough
+// (balanced svg/table/polyline tags, no NaN/inf text) with the gates and the three series; the VIO drawn
+// through the lock frame (raw on request or without one), the aligned statistics beside the unaligned ones; a run
+// folder written here reads back with its lock frame, and a missing or malformed file is named in the error.
 #include "dualgraph/frontend/report/run_report.h"
 
 #include <gtest/gtest.h>
@@ -13,32 +13,16 @@
 #include <regex>
 
 #include "dualgraph/frontend/report/svg_plot.h"
+#include "test/frontend/report_test_text.h"
 #include "test/testing/command_line.h"
 
 namespace dualgraph {
 namespace {
 
 namespace fs = std::filesystem;
-
-size_t count(const std::string& text, const std::string& what) {
-  size_t n = 0;
-  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++n;
-  return n;
-}
-
-// Every <polyline ...> closes itself: the next '>' after its start is "/>".
-bool polylinesSelfClosed(const std::string& text) {
-  for (size_t at = text.find("<polyline"); at != std::string::npos; at = text.find("<polyline", at + 1)) {
-    const size_t end = text.find('>', at);
-    if (end == std::string::npos || text[end - 1] != '/') return false;
-  }
-  return true;
-}
-
-bool mentionsNonFinite(const std::string& text) {
-  static const std::regex kToken("(^|[^a-z])(nan|inf)([^a-z]|$)", std::regex::icase);
-  return std::regex_search(text, kToken);
-}
+using report_test::count;
+using report_test::mentionsNonFinite;
+using report_test::polylinesSelfClosed;
 
 Eigen::Isometry3d at(double x, double y) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -46,18 +30,29 @@ Eigen::Isometry3d at(double x, double y) {
   return pose;
 }
 
-// A 1 Hz lap of radius 2 m sampled at 20 Hz: GT on the circle, VIO drifting in +x at 0.1 m/s,
-// the estimate 1 cm off.
+// The VIO's frame in the map of tinyRun: a quarter turn and (5, 3) m away.
+Eigen::Isometry3d tinyLockFrame() {
+  Eigen::Isometry3d world_T_odom = Eigen::Isometry3d::Identity();
+  world_T_odom.linear() = Eigen::AngleAxisd(EIGEN_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  world_T_odom.translation() << 5.0, 3.0, 0.0;
+  return world_T_odom;
+}
+
+// A 1 Hz lap of radius 2 m sampled at 20 Hz: GT on the circle, VIO drifting in +x (of the map) at 0.1 m/s and
+// given in its own frame (tinyLockFrame, found at t = 0), the estimate 1 cm off.
 RunReport tinyRun(const std::string& name) {
   RunReport run;
   run.name = name;
   run.mode = "dual";
+  const Eigen::Isometry3d odom_T_world = tinyLockFrame().inverse();
   for (int k = 0; k <= 40; ++k) {
     const double t = 0.05 * k, s = 2.0 * EIGEN_PI * t / 2.0;
     run.ground_truth.emplace_back(t, at(2.0 * std::cos(s), 2.0 * std::sin(s)));
-    run.vio.emplace_back(t, at(2.0 * std::cos(s) + 0.1 * t, 2.0 * std::sin(s)));
+    run.vio.emplace_back(t, odom_T_world * at(2.0 * std::cos(s) + 0.1 * t, 2.0 * std::sin(s)));
     run.estimate.emplace_back(t, at(2.0 * std::cos(s) + 0.01, 2.0 * std::sin(s)));
   }
+  run.lock_world_T_odom = tinyLockFrame();
+  run.lock_at_s = 0.0;
   TrackGate right, left;
   right.id = 0;
   right.position = {2.0, 0.0, 1.0};
@@ -72,86 +67,12 @@ RunReport tinyRun(const std::string& name) {
   return run;
 }
 
-TEST(SvgPlot, MapsDataToThePngLayoutWithEqualScales) {
-  XyPlot plot;  // 1200 × 800, equal aspect
-  plot.series.push_back({"path", {{0.0, 0.0}, {10.0, 0.0}, {10.0, 5.0}}, {0, 0, 255}, false});
-  auto frame = plotFrame(plot);
-  ASSERT_TRUE(frame.ok()) << frame.status().message();
-  // x: [0, 10] padded by 5 % → [-0.5, 10.5] over the 1090 px plot area: 1090 / 11 px per metre; y
-  // takes the same scale, centred on 2.5 m within the 690 px high area.
-  const double s = 1090.0 / 11.0;
-  EXPECT_DOUBLE_EQ(frame->sx, s);
-  EXPECT_DOUBLE_EQ(frame->sy, s);
-  EXPECT_NEAR(frame->pixel({0.0, 0.0}).x(), 80.0 + 0.5 * s, 1e-9);
-  EXPECT_NEAR(frame->pixel({0.0, 0.0}).y(), 50.0 + 345.0 + 2.5 * s, 1e-9);
-  auto svg = renderXyPlotSvg(plot);
-  ASSERT_TRUE(svg.ok());
-  // 129.545 → 129.5, 50 + 345 + 247.73 = 642.73 → 642.7, 80 + 10.5 s = 1120.45, 642.73 − 5 s = 147.27.
-  EXPECT_NE(svg->find("points=\"129.5,642.7 1120.5,642.7 1120.5,147.3\""), std::string::npos) << *svg;
-  EXPECT_NE(svg->find("viewBox=\"0 0 1200 800\""), std::string::npos);
-}
-
-TEST(SvgPlot, TimeAxesScaleEachAxisToTheData) {
-  XyPlot plot;
-  plot.equal_aspect = false;
-  plot.width = 400;
-  plot.height = 300;
-  plot.series.push_back({"ms", {{0.0, 0.0}, {20.0, 1.0}}, {0, 0, 0}, false});
-  auto frame = plotFrame(plot);
-  ASSERT_TRUE(frame.ok());
-  EXPECT_DOUBLE_EQ(frame->sx, 290.0 / 22.0);
-  EXPECT_DOUBLE_EQ(frame->sy, 190.0 / 1.1);
-  EXPECT_NEAR(frame->pixel({20.0, 1.0}).x(), 400.0 - 30.0 - 0.05 * 20.0 * frame->sx, 1e-9);
-  EXPECT_NEAR(frame->pixel({20.0, 1.0}).y(), 50.0 + 0.05 * frame->sy, 1e-9);
-}
-
-TEST(SvgPlot, NothingFiniteOrTooSmallIsAnError) {
-  XyPlot plot;
-  EXPECT_EQ(renderXyPlotSvg(plot).status().code(), StatusCode::kInvalidArgument);
-  plot.series.push_back({"nan", {{std::nan(""), 0.0}}, {0, 0, 0}, false});
-  EXPECT_EQ(renderXyPlotSvg(plot).status().code(), StatusCode::kInvalidArgument);
-  plot.series.push_back({"ok", {{0.0, 0.0}, {1.0, 1.0}}, {0, 0, 0}, false});
-  plot.width = 100;
-  EXPECT_EQ(plotFrame(plot).status().code(), StatusCode::kInvalidArgument);
-}
-
-TEST(SvgPlot, SimplifyKeepsEndsCornersAndDropsWhatIsWithinTolerance) {
-  std::vector<Eigen::Vector2d> line;
-  for (int i = 0; i <= 100; ++i) line.emplace_back(i, 0.01 * std::sin(i));  // straight within 0.01
-  line.emplace_back(100.0, 50.0);                                           // a corner
-  const auto kept = simplifyPolyline(line, 0.25);
-  ASSERT_EQ(kept.size(), 3u);
-  EXPECT_EQ(kept.front(), line.front());
-  EXPECT_EQ(kept[1], Eigen::Vector2d(100.0, 0.01 * std::sin(100.0)));
-  EXPECT_EQ(kept.back(), line.back());
-  EXPECT_EQ(simplifyPolyline(line, 0.0).size(), line.size());  // every point matters at zero tolerance
-  // A closed loop (first = last): the chord is a point, the farthest point is kept.
-  const std::vector<Eigen::Vector2d> loop{{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}};
-  EXPECT_GE(simplifyPolyline(loop, 0.25).size(), 4u);
-}
-
-TEST(SvgPlot, BreaksSeriesAtNonFinitePointsAndEscapesText) {
-  XyPlot plot;
-  plot.title = "a <b> & \"c\"";
-  plot.series.push_back({"x<y", {{0, 0}, {1, 1}, {std::nan(""), 0}, {2, 0}, {3, 1}, {INFINITY, 1}}, {1, 2, 3}, true});
-  auto svg = renderXyPlotSvg(plot);
-  ASSERT_TRUE(svg.ok());
-  EXPECT_EQ(count(*svg, "<polyline"), 2u);
-  EXPECT_TRUE(polylinesSelfClosed(*svg));
-  EXPECT_FALSE(mentionsNonFinite(*svg));
-  EXPECT_NE(svg->find("a &lt;b&gt; &amp; &quot;c&quot;"), std::string::npos);
-  EXPECT_NE(svg->find("data-label=\"x&lt;y\""), std::string::npos);
-  EXPECT_NE(svg->find("stroke=\"#010203\""), std::string::npos);
-  EXPECT_NE(svg->find("stroke-dasharray"), std::string::npos);
-  EXPECT_EQ(svg->find("<b>"), std::string::npos);
-}
-
 TEST(RunReport, HtmlIsBalancedFiniteAndHasTheGatesAndThreeSeries) {
   auto html = renderRunReportHtml({tinyRun("tiny")});
   ASSERT_TRUE(html.ok()) << html.status().message();
-  // xy, error, corrected error alone, error-coloured top view, optimisation time, latency distribution
-  EXPECT_EQ(count(*html, "<svg"), 6u);
-  EXPECT_EQ(count(*html, "</svg>"), 6u);
+  // xy, error, corrected error alone, VIO error alone, error-coloured top view, optimisation time, latency
+  EXPECT_EQ(count(*html, "<svg"), 7u);
+  EXPECT_EQ(count(*html, "</svg>"), 7u);
   EXPECT_EQ(count(*html, "<table"), count(*html, "</table>"));
   EXPECT_EQ(count(*html, "<table"), 4u);  // error statistics, latency, metrics, gate corrections; no comparison
   EXPECT_EQ(count(*html, "class=\"gate\""), 4u);  // the top view and the error-coloured one
@@ -161,7 +82,7 @@ TEST(RunReport, HtmlIsBalancedFiniteAndHasTheGatesAndThreeSeries) {
   EXPECT_TRUE(polylinesSelfClosed(*html));
   EXPECT_FALSE(mentionsNonFinite(*html));
   const std::string xy = html->substr(0, html->find("</svg>"));
-  for (const char* label : {"data-label=\"ground truth\"", "data-label=\"VIO\"", "data-label=\"corrected\""}) {
+  for (const char* label : {"data-label=\"ground truth\"", "data-label=\"VIO (lock frame)\"", "data-label=\"corrected\""}) {
     EXPECT_EQ(count(xy, label), 1u) << label;
   }
   EXPECT_NE(xy.find("stroke=\"#000000\" stroke-width=\"2\" stroke-linejoin=\"round\" stroke-linecap=\"round\" "
@@ -181,7 +102,7 @@ TEST(RunReport, SeveralRunsGetAComparisonTable) {
   EXPECT_EQ(count(*html, "<table class=\"comparison\""), 1u);
   EXPECT_LT(html->find("class=\"comparison\""), html->find("<section"));
   EXPECT_NE(html->find("href=\"#run-b\""), std::string::npos);
-  EXPECT_EQ(count(*html, "<svg"), 15u);  // 2 × 6 and the overlay's three
+  EXPECT_EQ(count(*html, "<svg"), 17u);  // 2 × 7 and the overlay's three
   EXPECT_LT(html->find("<h2>Overlay</h2>"), html->find("<section"));
   EXPECT_EQ(renderRunReportHtml({}).status().code(), StatusCode::kInvalidArgument);
 }
@@ -191,16 +112,64 @@ TEST(RunReport, ErrorPlotIsUnalignedDistanceToGroundTruth) {
   ASSERT_TRUE(plots.ok());
   ASSERT_EQ(plots->error.series.size(), 2u);
   const PlotSeries& vio = plots->error.series[0];
+  EXPECT_EQ(vio.label, "VIO (lock frame)");
   ASSERT_EQ(vio.points.size(), 41u);
   EXPECT_NEAR(vio.points[20].x(), 1.0, 1e-12);
-  EXPECT_NEAR(vio.points[20].y(), 0.1, 1e-9);  // 0.1 m/s of drift after 1 s
+  EXPECT_NEAR(vio.points[20].y(), 0.1, 1e-9);  // through the lock frame: 0.1 m/s of drift after 1 s, not the offset
   EXPECT_NEAR(plots->error.series[1].points[7].y(), 0.01, 1e-9);
+  EXPECT_NEAR(plots->vio_stats.max, 0.2, 1e-9);
+  // The VIO in the map lies on the ground truth but for its drift; raw, it is the frame's offset away.
+  const PlotSeries& vio_xy = plots->xy.series[0];
+  EXPECT_NEAR((vio_xy.points[0] - Eigen::Vector2d(2.0, 0.0)).norm(), 0.0, 1e-9);
+  RunReportOptions raw_options;
+  raw_options.vio_frame = VioFrame::kRaw;
+  auto raw = makeRunPlots(tinyRun("tiny"), raw_options);
+  ASSERT_TRUE(raw.ok());
+  EXPECT_EQ(raw->xy.series[0].label, "VIO (raw)");
+  EXPECT_EQ(raw->error.series[0].label, "VIO (raw)");
+  EXPECT_GT(raw->vio_stats.min, 2.5);  // the frame's quarter turn and 5.8 m, against at most 0.2 m of drift
+  // A run without a lock frame gets its VIO raw whatever is asked, and the caption says so.
+  RunReport never = tinyRun("never");
+  never.lock_world_T_odom.reset();
+  auto html = renderRunReportHtml({never});
+  ASSERT_TRUE(html.ok());
+  EXPECT_NE(html->find("the run never locked"), std::string::npos);
+  EXPECT_NE(html->find("data-label=\"VIO (raw)\""), std::string::npos);
+
   RunReport no_gt = tinyRun("no_gt");
   no_gt.ground_truth.clear();
   auto without = makeRunPlots(no_gt);
   ASSERT_TRUE(without.ok());
   EXPECT_TRUE(without->error.series.empty());
+  EXPECT_TRUE(without->error_vio.series.empty());
   EXPECT_EQ(without->xy.series.size(), 2u);
+}
+
+TEST(RunReport, AlignedStatisticsStandBesideTheUnalignedOnes) {
+  auto plots = makeRunPlots(tinyRun("tiny"));
+  ASSERT_TRUE(plots.ok());
+  // The estimate is the ground truth moved 1 cm along x: 0.01 m everywhere without alignment, 0 after SE(3).
+  EXPECT_NEAR(plots->corrected_stats.rmse, 0.01, 1e-9);
+  EXPECT_NEAR(plots->corrected_stats_se3.rmse, 0.0, 1e-9);
+  EXPECT_NEAR(plots->corrected_stats_se3.max, 0.0, 1e-9);
+  // The VIO's aligned figures do not depend on the frame it is drawn in, and are below its unaligned ones.
+  RunReportOptions raw_options;
+  raw_options.vio_frame = VioFrame::kRaw;
+  auto raw = makeRunPlots(tinyRun("tiny"), raw_options);
+  ASSERT_TRUE(raw.ok());
+  EXPECT_NEAR(raw->vio_stats_se3.rmse, plots->vio_stats_se3.rmse, 1e-9);
+  EXPECT_LT(plots->vio_stats_se3.rmse, plots->vio_stats.rmse);
+  auto html = renderRunReportHtml({tinyRun("tiny")});
+  ASSERT_TRUE(html.ok());
+  EXPECT_NE(html->find("<th colspan=\"6\">no alignment (the map frame)</th><th colspan=\"6\">SE(3)-aligned"),
+            std::string::npos);
+  EXPECT_NE(html->find("<tr><td>corrected</td><td>0.01</td><td>0.01</td><td>0.01</td><td>"), std::string::npos);
+  EXPECT_NE(html->find("<tr><td>VIO (lock frame)</td>"), std::string::npos);
+  // The evo-style plots of both errors, with their statistic lines.
+  EXPECT_EQ(plots->error_corrected.series.size(), 4u);
+  EXPECT_EQ(plots->error_vio.series.size(), 4u);
+  EXPECT_EQ(plots->error_vio.series[0].label, "VIO (lock frame)");
+  EXPECT_EQ(plots->error_vio.bands.size(), 1u);
 }
 
 TEST(RunReport, UnixTimeStampsAreShownFromTheFirstPose) {
@@ -232,7 +201,10 @@ std::string writeRunFolder(const std::string& root) {
   std::ofstream(root + "/run/stats.csv") << "t,keyframe,optimization_ms,termination\n0.5,1,1.5,converged\n1.5,2,2.5,converged\n";
   std::ofstream(root + "/run/metrics.json")
       << "{\"ate_m\": 0.01, \"ate_4dof_m\": null, \"note\": \"text is skipped\", \"keyframes\": 2, "
-         "\"gate_corrections\": [{\"lap\": 1, \"crossings\": 2, \"mean_m\": 0.05, \"std_m\": null}]}\n";
+         "\"gate_corrections\": [{\"lap\": 1, \"crossings\": 2, \"mean_m\": 0.05, \"std_m\": null}], "
+         "\"initialized_at_s\": 0.25, \"lock_world_T_odom_x_m\": 1, \"lock_world_T_odom_y_m\": 2, "
+         "\"lock_world_T_odom_z_m\": 0, \"lock_world_T_odom_qx\": 0, \"lock_world_T_odom_qy\": 0, "
+         "\"lock_world_T_odom_qz\": 0.70710678118654752, \"lock_world_T_odom_qw\": 0.70710678118654752}\n";
   std::ofstream(root + "/run/run.yaml") << "sequence: \"../seq\"\nmode: single\nd_single: 0.5\n";
   return root + "/run";
 }
@@ -251,18 +223,23 @@ TEST(RunReport, LoadsARunFolderAndItsSequence) {
   EXPECT_NEAR(run->gates[1].position.x(), -2.0, 1e-12);
   ASSERT_EQ(run->opt_ms.size(), 2u);
   EXPECT_DOUBLE_EQ(run->opt_ms[1].second, 2.5);
-  ASSERT_EQ(run->metrics.size(), 3u);  // ate_m, ate_4dof_m (null → NaN), keyframes; the text skipped
+  ASSERT_EQ(run->metrics.size(), 11u);  // ate_m, ate_4dof_m (null → NaN), keyframes, the lock's 8; the text skipped
   EXPECT_EQ(run->metrics[1].first, "ate_4dof_m");
   EXPECT_TRUE(std::isnan(run->metrics[1].second));
   ASSERT_EQ(run->gate_corrections.size(), 1u);
   EXPECT_EQ(run->gate_corrections[0].crossings, 2);
+  ASSERT_TRUE(run->lock_world_T_odom.has_value());
+  EXPECT_NEAR(run->lock_at_s, 0.25, 1e-12);
+  EXPECT_NEAR((run->lock_world_T_odom->translation() - Eigen::Vector3d(1, 2, 0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((*run->lock_world_T_odom * Eigen::Vector3d(1, 0, 0) - Eigen::Vector3d(1, 3, 0)).norm(), 0.0, 1e-9);
 
   std::vector<std::string> written;
   const std::string html = testing::tempDir() + "/load_ok/out/report.html";
   fs::create_directories(fs::path(html).parent_path());
   ASSERT_TRUE(writeRunReport({*run, *run}, html, &written).ok());
-  EXPECT_EQ(written.size(), 16u);  // 2 × 6 PNGs, the second run renamed run_2, 3 overlay PNGs and the page
-  for (const char* file : {"run_xy.png", "run_error.png", "run_error_corrected.png", "run_error_map.png", "run_opt_ms.png",
+  EXPECT_EQ(written.size(), 18u);  // 2 × 7 PNGs, the second run renamed run_2, 3 overlay PNGs and the page
+  for (const char* file : {"run_xy.png", "run_error.png", "run_error_corrected.png", "run_error_vio.png",
+                           "run_error_map.png", "run_opt_ms.png",
                            "run_latency.png", "run_2_xy.png", "overlay_xy.png", "overlay_error.png", "overlay_latency.png",
                            "report.html"}) {
     EXPECT_TRUE(fs::exists(fs::path(html).parent_path() / file)) << file;
@@ -276,8 +253,25 @@ TEST(RunReport, MissingOrMalformedFilesAreNamed) {
   EXPECT_EQ(loadRunReport(root + "/nowhere").status().code(), StatusCode::kNotFound);
   EXPECT_NE(loadRunReport(root + "/nowhere").status().message().find("nowhere"), std::string::npos);
 
-  std::ofstream(dir + "/metrics.json") << "{\"ate_m\": \"x\",\n \"keyframes\": abc}\n";
+  // A lock frame with a missing part, or a rotation that is not one: named, not drawn wrong.
+  std::ofstream(dir + "/metrics.json") << "{\"lock_world_T_odom_x_m\": 1, \"lock_world_T_odom_y_m\": null}\n";
   auto bad = loadRunReport(dir);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find("metrics.json: lock_world_T_odom_*"), std::string::npos) << bad.status().message();
+  std::ofstream(dir + "/metrics.json") << "{\"lock_world_T_odom_x_m\": 1, \"lock_world_T_odom_y_m\": 2, "
+                                          "\"lock_world_T_odom_z_m\": 0, \"lock_world_T_odom_qx\": 0, "
+                                          "\"lock_world_T_odom_qy\": 0, \"lock_world_T_odom_qz\": 0, "
+                                          "\"lock_world_T_odom_qw\": 2}\n";
+  bad = loadRunReport(dir);
+  EXPECT_NE(bad.status().message().find("not a unit quaternion"), std::string::npos) << bad.status().message();
+  // All null: a run that never locked, which is no error.
+  std::ofstream(dir + "/metrics.json") << "{\"lock_world_T_odom_x_m\": null, \"lock_world_T_odom_qw\": null}\n";
+  auto never = loadRunReport(dir);
+  ASSERT_TRUE(never.ok()) << never.status().message();
+  EXPECT_FALSE(never->lock_world_T_odom.has_value());
+
+  std::ofstream(dir + "/metrics.json") << "{\"ate_m\": \"x\",\n \"keyframes\": abc}\n";
+  bad = loadRunReport(dir);
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.status().message().find("metrics.json:2"), std::string::npos) << bad.status().message();
 
