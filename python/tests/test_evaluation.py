@@ -112,6 +112,35 @@ class AgainstTheCli(unittest.TestCase):
         self.assertNotEqual(metrics.ate_m, interpolated.ate_m)  # another association, really used
 
     @unittest.skipUnless(CLI and os.path.exists(CLI), "needs the dualgraph tool (DUALGRAPH_CLI)")
+    def test_evo_association_and_rpe_windows_equal_dualgraph_eval(self):
+        cli, output = self.cli("se3", "--association", "evo", "--max-dt", "0.006", "--rpe-frames", "1,5",
+                               "--rpe-pairs", "evo")
+        self.assertIsNotNone(cli, output)
+        metrics = dualgraph.evaluate_trajectory(self.gt_path, self.est_path, association="evo", max_dt_s=0.006,
+                                                rpe_frames=[1, 5], rpe_pairing="evo")
+        self.assert_same_figures(metrics, cli, rtol=1e-14)
+        self.assertEqual(metrics.paired_from_poses, cli["paired_from_poses"])
+        self.assertFalse(metrics.paired_from_ground_truth)  # the estimate (30 Hz) is the sparser one
+        self.assertEqual([r["frames"] for r in metrics.rpe_frames], [1, 5])
+        for windows, unit in ((metrics.rpe, "m"), (metrics.rpe_frames, "f")):
+            for rpe in windows:
+                key = "rpe_%g%s" % (rpe["distance_m"] if unit == "m" else rpe["frames"], unit)
+                self.assertEqual(rpe["pairing"], "evo")
+                self.assertEqual(rpe["pairs"], cli[key + "_pairs"])
+                for stat in ("rmse", "mean", "median", "std", "min", "max"):
+                    self.assertAlmostEqual(rpe["translation_m"][stat], cli[f"{key}_{stat}_m"], delta=1e-14)
+                    self.assertAlmostEqual(rpe["rotation_deg"][stat], cli[f"{key}_{stat}_deg"], delta=1e-12)
+        # evo's default max-diff when none is given, and bad names refused.
+        default = dualgraph.evaluate_trajectory(self.gt_path, self.est_path, association="evo")
+        self.assertGreaterEqual(default.associated, metrics.associated)
+        with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "association"):
+            dualgraph.evaluate_trajectory(self.gt_path, self.est_path, association="closest")
+        with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "pairing"):
+            dualgraph.evaluate_trajectory(self.gt_path, self.est_path, rpe_pairing="all")
+        with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "max_dt_s"):
+            dualgraph.evaluate_trajectory(self.gt_path, self.est_path, association="interpolated", max_dt_s=0.01)
+
+    @unittest.skipUnless(CLI and os.path.exists(CLI), "needs the dualgraph tool (DUALGRAPH_CLI)")
     def test_the_figures_are_those_of_the_problem(self):
         cli, _ = self.cli("se3")
         metrics = dualgraph.evaluate_trajectory(self.gt_path, self.est_path)

@@ -157,7 +157,7 @@ class Stub(unittest.TestCase):
     def test_parameters_match_the_module(self):
         functions = {node.name: node for node in self.tree.body if isinstance(node, ast.FunctionDef)}
         node = functions["evaluate_trajectory"]
-        self.assertEqual([a.arg for a in node.args.args], ["gt", "est", "align", "max_gap_s", "rpe_distances_m", "max_dt_s", "min_associated"])
+        self.assertEqual([a.arg for a in node.args.args], ["gt", "est", "align", "max_gap_s", "rpe_distances_m", "max_dt_s", "min_associated", "association", "rpe_frames", "rpe_pairing"])
         graph = next(n for n in self.tree.body if isinstance(n, ast.ClassDef) and n.name == "Graph")
         custom = next(n for n in graph.body if isinstance(n, ast.FunctionDef) and n.name == "add_custom_edge")
         self.assertEqual([a.arg for a in custom.args.args],
