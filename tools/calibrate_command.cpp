@@ -2,6 +2,8 @@
 #include "tools/calibrate_command.h"
 
 #include <cmath>
+#include <filesystem>
+#include <utility>
 #include <cstdio>
 #include <iostream>
 #include <limits>
@@ -12,6 +14,7 @@
 #include "dualgraph/frontend/io/json_writer.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "tools/data_dir.h"
+#include "tools/output_guard.h"
 
 namespace dualgraph::tools {
 namespace {
@@ -95,6 +98,18 @@ JsonObject reportJson(const CalibrateOptions& o, const CameraCalibration& c, con
 
 int runCalibrateCommand(const CalibrateOptions& o) {
   const std::string config_path = o.config.empty() ? bundledDataDir() + "/config/default.yaml" : o.config;
+  // The calibrated camera and the report replace their files: neither may be a file the command reads (the
+  // sequence's camera.yaml is the usual slip), nor the two the same file.
+  std::vector<std::string> inputs = filesIn(o.sequence);
+  inputs.push_back(config_path);
+  for (const auto& [flag, output] : {std::pair<const char*, std::string>{"--out", o.out}, {"--json", o.json}}) {
+    const Status safe = refuseOverwritingInput(flag, output, inputs);
+    if (!safe.ok()) return fail(safe.message());
+  }
+  if (!o.out.empty() && !o.json.empty() &&
+      std::filesystem::absolute(o.out).lexically_normal() == std::filesystem::absolute(o.json).lexically_normal()) {
+    return fail("--out and --json are the same file " + o.out + ": give each its own");
+  }
   auto run_params = loadRunConfig(config_path);
   if (!run_params.ok()) return fail(run_params.status().message());
   auto sequence = loadSequence(o.sequence, run_params->defaultPoseDetectionCovariance());

@@ -19,6 +19,7 @@
 #include "dualgraph/frontend/pipeline/streaming_localizer.h"
 #include "dualgraph/frontend/sequence_run.h"
 #include "tools/data_dir.h"
+#include "tools/output_guard.h"
 #include "tools/run_command.h"
 #include "tools/staged_folder.h"
 
@@ -106,6 +107,8 @@ int runLiveCommand(const LiveOptions& o) {
   }
   std::istream& input = o.input == "-" ? std::cin : input_file;
   std::ofstream poses_file;
+  const Status poses_safe = refuseOverwritingInput("--poses", o.poses, {o.input, o.map, o.camera, o.config, o.gt});
+  if (!poses_safe.ok()) return fail(poses_safe.message());
   if (o.poses != "-") {
     poses_file.open(o.poses);
     if (!poses_file) return fail(o.poses + ": cannot open for writing");
@@ -188,7 +191,7 @@ int runLiveCommand(const LiveOptions& o) {
                                params->self_calibration_after_s > 0.0 ? &run.self_calibration : nullptr);
     }
     if (!written.ok()) return fail(staged->unstaged(written).message());
-    const Status committed = staged->commit();
+    const Status committed = staged->commit({o.input, o.map, o.camera, o.config, o.gt, o.poses});
     if (!committed.ok()) return fail(committed.message());
     if (exit_code == 0 && metrics->detections_used == 0) exit_code = kExitNothingLocalised;
     if (exit_code == 0 && (metrics->lost_share_pct > o.max_lost_share_pct || metrics->final_state == TrackingState::kLost)) {

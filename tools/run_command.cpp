@@ -134,7 +134,7 @@ int runRunCommand(const RunOptions& o) {
                                         params->self_calibration_after_s > 0.0 ? &self_calibration : nullptr, vio_kept,
                                         o.gt);
   if (!written.ok()) return fail(staged->unstaged(written).message());
-  const Status committed = staged->commit();
+  const Status committed = staged->commit({o.vio, o.gt, o.config});
   if (!committed.ok()) return fail(committed.message());
   // Loud, whatever --quiet says: what was not used, and a run that localised nothing.
   if (unknown_gates_skipped > 0) {

@@ -167,7 +167,7 @@ int runRecordedFlight(SimulateOptions& o) {
     const Status plotted = writePlot(staged->file("xy.png"), *truth, *vio, flight->sequence.map, "Recorded flight (XY)");
     if (!plotted.ok()) return fail(staged->unstaged(plotted).message());
   }
-  const Status committed = staged->commit();
+  const Status committed = staged->commit({o.track, o.flight, o.vio, o.camera});
   if (!committed.ok()) return fail(committed.message());
   const DetectionSimStats& s = flight->detection_stats;
   std::cout << "recorded flight " << o.flight << ": " << flight->overlap_end - flight->overlap_begin << " s with the VIO, "
@@ -220,7 +220,7 @@ int runSimulateCommand(SimulateOptions o) {
     const Status plotted = writePlot(staged->file("xy.png"), *race);
     if (!plotted.ok()) return fail(staged->unstaged(plotted).message());
   }
-  const Status committed = staged->commit();
+  const Status committed = staged->commit({o.track, o.flight, o.vio, o.camera});
   if (!committed.ok()) return fail(committed.message());
   const DetectionSimStats& s = race->detection_stats;
   std::cout << "simulated " << (track->name.empty() ? o.track : track->name) << ", seed " << p.seed << ": "

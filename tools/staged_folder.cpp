@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "tools/staged_folder.h"
 
+#include "tools/output_guard.h"
+
 #include <stdlib.h>
 
 #include <filesystem>
@@ -15,8 +17,8 @@ Status ioError(const fs::path& path, const std::string& why) {
   return Status(StatusCode::kIoError, path.string() + ": " + why);
 }
 
-/// Checks that every entry under `from` can be moved to the same place under `to`.
-Status checkMovable(const fs::path& from, const fs::path& to) {
+/// Checks that every entry under `from` can be moved to the same place under `to` and replaces none of `inputs`.
+Status checkMovable(const fs::path& from, const fs::path& to, const std::vector<std::string>& inputs) {
   std::error_code error;
   for (const fs::directory_entry& entry : fs::directory_iterator(from, error)) {
     const fs::path target = to / entry.path().filename();
@@ -24,9 +26,12 @@ Status checkMovable(const fs::path& from, const fs::path& to) {
     const bool exists = fs::exists(existing);
     if (entry.is_directory(error)) {
       if (exists && !fs::is_directory(existing)) return ioError(target, "exists and is not a folder; nothing written");
-      if (exists) DG_RETURN_IF_ERROR(checkMovable(entry.path(), target));
+      if (exists) DG_RETURN_IF_ERROR(checkMovable(entry.path(), target, inputs));
     } else if (exists && fs::is_directory(existing)) {
       return ioError(target, "is a folder, cannot write the file there; nothing written");
+    } else if (exists) {
+      const Status replaces = refuseOverwritingInput("the output", target.string(), inputs);
+      if (!replaces.ok()) return Status(replaces.code(), replaces.message() + "; nothing written");
     }
   }
   if (error) return ioError(from, "cannot list the staged outputs: " + error.message());
@@ -99,9 +104,9 @@ Status StagedFolder::unstaged(const Status& status) const {
   return Status(status.code(), message);
 }
 
-Status StagedFolder::commit() {
+Status StagedFolder::commit(const std::vector<std::string>& inputs) {
   if (committed_ || staging_.empty()) return Status(StatusCode::kFailedPrecondition, dir_ + ": already committed");
-  DG_RETURN_IF_ERROR(checkMovable(staging_, dir_));
+  DG_RETURN_IF_ERROR(checkMovable(staging_, dir_, inputs));
   DG_RETURN_IF_ERROR(moveAll(staging_, dir_));
   std::error_code error;
   fs::remove_all(staging_, error);

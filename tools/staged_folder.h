@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "dualgraph/core/status.h"
 
@@ -38,8 +39,9 @@ class StagedFolder {
   Status unstaged(const Status& status) const;
 
   /// Moves everything staged into the output folder and removes the staging folder. kIoError
-  /// naming the output path at fault; when the check fails, nothing has been moved.
-  Status commit();
+  /// naming the output path at fault, kInvalidArgument when a staged file would replace one of `inputs` (the
+  /// files the command read: output_guard.h); when the check fails, nothing has been moved.
+  Status commit(const std::vector<std::string>& inputs = {});
 
  private:
   StagedFolder(std::string dir, std::string staging, bool created_dir);
