@@ -144,7 +144,9 @@ int runAblationCommand(const AblationOptions& o) {
   }
   const Status tables = writeAblationTables(staged->path(), rows);
   if (!tables.ok()) return failStaged(tables.message());
-  const Status committed = staged->commit();
+  std::vector<std::string> inputs(o.tracks.begin(), o.tracks.end());
+  inputs.push_back(o.config);
+  const Status committed = staged->commit(inputs);
   if (!committed.ok()) return fail(committed.message());
   if (!o.quiet) std::cerr << "ablation: wrote " << (out / "tables.md").string() << "\n";
   return 0;
