@@ -2,6 +2,7 @@
 #include "tools/ablation_command.h"
 
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -87,6 +88,9 @@ int runAblationCommand(const AblationOptions& o) {
     return fail(staged->unstaged(Status(StatusCode::kIoError, message)).message());
   };
   std::vector<AblationRow> rows;
+  // Progress: "run N of M", and the time left at the mean pace of the runs so far.
+  const size_t total_runs = o.profiles.size() * tracks.size() * o.seeds.size() * variants().size();
+  const auto started = std::chrono::steady_clock::now();
   for (const std::string& profile : o.profiles) {
     for (const std::string& track_path : tracks) {
       auto track = loadTrackYaml(track_path);
@@ -134,7 +138,10 @@ int runAblationCommand(const AblationOptions& o) {
           if (!run_written.ok()) return failStaged(run_written.message());
           rows.push_back({profile, track_name, seed, v.name, *metrics});
           if (!o.quiet) {
-            std::cerr << "ablation: " << profile << " " << track_name << " seed " << seed << " " << v.name << ": ATE "
+            const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+            const double left_s = elapsed_s / static_cast<double>(rows.size()) * static_cast<double>(total_runs - rows.size());
+            std::cerr << "ablation: run " << rows.size() << " of " << total_runs << ", about " << fixed(left_s, 0)
+                      << " s left: " << profile << " " << track_name << " seed " << seed << " " << v.name << ": ATE "
                       << fixed(metrics->estimate.ate_se3_m, 3) << " m (VIO " << fixed(metrics->vio.ate_se3_m, 3)
                       << "), P95 " << fixed(metrics->opt_ms_p95, 2) << " ms, " << run->wall_seconds << " s\n";
           }

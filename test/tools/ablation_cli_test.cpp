@@ -105,5 +105,18 @@ TEST(AblationCli, TableIIsWrittenForEveryTrack) {
   EXPECT_NE(table1.find("ratm_lemniscate,Dual 2.0/0.1,"), std::string::npos) << table1;
 }
 
+TEST(AblationCli, ProgressCountsTheRunsAndTheTimeLeft) {
+  const std::string out = testing::tempDir() + "/ablation_progress";
+  const testing::CommandRun run = testing::runDualgraph("ablation --tracks " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") +
+                                                        " --seeds 1 --laps 1 --profiles clean --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  // One line per run: nine configurations on one flight, counted to the last, each with the time left.
+  for (int n = 1; n <= 9; ++n) {
+    EXPECT_NE(run.err.find("ablation: run " + std::to_string(n) + " of 9, about "), std::string::npos) << n << "\n" << run.err;
+  }
+  EXPECT_EQ(run.err.find("of 10"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("run 9 of 9, about 0 s left"), std::string::npos) << run.err;
+}
+
 }  // namespace
 }  // namespace dualgraph
