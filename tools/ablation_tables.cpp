@@ -56,7 +56,6 @@ Status writeAblationTables(const std::filesystem::path& out, const std::vector<A
   if (rows.empty()) return Status(StatusCode::kInvalidArgument, "ablation: no runs");
   const std::string first_profile = rows.front().profile;
   const std::string first_track = rows.front().track;
-  const int first_seed = rows.front().seed;
   std::vector<std::string> profiles, tracks, variants;
   auto note = [](std::vector<std::string>& seen, const std::string& name) {
     if (std::find(seen.begin(), seen.end(), name) == seen.end()) seen.push_back(name);
@@ -125,16 +124,45 @@ Status writeAblationTables(const std::filesystem::path& out, const std::vector<A
     for (const std::string& v : variants) emit(v, by_variant[v].first, by_variant[v].second);
   }
 
-  md << "\n## Table III — correction at gate crossings, " << first_track << " seed " << first_seed
-     << ", Dual 2.0/0.1\n\n| lap | crossings | mean ± std [m] |\n|---:|---:|---:|\n";
-  t3 << "lap,crossings,mean_m,std_m\n";
+  // Table III as the paper's: one row per flight (the first profile and track's seeds, Dual 2.0/0.1), a column per
+  // lap and the Full Track, mean ± std of the corrections at its gate crossings; the Average row: mean ± std over
+  // the flights of each column's mean.
+  std::vector<const AblationRow*> flights;
+  size_t laps = 0;
   for (const AblationRow& r : rows) {
-    if (r.profile != first_profile || r.track != first_track || r.seed != first_seed || r.variant != "Dual 2.0/0.1") continue;
-    for (const LapCorrection& lap : r.metrics.gate_corrections) {
-      md << "| " << lap.lap << " | " << lap.crossings << " | " << fixed(lap.mean_m, 3) << " ± " << fixed(lap.std_m, 3) << " |\n";
-      t3 << lap.lap << ',' << lap.crossings << ',' << lap.mean_m << ',' << lap.std_m << '\n';
-    }
+    if (r.profile != first_profile || r.track != first_track || r.variant != "Dual 2.0/0.1") continue;
+    flights.push_back(&r);
+    laps = std::max(laps, r.metrics.gate_corrections.size());
   }
+  md << "\n## Table III — correction at gate crossings [m], " << first_track << ", Dual 2.0/0.1: corrected position "
+     << "against the VIO put in the map at the lock, mean ± std per lap\n\n| flight |";
+  for (size_t lap = 1; lap <= laps; ++lap) md << " Lap " << lap << " |";
+  md << " Full Track |\n|---|";
+  for (size_t lap = 0; lap <= laps; ++lap) md << "---:|";
+  md << '\n';
+  t3 << "flight,lap,crossings,mean_m,std_m\n";
+  auto cell = [](const LapCorrection& c) {
+    return c.crossings > 0 ? fixed(c.mean_m, 3) + " ± " + fixed(c.std_m, 3) : std::string("–");
+  };
+  std::vector<std::vector<double>> column_means(laps + 1);  // per lap, then the full track
+  for (const AblationRow* r : flights) {
+    const std::string name = r->track + " seed " + std::to_string(r->seed);
+    md << "| " << name << " |";
+    for (size_t lap = 0; lap < laps; ++lap) {
+      const bool flown = lap < r->metrics.gate_corrections.size();
+      const LapCorrection c = flown ? r->metrics.gate_corrections[lap] : LapCorrection{};
+      md << ' ' << cell(c) << " |";
+      if (c.crossings > 0) column_means[lap].push_back(c.mean_m);
+      if (flown) t3 << name << ',' << lap + 1 << ',' << c.crossings << ',' << csvNumber(c.mean_m) << ',' << csvNumber(c.std_m) << '\n';
+    }
+    const LapCorrection& full = r->metrics.full_track_correction;
+    md << ' ' << cell(full) << " |\n";
+    if (full.crossings > 0) column_means[laps].push_back(full.mean_m);
+    t3 << name << ",full," << full.crossings << ',' << csvNumber(full.mean_m) << ',' << csvNumber(full.std_m) << '\n';
+  }
+  md << "| **Average** |";
+  for (const std::vector<double>& means : column_means) md << ' ' << (means.empty() ? std::string("–") : pm(means, 3)) << " |";
+  md << '\n';
 
   md << "\n## Table IV — ATE per profile (mean ± std over the seeds [m], mean reduction against the VIO)\n\n| track | "
         "configuration |";

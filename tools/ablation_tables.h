@@ -21,11 +21,14 @@ struct AblationRow {
 };
 
 /// Writes the paper's tables from the rows (Tables I–III on the first profile; Table I per track on its first
-/// seed, Table III on the first track and seed):
+/// seed, Table III on the first track, one row per seed):
 ///  - table1.csv / Table I: per track, every configuration with ATE (SE(3)-aligned) [m], nodes, edges, Opt P95 [ms];
 ///  - table2.csv / Table II: per track, VIO and every configuration, ATE translation [m] and rotation
 ///    [deg] as mean ± sample std over the seeds ("mean (1 run)" and an empty CSV std for one seed);
-///  - table3.csv / Table III: correction at gate crossings per lap (mean ± std [m]) of Dual 2.0/0.1;
+///  - table3.csv / Table III: as the paper's, Dual 2.0/0.1, one row per flight (seed): the correction at gate
+///    crossings (RunMetrics::gate_corrections: against the VIO put in the map at the lock) per lap and over the
+///    Full Track, mean ± std [m], and an Average row (mean ± sample std over the flights of each column's mean);
+///    CSV `flight,lap,crossings,mean_m,std_m` (lap `full`: the whole flight);
 ///  - table4.csv / Table IV: per track and configuration, every profile side by side: ATE mean ± std [m] and
 ///    the mean reduction against the VIO [%];
 ///  - runs.csv: every row with every metric; tables.md: the four tables in Markdown.

@@ -104,7 +104,11 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
     row.add("lap", lap.lap).add("crossings", lap.crossings).add("mean_m", lap.mean_m).add("std_m", lap.std_m);
     laps.push_back(row);
   }
-  json.add("gate_corrections", laps).add("laps", m.laps)
+  json.add("gate_corrections", laps)
+      .add("gate_correction_full_track_crossings", m.full_track_correction.crossings)
+      .add("gate_correction_full_track_mean_m", m.full_track_correction.mean_m)
+      .add("gate_correction_full_track_std_m", m.full_track_correction.std_m)
+      .add("laps", m.laps)
       .add("detections", m.detections).add("detections_used", m.detections_used)
       .add("detections_rejected", m.detections_rejected)
       .add("detections_between_nodes", m.detections_between_nodes)

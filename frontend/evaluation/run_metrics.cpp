@@ -94,6 +94,33 @@ void addStateTimes(const SequenceRunResult& run, RunMetrics& m) {
   m.frames_replaced = run.frame_checks_replaced;
 }
 
+/// Mean and population std of `corrections` as lap `lap` (0: the whole flight).
+LapCorrection lapCorrection(int lap, const std::vector<double>& corrections) {
+  LapCorrection row;
+  row.lap = lap;
+  row.crossings = static_cast<int>(corrections.size());
+  if (corrections.empty()) {
+    row.mean_m = row.std_m = kNoValue;
+    return row;
+  }
+  double sum = 0.0, sum_sq = 0.0;
+  for (double c : corrections) {
+    sum += c;
+    sum_sq += c * c;
+  }
+  row.mean_m = sum / static_cast<double>(corrections.size());
+  row.std_m = std::sqrt(std::max(0.0, sum_sq / static_cast<double>(corrections.size()) - row.mean_m * row.mean_m));
+  return row;
+}
+
+/// The VIO's frame in the map as the run first had it: the frame search's lock, or (a frame given by the
+/// configuration, no search) the first map pose's: world_T_body · odom_T_body⁻¹ at that instant.
+Eigen::Isometry3d lockFrame(const SequenceRunResult& run, const StampedPoses& estimate, const StampedPoses& vio) {
+  if (run.initialization && run.initialization->locked) return run.initialization->world_T_odom;
+  if (estimate.empty() || vio.empty()) return Eigen::Isometry3d::Identity();
+  return estimate.front().second * vio.front().second.inverse();
+}
+
 }  // namespace
 
 Result<RunMetrics> computeRunMetrics(const Sequence& sequence, const SequenceRunResult& run) {
@@ -138,29 +165,25 @@ Result<RunMetrics> computeRunMetrics(const Sequence& sequence, const SequenceRun
   m.temp_ms_p95 = percentile(temp_ms, 95);
   m.temp_ms_max = temp_ms.empty() ? kNoValue : *std::max_element(temp_ms.begin(), temp_ms.end());
 
-  // Table III: lap k holds the k-th pass of every gate.
+  // Table III: lap k holds the k-th pass of every gate; the VIO is put in the map through the frame found at the lock.
   if (!estimate.empty()) {
+    const Eigen::Isometry3d world_T_odom = lockFrame(run, estimate, vio);
     const StampedPoses reference = m.has_ground_truth ? stampedPosesFromSamples(sequence.ground_truth->samples) : estimate;
     const std::vector<std::vector<double>> passes = gatePasses(reference, sequence.map);
     size_t laps = 0;
     for (const auto& gate : passes) laps = std::max(laps, gate.size());
+    std::vector<double> every;
     for (size_t lap = 0; lap < laps; ++lap) {
       std::vector<double> corrections;
       for (const auto& gate : passes) {
-        if (lap < gate.size()) corrections.push_back((positionAt(estimate, gate[lap]) - positionAt(vio, gate[lap])).norm());
+        if (lap < gate.size()) {
+          corrections.push_back((positionAt(estimate, gate[lap]) - world_T_odom * positionAt(vio, gate[lap])).norm());
+        }
       }
-      LapCorrection row;
-      row.lap = static_cast<int>(lap) + 1;
-      row.crossings = static_cast<int>(corrections.size());
-      double sum = 0.0, sum_sq = 0.0;
-      for (double c : corrections) {
-        sum += c;
-        sum_sq += c * c;
-      }
-      row.mean_m = sum / static_cast<double>(corrections.size());
-      row.std_m = std::sqrt(std::max(0.0, sum_sq / static_cast<double>(corrections.size()) - row.mean_m * row.mean_m));
-      m.gate_corrections.push_back(row);
+      every.insert(every.end(), corrections.begin(), corrections.end());
+      m.gate_corrections.push_back(lapCorrection(static_cast<int>(lap) + 1, corrections));
     }
+    m.full_track_correction = lapCorrection(0, every);
     m.laps = static_cast<int>(laps);
   }
   m.detections = static_cast<int>(sequence.has_corners ? sequence.corners.size() : sequence.pose_detections.size());

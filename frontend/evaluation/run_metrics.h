@@ -12,8 +12,9 @@
 namespace dualgraph {
 
 /// The correction at the gate crossings of one lap (the paper's Table III): for every gate passed in
-/// the lap, the distance [m] between the corrected and the raw VIO position at the instant the
-/// reference trajectory (ground truth, else the corrected estimate) is closest to the gate centre.
+/// the lap, the distance [m] between the corrected position and the VIO's put in the map through the frame the run
+/// found at its lock (so drift, not the VIO frame's offset), at the instant the reference trajectory (ground
+/// truth, else the corrected estimate) is closest to the gate centre. NaN mean and std without crossings.
 struct LapCorrection {
   int lap = 0;          ///< 1-based
   int crossings = 0;    ///< gate passes in this lap
@@ -35,7 +36,8 @@ struct RunMetrics {
   int edges = 0;       ///< main-graph edges at the end
   double opt_ms_p50 = 0.0, opt_ms_p95 = 0.0, opt_ms_max = 0.0;  ///< main-graph optimisation per row [ms]
   double temp_ms_p50 = 0.0, temp_ms_p95 = 0.0, temp_ms_max = 0.0;  ///< temporary graph per row (KeyframeStats::temp_ms) [ms]
-  std::vector<LapCorrection> gate_corrections;
+  std::vector<LapCorrection> gate_corrections;  ///< per lap (Table III's columns)
+  LapCorrection full_track_correction;          ///< every crossing of the flight (its Full Track column; lap 0)
   int laps = 0;
   int detections = 0;           ///< rows of the detection file
   int detections_used = 0;      ///< reached the Localizer and were accepted

@@ -109,7 +109,8 @@ void writeTables(std::ostream& html, const RunReport& run) {
     html << "</table>\n";
   }
   if (run.gate_corrections.empty()) return;
-  html << "<h3>Correction at the gate crossings per lap</h3>\n<table class=\"gate-corrections\">\n"
+  html << "<h3>Correction at the gate crossings per lap (against the VIO put in the map at the lock)</h3>\n"
+          "<table class=\"gate-corrections\">\n"
           "<tr><th>lap</th><th>crossings</th><th>mean [m]</th><th>std [m]</th></tr>\n";
   for (const LapCorrection& lap : run.gate_corrections) {
     html << "<tr><td>" << lap.lap << "</td><td>" << lap.crossings << "</td><td>" << reportCell(lap.mean_m) << "</td><td>"

@@ -46,6 +46,11 @@ TEST(AblationCli, OneLapWritesEveryConfigurationAndBothSingleBaselines) {
   EXPECT_TRUE(std::filesystem::exists(out + "/table4.csv"));
   EXPECT_TRUE(std::filesystem::is_directory(out + "/sequences/clean/ratm_ellipse_seed1"));
   EXPECT_TRUE(std::filesystem::is_directory(out + "/sequences/realistic/ratm_ellipse_seed1"));
+  // Table III as the paper's: a row per flight, a column per lap and the Full Track, an Average row.
+  EXPECT_NE(tables.find("| flight | Lap 1 | Full Track |"), std::string::npos) << tables;
+  EXPECT_NE(tables.find("| ratm_ellipse seed 1 | "), std::string::npos) << tables;
+  EXPECT_NE(tables.find("| **Average** | "), std::string::npos) << tables;
+  EXPECT_NE(readAll(out + "/table3.csv").find("ratm_ellipse seed 1,full,"), std::string::npos);
   // One seed: no spread to show (issue 23, item 11: it printed "± 0.000").
   EXPECT_EQ(tables.find("± 0.000"), std::string::npos) << tables;
   EXPECT_NE(tables.find(" (1 run) |"), std::string::npos) << tables;
