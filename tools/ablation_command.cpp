@@ -6,10 +6,13 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <optional>
+#include <set>
 #include <sstream>
 
 #include "dualgraph/frontend/self_calibration.h"
 #include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/sequence_folder.h"
 #include "dualgraph/frontend/simulation/race_profiles.h"
 #include "dualgraph/frontend/simulation/race_sequence.h"
 #include "dualgraph/frontend/io/run_config.h"
@@ -18,6 +21,7 @@
 #include "dualgraph/frontend/io/track_io.h"
 #include "tools/ablation_tables.h"
 #include "tools/data_dir.h"
+#include "tools/output_guard.h"
 #include "tools/staged_folder.h"
 
 namespace dualgraph::tools {
@@ -89,9 +93,61 @@ int runAblationCommand(const AblationOptions& o) {
   };
   std::vector<AblationRow> rows;
   // Progress: "run N of M", and the time left at the mean pace of the runs so far.
-  const size_t total_runs = o.profiles.size() * tracks.size() * o.seeds.size() * variants().size();
+  const size_t flights = o.sequences.empty() ? o.profiles.size() * tracks.size() * o.seeds.size() : o.sequences.size();
+  const size_t total_runs = flights * variants().size();
   const auto started = std::chrono::steady_clock::now();
-  for (const std::string& profile : o.profiles) {
+  // Every configuration on one flight; `sequence_dir` is where run.yaml says its sequence is after the commit.
+  auto runVariants = [&](const Sequence& sequence, const std::string& profile, const std::string& track_name, int seed,
+                         const std::string& sequence_dir, const std::string& flight_dir) -> std::optional<int> {
+    for (const Variant& v : variants()) {
+      SequenceRunParams params = *base;
+      params.localizer.mode = v.mode;
+      if (v.mode == LocalizerMode::kDual) {
+        params.localizer.d_main = v.d_main_or_single;
+        params.localizer.d_temp = v.d_temp;
+      } else {
+        params.localizer.d_single = v.d_main_or_single;
+        params.localizer.single_all_detections = v.single_all_detections;
+      }
+      SelfCalibrationReport self_calibration;
+      auto run = runSequenceSelfCalibrating(sequence, params, {}, &self_calibration);
+      if (!run.ok()) return failStaged(sequence_dir + " (" + v.name + "): " + run.status().message());
+      auto metrics = computeRunMetrics(sequence, *run);
+      if (!metrics.ok()) return failStaged(sequence_dir + " (" + v.name + "): " + metrics.status().message());
+      // The run folder, for `dualgraph report`.
+      const std::string run_name = "runs/" + profile + "/" + flight_dir + "/" + slug(v.name);
+      std::filesystem::create_directories(staged->file(run_name));
+      const Status run_written = writeRunFolder(staged->file(run_name), sequence_dir, params.localizer, *run, *metrics,
+                                                params.self_calibration_after_s > 0.0 ? &self_calibration : nullptr);
+      if (!run_written.ok()) return failStaged(run_written.message());
+      rows.push_back({profile, track_name, seed, v.name, *metrics});
+      if (!o.quiet) {
+        const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        const double left_s = elapsed_s / static_cast<double>(rows.size()) * static_cast<double>(total_runs - rows.size());
+        std::cerr << "ablation: run " << rows.size() << " of " << total_runs << ", about " << fixed(left_s, 0)
+                  << " s left: " << profile << " " << track_name << (seed > 0 ? " seed " + std::to_string(seed) : "")
+                  << " " << v.name << ": ATE " << fixed(metrics->estimate.ate_se3_m, 3) << " m (VIO "
+                  << fixed(metrics->vio.ate_se3_m, 3) << "), P95 " << fixed(metrics->opt_ms_p95, 2) << " ms, "
+                  << run->wall_seconds << " s\n";
+      }
+    }
+    return std::nullopt;
+  };
+  // Given sequence folders (real flights): each one as it is, profile "given", no seed, named by its folder (with
+  // its parent's name, then a count, when two folders share a name).
+  std::set<std::string> names;
+  for (const std::string& dir : o.sequences) {
+    auto sequence = loadSequence(dir, base->defaultPoseDetectionCovariance());
+    if (!sequence.ok()) return failStaged(sequence.status().message());
+    std::filesystem::path path = std::filesystem::absolute(dir).lexically_normal();
+    if (path.filename().empty()) path = path.parent_path();
+    std::string name = path.filename().string();
+    if (names.count(name) && !path.parent_path().filename().empty()) name = path.parent_path().filename().string() + "_" + name;
+    for (int k = 2; names.count(name); ++k) name = path.filename().string() + "_" + std::to_string(k);
+    names.insert(name);
+    if (auto failed = runVariants(*sequence, "given", name, 0, path.string(), name)) return *failed;
+  }
+  for (const std::string& profile : o.sequences.empty() ? o.profiles : std::vector<std::string>{}) {
     for (const std::string& track_path : tracks) {
       auto track = loadTrackYaml(track_path);
       if (!track.ok()) return fail(track.status().message());
@@ -113,39 +169,9 @@ int runAblationCommand(const AblationOptions& o) {
         if (!written.ok()) return failStaged(written.message());
         auto sequence = raceSequence(*race, sim, folder);  // run from memory, not read back
         if (!sequence.ok()) return failStaged(sequence.status().message());
-        for (const Variant& v : variants()) {
-          SequenceRunParams params = *base;
-          params.localizer.mode = v.mode;
-          if (v.mode == LocalizerMode::kDual) {
-            params.localizer.d_main = v.d_main_or_single;
-            params.localizer.d_temp = v.d_temp;
-          } else {
-            params.localizer.d_single = v.d_main_or_single;
-            params.localizer.single_all_detections = v.single_all_detections;
-          }
-          SelfCalibrationReport self_calibration;
-          auto run = runSequenceSelfCalibrating(*sequence, params, {}, &self_calibration);
-          if (!run.ok()) return failStaged(folder + " (" + v.name + "): " + run.status().message());
-          auto metrics = computeRunMetrics(*sequence, *run);
-          if (!metrics.ok()) return failStaged(folder + " (" + v.name + "): " + metrics.status().message());
-          // The run folder, for `dualgraph report` (run.yaml names the sequence where it will be after commit).
-          const std::string run_name = "runs/" + profile + "/" + track_name + "_seed" + std::to_string(seed) + "/" + slug(v.name);
-          const std::string final_sequence =
-              (out / ("sequences/" + profile + "/" + track_name + "_seed" + std::to_string(seed))).string();
-          std::filesystem::create_directories(staged->file(run_name));
-          const Status run_written = writeRunFolder(staged->file(run_name), final_sequence, params.localizer, *run, *metrics,
-                                                    params.self_calibration_after_s > 0.0 ? &self_calibration : nullptr);
-          if (!run_written.ok()) return failStaged(run_written.message());
-          rows.push_back({profile, track_name, seed, v.name, *metrics});
-          if (!o.quiet) {
-            const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-            const double left_s = elapsed_s / static_cast<double>(rows.size()) * static_cast<double>(total_runs - rows.size());
-            std::cerr << "ablation: run " << rows.size() << " of " << total_runs << ", about " << fixed(left_s, 0)
-                      << " s left: " << profile << " " << track_name << " seed " << seed << " " << v.name << ": ATE "
-                      << fixed(metrics->estimate.ate_se3_m, 3) << " m (VIO " << fixed(metrics->vio.ate_se3_m, 3)
-                      << "), P95 " << fixed(metrics->opt_ms_p95, 2) << " ms, " << run->wall_seconds << " s\n";
-          }
-        }
+        const std::string flight_dir = track_name + "_seed" + std::to_string(seed);
+        const std::string final_sequence = (out / ("sequences/" + profile + "/" + flight_dir)).string();
+        if (auto failed = runVariants(*sequence, profile, track_name, seed, final_sequence, flight_dir)) return *failed;
       }
     }
   }
@@ -153,6 +179,9 @@ int runAblationCommand(const AblationOptions& o) {
   if (!tables.ok()) return failStaged(tables.message());
   std::vector<std::string> inputs(o.tracks.begin(), o.tracks.end());
   inputs.push_back(o.config);
+  for (const std::string& dir : o.sequences) {
+    for (std::string& file : filesIn(dir)) inputs.push_back(std::move(file));
+  }
   const Status committed = staged->commit(inputs);
   if (!committed.ok()) return fail(committed.message());
   if (!o.quiet) std::cerr << "ablation: wrote " << (out / "tables.md").string() << "\n";

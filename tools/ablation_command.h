@@ -16,11 +16,14 @@ struct AblationOptions {
   std::string out;
   std::string config;  ///< empty: the bundled data/config/default.yaml
   int laps = 0;        ///< 0: the tracks' own (shorter flights for quick checks)
+  /// Given sequence folders (e.g. real flights) run as they are instead of simulated flights: profile "given",
+  /// one Table III row each; exclusive with tracks, seeds, profiles and laps.
+  std::vector<std::string> sequences;
   bool quiet = false;
 };
 
-/// Simulates every profile × track × seed, runs the paper's configurations and writes Tables I–IV as
-/// Markdown (tables.md) and CSV (table1.csv … table4.csv, runs.csv) into `out`.
+/// Simulates every profile × track × seed (or takes the given sequence folders), runs the paper's configurations
+/// and writes Tables I–IV as Markdown (tables.md) and CSV (table1.csv … table4.csv, runs.csv) into `out`.
 int runAblationCommand(const AblationOptions& options);
 
 }  // namespace dualgraph::tools

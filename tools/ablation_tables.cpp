@@ -55,7 +55,6 @@ Status writeText(const std::filesystem::path& path, const std::string& text) {
 Status writeAblationTables(const std::filesystem::path& out, const std::vector<AblationRow>& rows) {
   if (rows.empty()) return Status(StatusCode::kInvalidArgument, "ablation: no runs");
   const std::string first_profile = rows.front().profile;
-  const std::string first_track = rows.front().track;
   std::vector<std::string> profiles, tracks, variants;
   auto note = [](std::vector<std::string>& seen, const std::string& name) {
     if (std::find(seen.begin(), seen.end(), name) == seen.end()) seen.push_back(name);
@@ -67,9 +66,9 @@ Status writeAblationTables(const std::filesystem::path& out, const std::vector<A
   }
   std::ostringstream md, t1, t2, t3, t4, all;
 
-  md << "# Ablation (simulated RATM tracks; `dualgraph ablation`)\n\nTables I–III on the `" << first_profile
-     << "` profile; Table IV every profile side by side. Each run's folder is under `runs/PROFILE/TRACK_seedN/` "
-        "(`dualgraph report --run ...`).\n";
+  md << "# Ablation (`dualgraph ablation`)\n\nTables I–III on the `" << first_profile
+     << "` profile (`given`: the sequence folders given, as they are); Table IV every profile side by side. Each run's "
+        "folder is under `runs/PROFILE/TRACK_seedN/` (given: `runs/given/FOLDER/`; `dualgraph report --run ...`).\n";
   t1 << "track,configuration,ate_m,nodes,edges,opt_ms_p95\n";
   for (const std::string& track : tracks) {  // one Table I per track, its first seed
     int seed = 0;
@@ -79,7 +78,7 @@ Status writeAblationTables(const std::filesystem::path& out, const std::vector<A
         break;
       }
     }
-    md << "\n## Table I — " << track << ", seed " << seed
+    md << "\n## Table I — " << track << (seed > 0 ? ", seed " + std::to_string(seed) : std::string())
        << "\n\n| configuration | ATE [m] | nodes | edges | Opt P95 [ms] |\n|---|---:|---:|---:|---:|\n";
     bool vio_row = false;
     for (const AblationRow& r : rows) {
@@ -124,17 +123,17 @@ Status writeAblationTables(const std::filesystem::path& out, const std::vector<A
     for (const std::string& v : variants) emit(v, by_variant[v].first, by_variant[v].second);
   }
 
-  // Table III as the paper's: one row per flight (the first profile and track's seeds, Dual 2.0/0.1), a column per
+  // Table III as the paper's: one row per flight (the first profile's tracks and seeds, Dual 2.0/0.1), a column per
   // lap and the Full Track, mean ± std of the corrections at its gate crossings; the Average row: mean ± std over
   // the flights of each column's mean.
   std::vector<const AblationRow*> flights;
   size_t laps = 0;
   for (const AblationRow& r : rows) {
-    if (r.profile != first_profile || r.track != first_track || r.variant != "Dual 2.0/0.1") continue;
+    if (r.profile != first_profile || r.variant != "Dual 2.0/0.1") continue;
     flights.push_back(&r);
     laps = std::max(laps, r.metrics.gate_corrections.size());
   }
-  md << "\n## Table III — correction at gate crossings [m], " << first_track << ", Dual 2.0/0.1: corrected position "
+  md << "\n## Table III — correction at gate crossings [m], Dual 2.0/0.1: corrected position "
      << "against the VIO put in the map at the lock, mean ± std per lap\n\n| flight |";
   for (size_t lap = 1; lap <= laps; ++lap) md << " Lap " << lap << " |";
   md << " Full Track |\n|---|";
@@ -146,7 +145,7 @@ Status writeAblationTables(const std::filesystem::path& out, const std::vector<A
   };
   std::vector<std::vector<double>> column_means(laps + 1);  // per lap, then the full track
   for (const AblationRow* r : flights) {
-    const std::string name = r->track + " seed " + std::to_string(r->seed);
+    const std::string name = r->seed > 0 ? r->track + " seed " + std::to_string(r->seed) : r->track;
     md << "| " << name << " |";
     for (size_t lap = 0; lap < laps; ++lap) {
       const bool flown = lap < r->metrics.gate_corrections.size();

@@ -21,7 +21,7 @@ struct AblationRow {
 };
 
 /// Writes the paper's tables from the rows (Tables I–III on the first profile; Table I per track on its first
-/// seed, Table III on the first track, one row per seed):
+/// seed, Table III a row per flight: every track and seed, or given folder):
 ///  - table1.csv / Table I: per track, every configuration with ATE (SE(3)-aligned) [m], nodes, edges, Opt P95 [ms];
 ///  - table2.csv / Table II: per track, VIO and every configuration, ATE translation [m] and rotation
 ///    [deg] as mean ± sample std over the seeds ("mean (1 run)" and an empty CSV std for one seed);

@@ -303,16 +303,24 @@ CLI::App* addLiveCommand(CLI::App& app, LiveOptions& o) {
 
 CLI::App* addAblationCommand(CLI::App& app, AblationOptions& o) {
   CLI::App* cmd = app.add_subcommand("ablation", "Simulate and run the paper's ablation: Tables I-IV (Markdown + CSV)");
-  cmd->add_option("--tracks", o.tracks, "Track YAML files (default: the bundled RATM ellipse and lemniscate)")
+  CLI::Option* tracks = cmd->add_option("--tracks", o.tracks, "Track YAML files (default: the bundled RATM ellipse and lemniscate)")
       ->default_str("");
-  cmd->add_option("--seeds", o.seeds, "Seeds, e.g. 1,2,3")->delimiter(',');
-  cmd->add_option("--profiles", o.profiles,
+  CLI::Option* seeds = cmd->add_option("--seeds", o.seeds, "Seeds, e.g. 1,2,3")->delimiter(',');
+  CLI::Option* profiles = cmd->add_option("--profiles", o.profiles,
                   "Simulation profiles side by side (Table IV), e.g. realistic,clean,harsh (the default); Tables I-III on the first")
       ->delimiter(',')
       ->check(CLI::IsMember({"clean", "realistic", "harsh"}));
   cmd->add_option("--out", o.out, "Output folder (sequences, runs and tables)")->required();
   cmd->add_option("--config", o.config, "Base configuration (default: the bundled data/config/default.yaml)");
-  cmd->add_option("--laps", o.laps, "Laps per flight (default: the tracks')")->check(positive())->default_str("");
+  CLI::Option* laps = cmd->add_option("--laps", o.laps, "Laps per flight (default: the tracks')")->check(positive())->default_str("");
+  cmd->add_option("--sequences", o.sequences,
+                  "Sequence folders (e.g. real flights, `simulate --flight`) run as they are instead of simulating: "
+                  "profile 'given', one Table III row each")
+      ->default_str("")
+      ->excludes(tracks)
+      ->excludes(seeds)
+      ->excludes(profiles)
+      ->excludes(laps);
   cmd->add_flag("--quiet", o.quiet, "No progress lines");
   return cmd;
 }

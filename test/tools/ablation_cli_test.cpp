@@ -123,5 +123,36 @@ TEST(AblationCli, ProgressCountsTheRunsAndTheTimeLeft) {
   EXPECT_NE(run.err.find("run 9 of 9, about 0 s left"), std::string::npos) << run.err;
 }
 
+TEST(AblationCli, GivenSequenceFoldersMakeTheTablesOneRowEach) {
+  // Two flights in folders of the same name (as recorded flights often are): each its own row and run folder.
+  const std::string base = testing::tempDir() + "/ablation_given";
+  std::filesystem::remove_all(base);
+  for (const char* flight : {"a", "b"}) {
+    const testing::CommandRun simulated = testing::runDualgraph(
+        "simulate --track " + testing::sourcePath("data/tracks/ratm_ellipse.yaml") + " --laps 2 --seed " +
+        std::string(flight[0] == 'a' ? "1" : "2") + " --no-plot --out " + base + "/" + flight + "/sequence");
+    ASSERT_EQ(simulated.exit_code, 0) << simulated.err;
+  }
+  const std::string out = base + "/out";
+  const testing::CommandRun run = testing::runDualgraph("ablation --quiet --sequences " + base + "/a/sequence " + base +
+                                                        "/b/sequence --out " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string tables = readAll(out + "/tables.md");
+  EXPECT_NE(tables.find("Tables I–III on the `given` profile"), std::string::npos) << tables;
+  EXPECT_NE(tables.find("| flight | Lap 1 | Lap 2 | Full Track |"), std::string::npos) << tables;
+  EXPECT_NE(tables.find("| sequence | "), std::string::npos) << tables;
+  EXPECT_NE(tables.find("| b_sequence | "), std::string::npos) << tables;
+  EXPECT_NE(tables.find("| **Average** | "), std::string::npos) << tables;
+  EXPECT_NE(tables.find("## Table I — b_sequence"), std::string::npos) << tables;
+  EXPECT_TRUE(std::filesystem::exists(out + "/runs/given/sequence/dual_2.0_0.1/metrics.json"));
+  EXPECT_TRUE(std::filesystem::exists(out + "/runs/given/b_sequence/dual_2.0_0.1/metrics.json"));
+  EXPECT_FALSE(std::filesystem::exists(out + "/sequences")) << "given folders are not copied";
+  // Simulation options do not mix with given folders; a folder that is no sequence is named.
+  EXPECT_EQ(testing::runDualgraph("ablation --sequences " + base + "/a/sequence --seeds 1 --out " + out + "2").exit_code, 2);
+  const testing::CommandRun missing = testing::runDualgraph("ablation --sequences " + base + "/none --out " + out + "3");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find(base + "/none"), std::string::npos) << missing.err;
+}
+
 }  // namespace
 }  // namespace dualgraph
