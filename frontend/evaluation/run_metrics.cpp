@@ -94,7 +94,7 @@ void addStateTimes(const SequenceRunResult& run, RunMetrics& m) {
   m.frames_replaced = run.frame_checks_replaced;
 }
 
-/// Mean and population std of `corrections` as lap `lap` (0: the whole flight).
+/// Mean and population std of `corrections` as lap `lap` (0: the whole flight), by evo's statistics.
 LapCorrection lapCorrection(int lap, const std::vector<double>& corrections) {
   LapCorrection row;
   row.lap = lap;
@@ -103,13 +103,9 @@ LapCorrection lapCorrection(int lap, const std::vector<double>& corrections) {
     row.mean_m = row.std_m = kNoValue;
     return row;
   }
-  double sum = 0.0, sum_sq = 0.0;
-  for (double c : corrections) {
-    sum += c;
-    sum_sq += c * c;
-  }
-  row.mean_m = sum / static_cast<double>(corrections.size());
-  row.std_m = std::sqrt(std::max(0.0, sum_sq / static_cast<double>(corrections.size()) - row.mean_m * row.mean_m));
+  const ErrorStatistics statistics = errorStatistics(corrections);
+  row.mean_m = statistics.mean;
+  row.std_m = statistics.std;
   return row;
 }
 
