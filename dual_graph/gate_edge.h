@@ -30,11 +30,12 @@ struct GateEdgeMeasurement {
 using GateEdgeMeasurements = std::vector<GateEdgeMeasurement, Eigen::aligned_allocator<GateEdgeMeasurement>>;
 
 /// Motion compensation: the observation taken at body pose `body` re-expressed in the frame of a node
-/// with node_T_body (the VIO increment from the node's instant to the observation's). When
-/// `node_T_body_covariance` (metric [t; θ], right perturbation) is given, its uncertainty is added:
-/// for a pose, Ad(gate_T_body) Σ Ad(gate_T_body)ᵀ in the gate frame; for a point, J Σ Jᵀ with
-/// J = R_node_body [I, −[p_body]×]. kPoint uses the observation's centre (a pose's translation);
-/// kPose needs a pose observation (kInvalidArgument otherwise). kNotPositiveDefinite for unusable covariances.
+/// with node_T_body (the VIO increment from the node's instant to the observation's), as one edge: its
+/// ObservationModel's `attach` (observation_model.h). When `node_T_body_covariance` (metric [t; θ], right
+/// perturbation) is given, its uncertainty is added: for a pose, Ad(gate_T_body) Σ Ad(gate_T_body)ᵀ in the gate
+/// frame; for a point, J Σ Jᵀ with J = R_node_body [I, −[p_body]×]. kPoint uses the observation's centre (a
+/// pose's translation); kPose needs a pose observation; kinds that anchor no gate (rays) make no single edge
+/// (kInvalidArgument for both). kNotPositiveDefinite for unusable covariances.
 Result<GateEdgeMeasurement> attachObservationToNode(const GateObservation& observation,
                                                     const Eigen::Isometry3d& node_T_body,
                                                     const Matrix6d* node_T_body_covariance, LandmarkModel model);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "dualgraph/core/robust_kernel.h"
+#include "dualgraph/dual_graph/observation_model.h"
 #include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
@@ -178,14 +179,7 @@ Status checkObservationFor(const LocalizerParams& params, const GateMap& map, co
   if (!params.mapping && !map.contains(observation.gate_id)) {
     return Status(StatusCode::kNotFound, what + ": gate " + std::to_string(observation.gate_id) + " is not in the map");
   }
-  if (observation.kind == ObservationKind::kCorners &&
-      (params.mode != LocalizerMode::kDual || params.landmark != LandmarkModel::kPose)) {
-    return Status(StatusCode::kInvalidArgument,
-                  what + ": corner rays (a partial gate) are used by the dual graph with landmark: pose only");
-  }
-  if (params.landmark == LandmarkModel::kPose && observation.kind == ObservationKind::kPosition) {
-    return Status(StatusCode::kInvalidArgument, what + ": position-only observations need landmark: point");
-  }
+  DG_RETURN_IF_ERROR(observationModel(observation.kind).checkUsable(params, what));
   return Status::okStatus();
 }
 

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "dualgraph/dual_graph/observation_model.h"
 #include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
@@ -43,11 +44,10 @@ GateObservation GateObservation::corners(double t, int gate_id, const GateCorner
   return observation;
 }
 
+Eigen::Vector3d GateObservation::centreInBody() const { return observationModel(kind).centreInBody(*this); }
+
 Eigen::Matrix3d GateObservation::centreCovarianceInBody() const {
-  if (kind == ObservationKind::kPosition) return position_covariance;
-  // body_T_gate · exp([ρ; θ]) moves the centre by R_body_gate · ρ to first order.
-  const Eigen::Matrix3d rotation = body_T_gate.linear();
-  return rotation * pose_covariance.topLeftCorner<3, 3>() * rotation.transpose();
+  return observationModel(kind).centreCovarianceInBody(*this);
 }
 
 Status validateOdometrySample(const OdometrySample& sample) {
@@ -65,26 +65,12 @@ Status validateGateObservation(const GateObservation& observation) {
   const std::string where =
       "gate observation of gate " + std::to_string(observation.gate_id) + " at t=" + std::to_string(observation.t) + ": ";
   if (observation.gate_id < 0) return Status(StatusCode::kInvalidArgument, where + "gate_id must be >= 0");
-  if (observation.kind == ObservationKind::kPose) {
-    DG_RETURN_IF_ERROR(checkRigidTransform(observation.body_T_gate, where + "body_T_gate"));
-    return checkCovariance(observation.pose_covariance, where + "pose_covariance");
+  const ObservationModel* model = findObservationModel(observation.kind);
+  if (model == nullptr) {
+    return Status(StatusCode::kInvalidArgument,
+                  where + "unknown kind " + std::to_string(static_cast<int>(observation.kind)));
   }
-  if (observation.kind == ObservationKind::kCorners) {
-    const GateCornerRays& rays = observation.corner_rays;
-    if (rays.count < 2 || rays.count > 4) {
-      return Status(StatusCode::kInvalidArgument, where + "corner_rays.count " + std::to_string(rays.count) + " is not 2 ... 4");
-    }
-    if (!rays.p_gate.leftCols(rays.count).allFinite() || !rays.normalized.leftCols(rays.count).allFinite()) {
-      return Status(StatusCode::kInvalidArgument, where + "corner_rays has a non-finite corner or ray");
-    }
-    for (int k = 0; k < rays.count; ++k) {
-      DG_RETURN_IF_ERROR(checkCovariance(rays.covariance[static_cast<size_t>(k)],
-                                         where + "corner_rays.covariance[" + std::to_string(k) + "]"));
-    }
-    return checkRigidTransform(rays.body_T_camera, where + "corner_rays.body_T_camera");
-  }
-  if (!observation.p_body.allFinite()) return Status(StatusCode::kInvalidArgument, where + "p_body has a non-finite entry");
-  return checkCovariance(observation.position_covariance, where + "position_covariance");
+  return model->validate(observation, where);
 }
 
 }  // namespace dualgraph

@@ -24,7 +24,8 @@ struct OdometrySample {
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
-/// What a gate observation measures.
+/// What a gate observation measures. Everything kind-specific is in the kind's ObservationModel
+/// (observation_model.h); dual_graph/README.md says how to add a kind.
 enum class ObservationKind {
   kPose,      ///< `body_T_gate` with a 6×6 covariance
   kPosition,  ///< the gate centre `p_body` with a 3×3 covariance
@@ -73,8 +74,9 @@ struct GateObservation {
   /// kCorners at `predicted_body_T_gate` (see above).
   static GateObservation corners(double t, int gate_id, const GateCornerRays& rays,
                                  const Eigen::Isometry3d& predicted_body_T_gate);
-  /// The gate centre in body axes whatever the kind (a pose's translation; kCorners: the prediction).
-  Eigen::Vector3d centreInBody() const { return kind == ObservationKind::kPosition ? p_body : Eigen::Vector3d(body_T_gate.translation()); }
+  /// The gate centre in body axes whatever the kind (a pose's translation; kCorners: the prediction): its
+  /// ObservationModel's (observation_model.h).
+  Eigen::Vector3d centreInBody() const;
   /// Its covariance (the translation block of a pose covariance, rotated into body axes).
   Eigen::Matrix3d centreCovarianceInBody() const;
 
@@ -84,8 +86,8 @@ struct GateObservation {
 /// kInvalidArgument naming the field when `t` or the pose is not finite, the rotation is not
 /// orthonormal (|RᵀR − I| > 1e-6 or det ≤ 0), or the covariance is not finite, symmetric and positive definite.
 Status validateOdometrySample(const OdometrySample& sample);
-/// The same checks for an observation, plus gate_id ≥ 0; kCorners: count 2 … 4, finite corners and rays,
-/// σ > 0, a rigid body_T_camera.
+/// The same checks for an observation, plus gate_id ≥ 0 and a known kind, then its ObservationModel's (kCorners:
+/// count 2 … 4, finite corners and rays, σ > 0, a rigid body_T_camera).
 Status validateGateObservation(const GateObservation& observation);
 
 }  // namespace dualgraph

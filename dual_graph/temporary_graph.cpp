@@ -35,8 +35,8 @@ TemporaryGraph::TemporaryGraph(const LocalizerParams& params, std::shared_ptr<co
 
 void TemporaryGraph::clear() {
   nodes_.clear();
-  observations_.clear();
-  corners_.clear();
+  records_.clear();
+  anchoring_records_ = 0;
 }
 
 Result<TemporaryGraph::Attachment> TemporaryGraph::attach(double t, const Eigen::Isometry3d& odom_T_body,
@@ -69,57 +69,20 @@ void TemporaryGraph::recordNode(const Attachment& attachment, double t, const Ei
   nodes_.push_back(Node{t, odom_T_body, Matrix6d(Matrix6d::Zero())});
 }
 
-Result<TemporaryGraph::NodeCorners> TemporaryGraph::cornersAtNode(const GateObservation& observation,
-                                                                  const Attachment& attachment) const {
-  if (params_.landmark != LandmarkModel::kPose) {
-    return Status(StatusCode::kInvalidArgument, "observation of gate " + std::to_string(observation.gate_id) +
-                                                    ": corner rays need landmark: pose");
-  }
-  NodeCorners corners;
-  corners.gate_id = observation.gate_id;
-  corners.rays = observation.corner_rays;
-  const Eigen::Isometry3d& body_T_camera = observation.corner_rays.body_T_camera;
-  corners.rays.body_T_camera = attachment.node_T_body * body_T_camera;
-  const Eigen::Matrix3d camera_R_body = body_T_camera.linear().transpose();
-  for (int k = 0; k < corners.rays.count; ++k) {
-    Eigen::Matrix2d covariance = corners.rays.covariance[static_cast<size_t>(k)];
-    if (attachment.compensated) {
-      // The node → body increment's uncertainty (right perturbation ε of node_T_body) moves the corner in the
-      // body frame by −ε_t + [p_body]× ε_θ; p_body from the pose the frontend predicted.
-      const Eigen::Vector3d p_body = observation.body_T_gate * Eigen::Vector3d(corners.rays.p_gate.col(k));
-      const Eigen::Vector3d p = body_T_camera.inverse() * p_body;
-      if (p.z() > 1e-6) {
-        Eigen::Matrix<double, 2, 3> d_pi;
-        d_pi << 1.0 / p.z(), 0.0, -p.x() / (p.z() * p.z()), 0.0, 1.0 / p.z(), -p.y() / (p.z() * p.z());
-        Eigen::Matrix<double, 3, 6> d_body;
-        d_body << -Eigen::Matrix3d::Identity(), skew(p_body);
-        const Eigen::Matrix<double, 2, 6> jacobian = d_pi * camera_R_body * d_body;
-        covariance += jacobian * attachment.compensation * jacobian.transpose();
-      }
-    }
-    corners.information[static_cast<size_t>(k)] = covariance.inverse();
-  }
-  return corners;
-}
-
 Status TemporaryGraph::addObservation(const GateObservation& observation, const Eigen::Isometry3d& odom_T_body,
                                       const OdometryHistory& history) {
   Result<Attachment> attachment = attach(observation.t, odom_T_body, history);
   if (!attachment.ok()) return attachment.status();
-  if (observation.kind == ObservationKind::kCorners) {
-    Result<NodeCorners> corners = cornersAtNode(observation, *attachment);
-    if (!corners.ok()) return corners.status();
-    recordNode(*attachment, observation.t, odom_T_body, history);
-    corners->node = nodes_.size() - 1;
-    corners_.push_back(*corners);
-    return Status();
-  }
-  Result<GateEdgeMeasurement> measurement =
-      attachObservationToNode(observation, attachment->node_T_body,
-                              attachment->compensated ? &attachment->compensation : nullptr, params_.landmark);
-  if (!measurement.ok()) return measurement.status();
+  NodeAttachment at;
+  at.node_T_body = attachment->node_T_body;
+  at.compensation = attachment->compensated ? &attachment->compensation : nullptr;
+  const ObservationModel& model = observationModel(observation.kind);
+  Result<AttachedObservation> attached = model.attach(observation, at, params_.landmark);
+  if (!attached.ok()) return attached.status();
   recordNode(*attachment, observation.t, odom_T_body, history);
-  observations_.push_back(NodeObservation{nodes_.size() - 1, *measurement});
+  attached->node = nodes_.size() - 1;
+  records_.push_back(*attached);
+  if (model.anchorsGate()) ++anchoring_records_;
   return Status();
 }
 
@@ -132,32 +95,25 @@ Result<Matrix6d> TemporaryGraph::odometryInformation(double t_from, double t_to,
 TemporaryGraph::VertexIds TemporaryGraph::assignVertexIds(double t_keyframe) const {
   VertexIds ids;
   std::vector<size_t> last_node;  // per gate entry: the last node observing it
-  ids.entry.reserve(observations_.size());
-  for (const NodeObservation& observation : observations_) {
-    const int gate = observation.measurement.gate_id;
-    const auto found = std::find(ids.gates.begin(), ids.gates.end(), gate);
-    const size_t entry = static_cast<size_t>(found - ids.gates.begin());
-    if (found == ids.gates.end()) {
-      ids.gates.push_back(gate);
-      ids.gate_observations.push_back(0);
-      last_node.push_back(observation.node);
+  ids.entry.assign(records_.size(), -1);
+  // Gates in order of their first anchoring observation; the other kinds join the entry of their gate, or stay
+  // out (unanchored).
+  for (const bool anchoring : {true, false}) {
+    for (size_t k = 0; k < records_.size(); ++k) {
+      const AttachedObservation& record = records_[k];
+      if (observationModel(record.kind).anchorsGate() != anchoring) continue;
+      const auto found = std::find(ids.gates.begin(), ids.gates.end(), record.gate_id);
+      if (found == ids.gates.end() && !anchoring) continue;
+      const size_t entry = static_cast<size_t>(found - ids.gates.begin());
+      if (found == ids.gates.end()) {
+        ids.gates.push_back(record.gate_id);
+        ids.gate_observations.push_back(0);
+        last_node.push_back(record.node);
+      }
+      ids.entry[k] = static_cast<int>(entry);
+      ++ids.gate_observations[entry];
+      last_node[entry] = std::max(last_node[entry], record.node);
     }
-    ids.entry.push_back(static_cast<int>(entry));
-    ++ids.gate_observations[entry];
-    last_node[entry] = std::max(last_node[entry], observation.node);
-  }
-  // Partial gates join the entry of a gate with a pose observation; the others stay out (unanchored).
-  ids.corner_entry.reserve(corners_.size());
-  for (const NodeCorners& corners : corners_) {
-    const auto found = std::find(ids.gates.begin(), ids.gates.end(), corners.gate_id);
-    if (found == ids.gates.end()) {
-      ids.corner_entry.push_back(-1);
-      continue;
-    }
-    const size_t entry = static_cast<size_t>(found - ids.gates.begin());
-    ids.corner_entry.push_back(static_cast<int>(entry));
-    ++ids.gate_observations[entry];
-    last_node[entry] = std::max(last_node[entry], corners.node);
   }
   // The gates each node is the last to observe, in increasing gate id: entries by (last node, gate id).
   std::vector<int> closing(ids.gates.size());
@@ -212,35 +168,29 @@ Status TemporaryGraph::buildProblem(double t_keyframe, const Eigen::Isometry3d& 
     if (!information.ok()) return information.status();
     DG_RETURN_IF_ERROR(problem_.addPoseEdge(from, to, nodes_[j].odom_T_body.inverse() * to_pose, *information));
   }
-  // Gates: created at their first observation (entries come in that order), one edge per observation.
+  // Gates: created at their first anchoring observation (entries come in that order), then each observation's
+  // edges; the anchoring kinds' first, the others' after (those of an unanchored gate counted, not added).
   size_t gates_added = 0;
-  for (size_t k = 0; k < observations_.size(); ++k) {
-    const NodeObservation& observation = observations_[k];
-    const size_t entry = static_cast<size_t>(ids.entry[k]);
-    const int gate_vertex = ids.gate_vertex[entry];
-    if (entry == gates_added) {
-      const Eigen::Isometry3d& odom_T_node =
-          node_vertex[observation.node] == keyframe_id ? odom_T_keyframe : nodes_[observation.node].odom_T_body;
-      DG_RETURN_IF_ERROR(problem_.addGate(gate_vertex, params_.landmark, gateFromNode(odom_T_node, observation.measurement)));
-      ++gates_added;
+  for (const bool anchoring : {true, false}) {
+    for (size_t k = 0; k < records_.size(); ++k) {
+      const AttachedObservation& record = records_[k];
+      const ObservationModel& model = observationModel(record.kind);
+      if (model.anchorsGate() != anchoring) continue;
+      if (ids.entry[k] < 0) {
+        ++result.partial_unanchored;
+        continue;
+      }
+      const size_t entry = static_cast<size_t>(ids.entry[k]);
+      const int gate_vertex = ids.gate_vertex[entry];
+      if (anchoring && entry == gates_added) {
+        const Eigen::Isometry3d& odom_T_node =
+            node_vertex[record.node] == keyframe_id ? odom_T_keyframe : nodes_[record.node].odom_T_body;
+        DG_RETURN_IF_ERROR(problem_.addGate(gate_vertex, params_.landmark, model.anchor(record, odom_T_node)));
+        ++gates_added;
+      }
+      DG_RETURN_IF_ERROR(model.addTemporaryEdges(record, problem_, node_vertex[record.node], gate_vertex, kernel_));
+      if (!anchoring) ++result.partial_used;
     }
-    DG_RETURN_IF_ERROR(problem_.addGateEdge(node_vertex[observation.node], gate_vertex, observation.measurement, kernel_));
-  }
-  // Partial gates: one corner edge per corner seen, to the gate their pose observations anchor.
-  for (size_t k = 0; k < corners_.size(); ++k) {
-    const int entry = ids.corner_entry[k];
-    if (entry < 0) {
-      ++result.partial_unanchored;
-      continue;
-    }
-    const NodeCorners& corners = corners_[k];
-    for (int c = 0; c < corners.rays.count; ++c) {
-      DG_RETURN_IF_ERROR(problem_.addCornerEdge(node_vertex[corners.node], ids.gate_vertex[static_cast<size_t>(entry)],
-                                                corners.rays.body_T_camera, corners.rays.p_gate.col(c),
-                                                corners.rays.normalized.col(c), corners.information[static_cast<size_t>(c)],
-                                                kernel_));
-    }
-    ++result.partial_used;
   }
   result.nodes = static_cast<int>(problem_.vertices().size() - ids.gates.size());
   result.edges = static_cast<int>(problem_.edges().size());
@@ -324,8 +274,8 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
                                           const OdometryHistory& history) {
   DistillationResult result;
   if (nodes_.empty()) return result;
-  if (observations_.empty()) {  // partial gates alone: nothing anchors them
-    result.partial_unanchored = static_cast<int>(corners_.size());
+  if (anchoring_records_ == 0) {  // partial gates alone: nothing anchors them
+    result.partial_unanchored = static_cast<int>(records_.size());
     clear();
     return result;
   }

@@ -9,6 +9,7 @@
 
 #include "dualgraph/dual_graph/gate_edge.h"
 #include "dualgraph/dual_graph/localizer_params.h"
+#include "dualgraph/dual_graph/observation_model.h"
 #include "dualgraph/dual_graph/odometry_history.h"
 #include "dualgraph/dual_graph/temporary_pool.h"
 #include "dualgraph/solvers/block/block_lm_solver.h"
@@ -38,8 +39,9 @@ struct DistillationResult {
 /// turns each gate L into one edge K → L with measurement K⁻¹·L and information Σ_L⁻¹, Σ_L the
 /// marginal covariance of L (its own tangent space, which is exactly the tangent of that edge's error;
 /// for a point the world-axes covariance is rotated into K's axes). A detection at the keyframe instant
-/// attaches to K itself. A partial gate (kCorners) adds one EdgeSE3CornerProjection per corner seen, from its
-/// node to the gate, when the gate also has a pose observation in the interval (else it is counted unanchored).
+/// attaches to K itself. Each kind's edges are its ObservationModel's: a kind that does not anchor its gate (a
+/// partial gate's corner rays: one EdgeSE3CornerProjection per corner seen) joins the gate when another
+/// observation of the interval anchors it (else it is counted unanchored).
 /// The graph is optimised by `BlockLmSolver` (6×6 blocks, the default) or the generic
 /// Optimizer (`temp_solver: graph` or `linear_solver: cholmod`); both give the same edges to round-off.
 /// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
@@ -61,7 +63,7 @@ class TemporaryGraph {
   void setOdometryScale(const OdometryNoiseScale& scale) { odometry_scale_ = scale; }
 
   bool empty() const { return nodes_.empty(); }
-  size_t numObservations() const { return observations_.size() + corners_.size(); }
+  size_t numObservations() const { return records_.size(); }
   void clear();
 
  private:
@@ -75,20 +77,6 @@ class TemporaryGraph {
   };
   /// The information of the odometry edge (t_from, t_to]; kNotPositiveDefinite etc. when unusable.
   Result<Matrix6d> odometryInformation(double t_from, double t_to, const OdometryHistory& history) const;
-  struct NodeObservation {
-    size_t node;
-    GateEdgeMeasurement measurement;
-    EIGEN_MAKE_ALIGNED_OPERATOR_NEW
-  };
-  /// A partial gate re-expressed at its node: per corner, the camera on the node, the corner in the gate frame,
-  /// its ray and the ray's information (pixel noise plus the motion compensation's uncertainty).
-  struct NodeCorners {
-    size_t node = 0;
-    int gate_id = -1;
-    GateCornerRays rays;  ///< body_T_camera replaced by node_T_camera
-    std::array<Eigen::Matrix2d, 4> information;
-    EIGEN_MAKE_ALIGNED_OPERATOR_NEW
-  };
   /// The node an observation at (t, odom_T_body) attaches to: the newest, or a new one when the VIO moved
   /// d_temp/theta_temp since (`new_node`). Fills node_T_body and the compensation covariance (null: none).
   struct Attachment {
@@ -102,16 +90,13 @@ class TemporaryGraph {
   /// Records the new node of `attachment` (after the observation was found usable).
   void recordNode(const Attachment& attachment, double t, const Eigen::Isometry3d& odom_T_body,
                   const OdometryHistory& history);
-  /// The corner rays of `observation` at the node of `attachment`.
-  Result<NodeCorners> cornersAtNode(const GateObservation& observation, const Attachment& attachment) const;
   /// Vertex ids, chosen so that increasing id (the linear system's order) is a good elimination order.
   struct VertexIds {
     std::vector<int> node;               ///< per node: its vertex, or `keyframe` for a node at the keyframe instant
     std::vector<int> gates;              ///< the gate ids, in order of first observation
     std::vector<int> gate_vertex;        ///< per entry of `gates`: its vertex
     std::vector<int> gate_observations;  ///< per entry of `gates`: its number of observations
-    std::vector<int> entry;              ///< per observation: its gate's entry in `gates`
-    std::vector<int> corner_entry;       ///< per partial gate: its gate's entry, or −1 when unanchored
+    std::vector<int> entry;              ///< per record: its gate's entry in `gates`, or −1 when unanchored
     int keyframe = 0;                    ///< the fixed keyframe, after every free vertex
   };
   /// Nodes in time order, each gate right after the last node that observes it (so at most the gates
@@ -139,8 +124,9 @@ class TemporaryGraph {
   OdometryNoiseScale odometry_scale_;
   std::shared_ptr<const RobustKernel> kernel_;
   std::vector<Node, Eigen::aligned_allocator<Node>> nodes_;
-  std::vector<NodeObservation, Eigen::aligned_allocator<NodeObservation>> observations_;
-  std::vector<NodeCorners, Eigen::aligned_allocator<NodeCorners>> corners_;
+  /// The interval's observations at their nodes, in time order (ObservationModel::attach).
+  std::vector<AttachedObservation, Eigen::aligned_allocator<AttachedObservation>> records_;
+  int anchoring_records_ = 0;  ///< of records_, those whose kind anchors its gate
   TemporaryPool problem_;  ///< the vertices and edges of the graph being distilled, reused between keyframes
   BlockLmSolver solver_;    ///< work buffers of the block solver, reused between keyframes
 };

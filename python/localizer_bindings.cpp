@@ -7,6 +7,7 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "dualgraph/dual_graph/localizer.h"
+#include "dualgraph/dual_graph/observation_model.h"
 #include "dualgraph/frontend/io/localizer_params_yaml.h"
 #include "errors.h"
 #include "py_localizer.h"
@@ -165,23 +166,30 @@ void bindObservation(py::module_& m) {
                   "t [s]; gate_id (>= 0, or -1); p_body: the gate centre in the body frame (3,) [m]; covariance (3, 3) [m^2].")
       .def_readonly("t", &GateObservation::t, "image time on the odometry clock [s]")
       .def_readonly("gate_id", &GateObservation::gate_id, "the gate's map id, or -1 when unknown")
-      .def_property_readonly("kind", [](const GateObservation& o) { return o.kind == ObservationKind::kPose ? "pose" : "position"; },
-                             "'pose' or 'position'")
+      .def_property_readonly("kind", [](const GateObservation& o) { return observationModel(o.kind).name(); },
+                             "'pose', 'position' or 'corners' (a partial gate's corner rays)")
       .def_property_readonly("body_T_gate", [](const GateObservation& o) { return poseArray(o.body_T_gate); },
                              "(7,) [x y z qx qy qz qw] [m] (a position observation: identity rotation)")
       .def_property_readonly("body_T_gate_matrix", [](const GateObservation& o) { return poseMatrix(o.body_T_gate); },
                              "(4, 4) body_T_gate [m]")
       .def_property_readonly("p_body", [](const GateObservation& o) { return matrixArray(o.centreInBody().transpose()).attr("reshape")(3); },
                              "(3,) the gate centre in the body frame [m]")
-      .def_property_readonly("covariance", [](const GateObservation& o) {
-        return o.kind == ObservationKind::kPose ? matrixArray(o.pose_covariance) : matrixArray(o.position_covariance);
-      }, "pose: (6, 6) metric [t; theta] [m^2, rad^2]; position: (3, 3) [m^2]")
+      .def_property_readonly("covariance", [](const GateObservation& o) -> py::object {
+        if (o.kind == ObservationKind::kPosition) return matrixArray(o.position_covariance);
+        if (o.kind == ObservationKind::kCorners) {
+          py::list rays;
+          for (int k = 0; k < o.corner_rays.count; ++k) rays.append(matrixArray(o.corner_rays.covariance[static_cast<size_t>(k)]));
+          return std::move(rays);
+        }
+        return matrixArray(o.pose_covariance);
+      }, "pose: (6, 6) metric [t; theta] [m^2, rad^2]; position: (3, 3) [m^2]; corners: a list of (2, 2), per corner "
+         "ray, of its normalised image coordinates [1]")
       .def("__repr__", [](const GateObservation& o) {
         const Eigen::Vector3d p = o.centreInBody();
         char centre[96];
         std::snprintf(centre, sizeof(centre), ", p_body=[%.4g, %.4g, %.4g])", p.x(), p.y(), p.z());
         return "GateObservation(t=" + formatTimestamp(o.t) + ", gate_id=" + std::to_string(o.gate_id) + ", kind=" +
-               (o.kind == ObservationKind::kPose ? "pose" : "position") + centre;
+               observationModel(o.kind).name() + centre;
       });
 }
 

@@ -222,7 +222,7 @@ Result<std::vector<GateObservation>> GateFrontend::associate(std::vector<GateObs
     if (!result.associated()) {
       ++counters_.not_associated;
       const GateObservation& seen = result.observation;
-      last_unmatched_.push_back(world_T_body * (seen.kind == ObservationKind::kPose ? seen.body_T_gate.translation() : seen.p_body));
+      last_unmatched_.push_back(world_T_body * seen.centreInBody());
       continue;
     }
     GateObservation observation = result.observation;
