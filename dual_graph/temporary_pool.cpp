@@ -9,6 +9,7 @@ namespace dualgraph {
 
 void TemporaryPool::clear() {
   poses_used_ = points_used_ = pose_edges_used_ = point_edges_used_ = corner_edges_used_ = 0;
+  for (auto& other : other_edges_) other.second->used = 0;
   vertices_.clear();
   edges_.clear();
 }
@@ -115,6 +116,19 @@ Status TemporaryPool::addCornerEdge(int node, int gate, const Eigen::Isometry3d&
   return Status();
 }
 
+Status TemporaryPool::placeEdge(EdgeBase& edge, std::initializer_list<int> ids,
+                                const std::shared_ptr<const RobustKernel>& kernel) {
+  if (ids.size() != edge.numVertices()) {
+    return Status(StatusCode::kInvalidArgument, "temporary problem: an edge with " + std::to_string(edge.numVertices()) +
+                                                    " vertices given " + std::to_string(ids.size()) + " ids");
+  }
+  size_t slot = 0;
+  for (int id : ids) DG_RETURN_IF_ERROR(connect(edge, slot++, vertexAt(id), id));
+  setKernel(edge, kernel);
+  edges_.push_back(&edge);
+  return Status();
+}
+
 Eigen::Isometry3d gatePoseOf(const VertexBase* vertex) {
   Eigen::Isometry3d odom_T_gate = Eigen::Isometry3d::Identity();
   if (const auto* pose = dynamic_cast<const VertexSE3*>(vertex)) return pose->estimate();
@@ -140,6 +154,13 @@ Status TemporaryPool::copyTo(Graph& graph, const std::shared_ptr<const RobustKer
     }
   }
   for (const EdgeBase* edge : edges_) {
+    if (dynamic_cast<const EdgeSE3*>(edge) == nullptr && dynamic_cast<const EdgeSE3PointXYZ*>(edge) == nullptr &&
+        dynamic_cast<const EdgeSE3CornerProjection*>(edge) == nullptr) {
+      return Status(StatusCode::kFailedPrecondition,
+                    "temporary problem: an edge on vertex " + std::to_string(edge->vertex(0)->id()) +
+                        " is of a type copyTo does not copy (EdgeSE3, EdgeSE3PointXYZ, EdgeSE3CornerProjection only): "
+                        "use temp_solver: block, or add its copy to TemporaryPool::copyTo");
+    }
     const int from = edge->vertex(0)->id();
     const int to = edge->vertex(1)->id();
     EdgeBase* copy = nullptr;

@@ -3,7 +3,10 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <initializer_list>
 #include <memory>
+#include <typeindex>
+#include <utility>
 #include <vector>
 
 #include "dualgraph/core/graph.h"
@@ -51,6 +54,14 @@ class TemporaryPool {
                        const Eigen::Vector2d& normalized, const Eigen::Matrix2d& information,
                        const std::shared_ptr<const RobustKernel>& kernel);
 
+  /// An edge of a type without a slot above (a new detection type's; dual_graph/README.md, "Add a detection
+  /// type"): one of the pool's `Edge` objects (default-constructed at first use, reused after `clear`),
+  /// connected to the vertices `ids` in slot order and given `kernel` (may be null); the caller sets its
+  /// measurement and information. kNotFound for an id not added, kInvalidArgument for a vertex of the wrong
+  /// type. The block solver optimises it like any other; `copyTo` does not copy it (kFailedPrecondition).
+  template <typename Edge>
+  Result<Edge*> addEdgeOfType(std::initializer_list<int> ids, const std::shared_ptr<const RobustKernel>& kernel);
+
   /// Per id, the vertex (null for an id not added yet).
   const std::vector<VertexBase*>& vertices() const { return vertices_; }
   /// In the order added.
@@ -75,14 +86,45 @@ class TemporaryPool {
   Status addSe3Edge(int from, int to, const Eigen::Isometry3d& from_T_to, const Matrix6d& information_g2o,
                     const std::shared_ptr<const RobustKernel>& kernel);
 
+  /// Connects `edge`'s slots to the vertices `ids`, sets `kernel` and lists the edge (addEdgeOfType).
+  Status placeEdge(EdgeBase& edge, std::initializer_list<int> ids, const std::shared_ptr<const RobustKernel>& kernel);
+
+  /// The objects of one edge type without a slot (addEdgeOfType).
+  struct OtherEdgesBase {
+    virtual ~OtherEdgesBase() = default;
+    size_t used = 0;
+  };
+  template <typename Edge>
+  struct OtherEdges final : OtherEdgesBase {
+    std::vector<std::unique_ptr<Edge>> objects;
+  };
+
   std::vector<std::unique_ptr<VertexSE3>> poses_;
   std::vector<std::unique_ptr<VertexPointXYZ>> points_;
   std::vector<std::unique_ptr<EdgeSE3>> pose_edges_;
   std::vector<std::unique_ptr<EdgeSE3PointXYZ>> point_edges_;
   std::vector<std::unique_ptr<EdgeSE3CornerProjection>> corner_edges_;
   size_t poses_used_ = 0, points_used_ = 0, pose_edges_used_ = 0, point_edges_used_ = 0, corner_edges_used_ = 0;
+  std::vector<std::pair<std::type_index, std::unique_ptr<OtherEdgesBase>>> other_edges_;
   std::vector<VertexBase*> vertices_;
   std::vector<EdgeBase*> edges_;
 };
+
+template <typename Edge>
+Result<Edge*> TemporaryPool::addEdgeOfType(std::initializer_list<int> ids,
+                                           const std::shared_ptr<const RobustKernel>& kernel) {
+  OtherEdges<Edge>* pool = nullptr;
+  for (auto& [type, objects] : other_edges_) {
+    if (type == std::type_index(typeid(Edge))) pool = static_cast<OtherEdges<Edge>*>(objects.get());
+  }
+  if (pool == nullptr) {
+    other_edges_.emplace_back(std::type_index(typeid(Edge)), std::make_unique<OtherEdges<Edge>>());
+    pool = static_cast<OtherEdges<Edge>*>(other_edges_.back().second.get());
+  }
+  if (pool->used == pool->objects.size()) pool->objects.push_back(std::make_unique<Edge>());
+  Edge* edge = pool->objects[pool->used++].get();
+  DG_RETURN_IF_ERROR(placeEdge(*edge, ids, kernel));
+  return edge;
+}
 
 }  // namespace dualgraph

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "dualgraph/dual_graph/temporary_graph.h"
+#include "dualgraph/solvers/block/block_lm_solver.h"
+#include "dualgraph/types/edge_point_xyz_prior.h"
 #include "test/dual_graph/distillation_fixtures.h"
 
 namespace dualgraph {
@@ -91,6 +93,40 @@ TEST(TemporaryPool, ReusedObjectsStartAsNewOnes) {
   EXPECT_EQ(problem.addPose(-1, randomPose(1.0), false).code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(problem.addPoseEdge(0, 0, randomPose(1.0), Matrix6d::Identity()).code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(problem.addPoseEdge(0, 5, randomPose(1.0), Matrix6d::Identity()).code(), StatusCode::kNotFound);
+}
+
+TEST(TemporaryPool, AnEdgeTypeWithoutASlotIsPooledAndSolvedButNotCopied) {
+  // EdgePointXYZPrior stands for a new detection type's edge: the pool has no slot of its own for it.
+  TemporaryPool problem;
+  ASSERT_TRUE(problem.addGate(0, LandmarkModel::kPoint, randomPose(3.0)).ok());
+  Result<EdgePointXYZPrior*> prior = problem.addEdgeOfType<EdgePointXYZPrior>({0}, nullptr);
+  ASSERT_TRUE(prior.ok()) << prior.status().message();
+  (*prior)->setMeasurement(Eigen::Vector3d(1.0, -2.0, 0.5));
+  (*prior)->setInformation(Eigen::Matrix3d::Identity() * 4.0);
+  ASSERT_EQ(problem.edges().size(), 1u);
+  BlockLmSolver solver;
+  ASSERT_TRUE(solver.setProblem(problem.vertices(), problem.edges()).ok());
+  OptimizerParams lm;
+  ASSERT_TRUE(solver.optimize(lm).usable());
+  EXPECT_LT((problem.gateEstimate(0).translation() - Eigen::Vector3d(1.0, -2.0, 0.5)).norm(), 1e-9);
+  ASSERT_TRUE(solver.computeMarginals({0}).ok());
+  Result<Eigen::MatrixXd> marginal = solver.marginal(0);
+  ASSERT_TRUE(marginal.ok());
+  EXPECT_LT((*marginal - Eigen::Matrix3d::Identity() * 0.25).norm(), 1e-9);
+  Graph graph;  // the oracle path says it cannot copy it, never copies something else
+  const Status copied = problem.copyTo(graph, nullptr);
+  EXPECT_EQ(copied.code(), StatusCode::kFailedPrecondition);
+  EXPECT_NE(copied.message().find("temp_solver: block"), std::string::npos) << copied.message();
+  // Reused after clear, checked like every slot.
+  problem.clear();
+  ASSERT_TRUE(problem.addPose(0, randomPose(1.0), false).ok());
+  EXPECT_EQ(problem.addEdgeOfType<EdgePointXYZPrior>({0}, nullptr).status().code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(problem.addEdgeOfType<EdgePointXYZPrior>({4}, nullptr).status().code(), StatusCode::kNotFound);
+  EXPECT_EQ(problem.addEdgeOfType<EdgePointXYZPrior>({0, 0}, nullptr).status().code(), StatusCode::kInvalidArgument);
+  ASSERT_TRUE(problem.addGate(1, LandmarkModel::kPoint, randomPose(3.0)).ok());
+  Result<EdgePointXYZPrior*> reused = problem.addEdgeOfType<EdgePointXYZPrior>({1}, nullptr);
+  ASSERT_TRUE(reused.ok());
+  EXPECT_EQ(problem.edges().size(), 1u);
 }
 
 /// `samples` VIO samples 0.3 m apart, gates 0..2 ahead, every sample sees two of them (seeded noise).
