@@ -33,9 +33,7 @@ Result<AttachedObservation> CornerRaysObservationModel::attach(const GateObserva
     return Status(StatusCode::kInvalidArgument, "observation of gate " + std::to_string(observation.gate_id) +
                                                     ": corner rays need landmark: pose");
   }
-  AttachedObservation attached;
-  attached.gate_id = observation.gate_id;
-  attached.kind = observation.kind;
+  AttachedObservation attached = AttachedObservation::of(observation, landmark);
   attached.rays = observation.corner_rays;
   const Eigen::Isometry3d& body_T_camera = observation.corner_rays.body_T_camera;
   attached.rays.body_T_camera = at.node_T_body * body_T_camera;

@@ -6,6 +6,15 @@
 
 namespace dualgraph {
 
+AttachedObservation AttachedObservation::of(const GateObservation& observation, LandmarkModel landmark) {
+  AttachedObservation attached;
+  attached.gate_id = observation.gate_id;
+  attached.kind = observation.kind;
+  attached.edge.gate_id = observation.gate_id;
+  attached.edge.model = landmark;
+  return attached;
+}
+
 Result<AttachedObservation> ObservationModel::attachCentre(const GateObservation& observation,
                                                            const NodeAttachment& at) const {
   const std::string what = "observation of gate " + std::to_string(observation.gate_id);
@@ -19,12 +28,8 @@ Result<AttachedObservation> ObservationModel::attachCentre(const GateObservation
   }
   Result<Eigen::Matrix3d> information = pointInformationFromCovariance(covariance, what + ": position covariance");
   if (!information.ok()) return information.status();
-  AttachedObservation attached;
-  attached.gate_id = observation.gate_id;
-  attached.kind = observation.kind;
+  AttachedObservation attached = AttachedObservation::of(observation, LandmarkModel::kPoint);
   GateEdgeMeasurement& edge = attached.edge;
-  edge.gate_id = observation.gate_id;
-  edge.model = LandmarkModel::kPoint;
   edge.p_node = at.node_T_body * p_body;
   edge.node_T_gate = Eigen::Isometry3d::Identity();
   edge.node_T_gate.translation() = edge.p_node;

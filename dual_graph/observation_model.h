@@ -39,6 +39,9 @@ struct AttachedObservation {
   std::array<Eigen::Matrix2d, 4> ray_information{Eigen::Matrix2d::Identity(), Eigen::Matrix2d::Identity(),
                                                  Eigen::Matrix2d::Identity(), Eigen::Matrix2d::Identity()};
 
+  /// An empty record of `observation` (its gate and kind), its edge (if any) for a `landmark` gate.
+  static AttachedObservation of(const GateObservation& observation, LandmarkModel landmark);
+
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 

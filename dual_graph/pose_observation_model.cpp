@@ -15,12 +15,8 @@ Result<AttachedObservation> PoseObservationModel::attach(const GateObservation& 
                                                          LandmarkModel landmark) const {
   if (landmark == LandmarkModel::kPoint) return attachCentre(observation, at);
   const std::string what = "observation of gate " + std::to_string(observation.gate_id);
-  AttachedObservation attached;
-  attached.gate_id = observation.gate_id;
-  attached.kind = observation.kind;
+  AttachedObservation attached = AttachedObservation::of(observation, LandmarkModel::kPose);
   GateEdgeMeasurement& edge = attached.edge;
-  edge.gate_id = observation.gate_id;
-  edge.model = LandmarkModel::kPose;
   edge.node_T_gate = at.node_T_body * observation.body_T_gate;
   Matrix6d covariance = observation.pose_covariance;
   if (at.compensation != nullptr) {
