@@ -5,6 +5,8 @@
 
 #include "dualgraph/core/stamp_tolerance.h"
 #include "dualgraph/core/wall_clock.h"
+#include "dualgraph/dual_graph/dual_graph_feed.h"
+#include "dualgraph/dual_graph/single_graph_baseline.h"
 #include "dualgraph/types/se3_covariance.h"
 
 namespace dualgraph {
@@ -13,6 +15,11 @@ namespace {
 /// Odometry kept while initialising or lost, so `relocalize` can anchor where a frame search began [s]
 /// (FrameInitializerParams::window_s is 4 s by default).
 constexpr double kSearchHistorySeconds = 5.0;
+
+std::unique_ptr<MainGraphFeed> makeFeed(const LocalizerParams& params, std::shared_ptr<const RobustKernel> kernel) {
+  if (params.mode == LocalizerMode::kSingle) return std::make_unique<SingleGraphBaseline>(params);
+  return std::make_unique<DualGraphFeed>(params, std::move(kernel));
+}
 
 }  // namespace
 
@@ -38,7 +45,7 @@ Localizer::Localizer(const LocalizerParams& params, GateMap map, std::shared_ptr
     : params_(params),
       map_(std::move(map)),
       kernel_(kernel),
-      temporary_(params, kernel),
+      feed_(makeFeed(params, kernel)),
       noise_model_(noiseModelOf(params)),
       noise_learner_(OdometryNoiseLearner::Params::of(params)),
       monitor_(initial, params.lost_after_s, params.lost_min_failures) {
@@ -80,14 +87,7 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
   // Observations this sample now covers, in time order (attached before a keyframe at this instant), but none
   // after a keyframe that waits for late detections.
   processPending(keyframe_due_ ? std::min(*keyframe_due_, sample.t) : sample.t);
-  if (params_.mode == LocalizerMode::kDual && !keyframe_due_ && main_->keyframes().back().t < sample.t) {
-    const Keyframe& last = main_->keyframes().back();
-    const bool moved =
-        incrementExceeds(last.odom_T_body.inverse() * sample.odom_T_body, params_.d_main, params_.theta_main);
-    const bool waited = params_.keyframe_max_interval_s > 0.0 && temporary_.numObservations() > 0 &&
-                        elapsedAtLeast(sample.t, last.t, params_.keyframe_max_interval_s);
-    if (moved || waited) keyframe_due_ = sample.t;
-  }
+  if (!keyframe_due_ && feed_->keyframeDueAfter(sample, *main_)) keyframe_due_ = sample.t;
   if (keyframe_due_ && elapsedAtLeast(sample.t, *keyframe_due_, params_.detection_latency)) closeDueKeyframe();
   const TrackingState state = monitor_.state();
   return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body, state,
@@ -108,7 +108,7 @@ void Localizer::processPending(double until) {
 void Localizer::closeDueKeyframe() {
   const OdometrySample keyframe = history_.sampleAtOrBefore(*keyframe_due_);
   keyframe_due_.reset();
-  const Status closed = closeInterval(keyframe);
+  const Status closed = closeKeyframe(&keyframe);
   if (!closed.ok()) {
     ++counters_.keyframes_failed;
     counters_.last_error = closed.message();
@@ -165,99 +165,57 @@ Status Localizer::addObservation(const GateObservation& observation) {
 Status Localizer::processObservation(const GateObservation& observation) {
   Result<Eigen::Isometry3d> odom_T_body = history_.poseAt(observation.t);
   if (!odom_T_body.ok()) return odom_T_body.status();
-  if (params_.mode == LocalizerMode::kSingle) return processSingleObservation(observation, *odom_T_body);
-  return temporary_.addObservation(observation, *odom_T_body, history_);
-}
-
-Status Localizer::processSingleObservation(const GateObservation& observation, const Eigen::Isometry3d& odom_T_body) {
-  const Keyframe& node = main_->keyframes().back();
-  if (observation.t > node.t &&
-      incrementExceeds(node.odom_T_body.inverse() * odom_T_body, params_.d_single, params_.theta_single)) {
-    DG_RETURN_IF_ERROR(closeSingleNode(observation.t, odom_T_body, false));
+  if (feed_->keyframeDueBefore(observation.t, *odom_T_body, *main_)) {
+    OdometrySample node;
+    node.t = observation.t;
+    node.odom_T_body = *odom_T_body;
+    DG_RETURN_IF_ERROR(closeKeyframe(&node));
   }
-  const Keyframe& attach_to = main_->keyframes().back();
-  Matrix6d compensation = Matrix6d::Zero();
-  const bool compensated = observation.t > attach_to.t;
-  if (compensated && !params_.single_all_detections) {
-    ++counters_.observations_between_nodes;
-    return Status();
-  }
-  if (compensated) {
-    Result<Matrix6d> covariance = history_.relativeCovariance(attach_to.t, observation.t, noise_model_);
-    if (!covariance.ok()) return covariance.status();
-    compensation = *covariance;
-  }
-  Result<GateEdgeMeasurement> measurement = attachObservationToNode(
-      observation, attach_to.odom_T_body.inverse() * odom_T_body, compensated ? &compensation : nullptr, params_.landmark);
-  if (!measurement.ok()) return measurement.status();
-  single_edges_.push_back(*measurement);
-  ++single_observations_;
+  Result<ObservationUse> use = feed_->addObservation(observation, *odom_T_body, *main_, history_);
+  if (!use.ok()) return use.status();
+  if (*use == ObservationUse::kBetweenNodes) ++counters_.observations_between_nodes;
   return Status();
 }
 
-Status Localizer::closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body, bool final_row) {
-  KeyframeStats row;
-  if (!final_row) {
-    Result<Matrix6d> covariance = history_.relativeCovariance(main_->keyframes().back().t, t, noiseModelOf(params_));
-    if (!covariance.ok()) return covariance.status();
-    DG_RETURN_IF_ERROR(main_->addKeyframe(t, odom_T_body, *covariance));
+Status Localizer::closeKeyframe(const OdometrySample* new_keyframe) {
+  const bool add = new_keyframe != nullptr && main_->keyframes().back().t < new_keyframe->t;
+  if (add) {
+    // The base covariance (unscaled): the main graph applies the scale, and keeps the base to rescale later.
+    Result<Matrix6d> base =
+        history_.relativeCovariance(main_->keyframes().back().t, new_keyframe->t, noiseModelOf(params_));
+    if (!base.ok()) return base.status();
+    DG_RETURN_IF_ERROR(main_->addKeyframe(new_keyframe->t, new_keyframe->odom_T_body, *base));
+    noise_learner_.addKeyframe(new_keyframe->odom_T_body, *base);
   }
-  // The previous node's detections, gated against the graph that now holds the new node.
-  const size_t owner = main_->keyframes().size() - (final_row ? 1 : 2);
+  ClosingEdges closing = feed_->handOverEdges(*main_, add, history_);
+  learnOdometryNoise(closing.edges);
+  KeyframeStats row;
+  row.temp_nodes = closing.temp_nodes;
+  row.temp_edges = closing.temp_edges;
+  row.temp_iterations = closing.temp_iterations;
+  row.temp_ms = closing.temp_ms;
+  row.observations = closing.observations;
   const double start = nowMs();
-  const GateEdgeOutcome outcome = main_->addGateEdges(owner, single_edges_);
+  const GateEdgeOutcome outcome = main_->addGateEdges(closing.owner, closing.edges);
   row.gate_edges_added = outcome.added;
   row.gate_edges_rejected = outcome.rejected;
   row.observations_rejected = outcome.rejected_observations;
-  row.gates_skipped = outcome.failed;
-  row.observations = single_observations_;
+  row.gates_skipped = closing.skipped_gates + outcome.failed;
+  counters_.partial_used += closing.partial_used;
+  counters_.partial_unanchored += closing.partial_unanchored;
+  if (!closing.skip_reason.empty()) counters_.last_error = closing.skip_reason;
   if (!outcome.message.empty()) counters_.last_error = outcome.message;
-  single_edges_.clear();
-  single_observations_ = 0;
   optimizeAndRecord(row, start);
   stats_.back().covariance_ms = pose_covariance_.refresh(*main_, history_, noise_model_);
   discardHistory(main_->keyframes().back().t);
   return Status();
 }
 
-Status Localizer::closeInterval(const OdometrySample& newest) {
-  KeyframeStats row;
-  if (main_->keyframes().back().t < newest.t) {
-    // The base covariance (unscaled): the main graph applies the scale, and keeps the base to rescale later.
-    Result<Matrix6d> base = history_.relativeCovariance(main_->keyframes().back().t, newest.t, noiseModelOf(params_));
-    if (!base.ok()) return base.status();
-    DG_RETURN_IF_ERROR(main_->addKeyframe(newest.t, newest.odom_T_body, *base));
-    noise_learner_.addKeyframe(newest.odom_T_body, *base);
-  }
-  DistillationResult distilled = temporary_.distil(newest.t, newest.odom_T_body, history_);
-  learnOdometryNoise(distilled.gates);
-  row.temp_nodes = distilled.nodes;
-  row.temp_edges = distilled.edges;
-  row.temp_iterations = distilled.iterations;
-  row.temp_ms = distilled.optimize_ms;
-  for (const GateEdgeMeasurement& gate : distilled.gates) row.observations += gate.observations;
-  const double start = nowMs();
-  const GateEdgeOutcome outcome = main_->addGateEdges(main_->keyframes().size() - 1, distilled.gates);
-  row.gate_edges_added = outcome.added;
-  row.gate_edges_rejected = outcome.rejected;
-  row.observations_rejected = outcome.rejected_observations;
-  row.gates_skipped = distilled.skipped_gates + outcome.failed;
-  counters_.partial_used += distilled.partial_used;
-  counters_.partial_unanchored += distilled.partial_unanchored;
-  if (!distilled.skip_reason.empty()) counters_.last_error = distilled.skip_reason;
-  if (!outcome.message.empty()) counters_.last_error = outcome.message;
-  optimizeAndRecord(row, start);
-  stats_.back().covariance_ms = pose_covariance_.refresh(*main_, history_, noise_model_);
-  discardHistory(newest.t);
-  return Status();
-}
-
-
 void Localizer::learnOdometryNoise(GateEdgeMeasurements& distilled) {
   if (!params_.learn_odometry_noise || params_.mode != LocalizerMode::kDual) return;
   if (noise_learner_.learnFrom(distilled)) {
     noise_model_.scale = noise_learner_.factors().odometry;
-    temporary_.setOdometryScale(noise_model_.scale);
+    feed_->setOdometryScale(noise_model_.scale);
     const Status scaled = main_->setOdometryScale(noise_model_.scale);
     if (!scaled.ok()) counters_.last_error = scaled.message();
   }
@@ -346,13 +304,11 @@ Result<double> Localizer::startGraph(const Eigen::Isometry3d& world_T_odom, doub
   given_up_keyframes_ = keyframeTrajectory();
   given_up_graph_keyframes_ += main_->keyframes().size();
   given_up_graph_edges_ += main_->totalEdges();
-  const int dropped = static_cast<int>(pending_.size() + temporary_.numObservations()) + single_observations_;
+  const int dropped = static_cast<int>(pending_.size() + feed_->numObservations());
   counters_.observations_without_frame += dropped;
   pending_.clear();
   keyframe_due_.reset();
-  temporary_.clear();
-  single_edges_.clear();
-  single_observations_ = 0;
+  feed_->clear();
   LocalizerParams in_frame = params_;
   in_frame.initial_world_T_odom = world_T_odom;
   if (sigma_t > 0.0 && sigma_r > 0.0 && std::isfinite(sigma_t) && std::isfinite(sigma_r)) {
@@ -377,8 +333,8 @@ Status Localizer::finish() {
   pending_.clear();
   if (history_.empty()) return Status(StatusCode::kFailedPrecondition, "finish: no odometry was given");
   if (monitor_.state() == TrackingState::kInitialising) return Status();  // no graph to finish
-  if (params_.mode == LocalizerMode::kSingle) return closeSingleNode(history_.newest().t, history_.newest().odom_T_body, true);
-  return closeInterval(history_.newest());
+  const OdometrySample newest = history_.newest();
+  return closeKeyframe(feed_->keyframeAtFinish() ? &newest : nullptr);
 }
 
 Eigen::Isometry3d Localizer::mapTOdom() const {

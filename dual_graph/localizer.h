@@ -12,11 +12,11 @@
 #include "dualgraph/dual_graph/gate_map.h"
 #include "dualgraph/dual_graph/localizer_params.h"
 #include "dualgraph/dual_graph/main_graph.h"
+#include "dualgraph/dual_graph/main_graph_feed.h"
 #include "dualgraph/dual_graph/measurements.h"
 #include "dualgraph/dual_graph/odometry_history.h"
 #include "dualgraph/dual_graph/odometry_noise_learner.h"
 #include "dualgraph/dual_graph/pose_covariance.h"
-#include "dualgraph/dual_graph/temporary_graph.h"
 #include "dualgraph/dual_graph/tracking_monitor.h"
 
 namespace dualgraph {
@@ -99,7 +99,9 @@ struct LocalizerCounters {
 /// optimised. Single mode: a node at a detection instant when the increment since the last node exceeds
 /// d_single/theta_single; every detection becomes an edge from its node (motion-compensated; or only those
 /// of the node's own instant, `single_all_detections` false); the graph
-/// is optimised at every node. Bad input is rejected with a Status and counted; the Localizer goes on.
+/// is optimised at every node. The mode's part (what is collected, when a keyframe is due, which edges it gets)
+/// is a MainGraphFeed: DualGraphFeed or SingleGraphBaseline. Bad input is rejected with a Status and counted; the
+/// Localizer goes on.
 /// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
 /// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class Localizer {
@@ -190,17 +192,15 @@ class Localizer {
   Status checkObservation(const GateObservation& observation) const;
   /// True when the interval `observation` belongs to was closed already (checkObservation's last check).
   bool tooLate(const GateObservation& observation) const;
+  /// Hands a covered observation to the feed (after the keyframe it makes due, if any).
   Status processObservation(const GateObservation& observation);
-  Status processSingleObservation(const GateObservation& observation, const Eigen::Isometry3d& odom_T_body);
-  /// Dual mode: keyframe at the newest sample (unless it is one already), distillation, optimisation.
-  /// Closes the open interval with a keyframe at `keyframe` (a sample of the history).
-  Status closeInterval(const OdometrySample& keyframe);
+  /// Closes the open keyframe interval (dual) or node (single): a keyframe at `new_keyframe` unless it is null or
+  /// the newest already, the feed's edges of the closing keyframe through the χ² gate, the main graph optimised.
+  Status closeKeyframe(const OdometrySample* new_keyframe);
   /// Hands the pending observations up to `until` [s] to the graphs.
   void processPending(double until);
   /// Closes the interval of the keyframe that waited detection_latency, then processes what waited behind it.
   void closeDueKeyframe();
-  /// Single mode: commits the newest node's edges, adds a node at (t, odom_T_body) unless final, optimises.
-  Status closeSingleNode(double t, const Eigen::Isometry3d& odom_T_body, bool final_row);
   /// Learns from a distillation's edges (learn_odometry_noise): the odometry's noise, applied to what uses it, and
   /// the edges' covariance factor, applied to `distilled`.
   void learnOdometryNoise(GateEdgeMeasurements& distilled);
@@ -218,13 +218,11 @@ class Localizer {
   const GateMap map_;
   std::shared_ptr<const RobustKernel> kernel_;
   std::unique_ptr<MainGraph> main_;
-  TemporaryGraph temporary_;
+  std::unique_ptr<MainGraphFeed> feed_;  ///< the mode's: DualGraphFeed or SingleGraphBaseline
   OdometryHistory history_;
   std::deque<GateObservation, Eigen::aligned_allocator<GateObservation>> pending_;
   /// A keyframe decided at this time [s] that waits until odometry reaches it + detection_latency.
   std::optional<double> keyframe_due_;
-  GateEdgeMeasurements single_edges_;  ///< single mode: edges of the newest node, committed at the next
-  int single_observations_ = 0;
   double last_observation_t_ = -std::numeric_limits<double>::infinity();
   std::vector<KeyframeStats> stats_;
   PoseCovarianceTracker pose_covariance_;  ///< CorrectedPose::covariance
