@@ -232,7 +232,7 @@ class Localizer {
   TrackingMonitor monitor_;
   std::vector<CorrectedPose> given_up_keyframes_;
   size_t given_up_graph_keyframes_ = 0;  ///< keyframes of the main graphs given up (KeyframeStats::main_vertices)
-  size_t given_up_graph_edges_ = 0;      ///< and their edges (KeyframeStats::main_edges)  ///< keyframes of the main graphs before a `relocalize`
+  size_t given_up_graph_edges_ = 0;      ///< and their edges (KeyframeStats::main_edges)
 };
 
 }  // namespace dualgraph
