@@ -31,8 +31,8 @@ namespace dualgraph {
 ///                  instead of SEQUENCE/vio.tum), `gt:` (absolute; only when `gt_path` is given: the ground truth read
 ///                  instead of SEQUENCE/gt.tum), `mode:` and the keyframe thresholds (`d_main`, `d_temp` or `d_single`)
 ///   metrics.json   RunMetrics' figures, always: `has_ground_truth` 1/0, the ATE figures null without ground truth
-///                  (non-finite values as null), `lock_world_T_odom_{x,y,z}_m, _q{x,y,z,w}` the frame the search
-///                  found at the first lock (null without one); frontend/evaluation/OUTPUTS.md lists every key
+///                  (non-finite values as null), `lock_world_T_odom_{x,y,z}_m, _q{x,y,z,w}` the VIO's frame in the
+///                  map as the run first had it (the search's lock, or the given frame; null without a map pose); frontend/evaluation/OUTPUTS.md lists every key
 /// kIoError naming the file that could not be written.
 /// With `self_calibration` (a self-calibrating run), metrics.json also holds `self_calibration_applied` (1/0,
 /// −1 not attempted), `self_calibration_at_s`, `_time_offset_before_s`, `_time_offset_s`, `_time_offset_sigma_s`,
@@ -59,8 +59,9 @@ struct RunReport {
   std::vector<std::pair<double, double>> temp_ms;   ///< (t [s], temporary graph [ms]) per row (empty: no column)
   std::vector<std::pair<std::string, double>> metrics;  ///< metrics.json numbers in file order (null: NaN)
   std::vector<LapCorrection> gate_corrections;      ///< metrics.json `gate_corrections` [m]
-  /// metrics.json `lock_world_T_odom_*`: the VIO's frame in the map as the frame search found it when the run
-  /// first locked [m]; empty when the run never locked, did not search, or its metrics.json predates the keys.
+  /// metrics.json `lock_world_T_odom_*`: the VIO's frame in the map as the run first had it (the frame search's
+  /// lock, or the frame the configuration gave) [m]; empty when the run never locked or its metrics.json predates
+  /// the keys.
   std::optional<Eigen::Isometry3d> lock_world_T_odom;
   double lock_at_s = std::numeric_limits<double>::quiet_NaN();  ///< metrics.json `initialized_at_s` [s], with it
 };

@@ -69,10 +69,9 @@ Status writeRunYaml(const std::string& path, const std::string& sequence, const 
 }
 
 JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const SelfCalibrationReport* self) {
-  // The frame the search found when the localiser first locked (FrameInitializer), w >= 0 as in the TUM files.
+  // The VIO's frame in the map as the run first had it (the search's lock, or the given frame), w >= 0 as in TUM files.
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  const Eigen::Isometry3d* lock =
-      run.initialization && run.initialization->locked ? &run.initialization->world_T_odom : nullptr;
+  const Eigen::Isometry3d* lock = m.lock_world_T_odom ? &*m.lock_world_T_odom : nullptr;
   Eigen::Quaterniond lock_q = Eigen::Quaterniond::Identity();
   if (lock != nullptr) {
     lock_q = Eigen::Quaterniond(lock->linear()).normalized();

@@ -164,6 +164,7 @@ Result<RunMetrics> computeRunMetrics(const Sequence& sequence, const SequenceRun
   // Table III: lap k holds the k-th pass of every gate; the VIO is put in the map through the frame found at the lock.
   if (!estimate.empty()) {
     const Eigen::Isometry3d world_T_odom = lockFrame(run, estimate, vio);
+    m.lock_world_T_odom = world_T_odom;
     const StampedPoses reference = m.has_ground_truth ? stampedPosesFromSamples(sequence.ground_truth->samples) : estimate;
     const std::vector<std::vector<double>> passes = gatePasses(reference, sequence.map);
     size_t laps = 0;

@@ -2,6 +2,7 @@
 // RunMetrics, every figure `dualgraph run` reports (ATE, timings, gate corrections), and percentile.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "dualgraph/core/status.h"
@@ -36,6 +37,10 @@ struct RunMetrics {
   int edges = 0;       ///< main-graph edges at the end
   double opt_ms_p50 = 0.0, opt_ms_p95 = 0.0, opt_ms_max = 0.0;  ///< main-graph optimisation per row [ms]
   double temp_ms_p50 = 0.0, temp_ms_p95 = 0.0, temp_ms_max = 0.0;  ///< temporary graph per row (KeyframeStats::temp_ms) [ms]
+  /// The VIO's frame in the map as the run first had it (metrics.json lock_world_T_odom_*, Table III's reference):
+  /// the frame search's lock, or with a frame given by the configuration (no search) the first map pose's,
+  /// world_T_body · odom_T_body⁻¹ at that instant. Unset for a run without a map pose.
+  std::optional<Eigen::Isometry3d> lock_world_T_odom;
   std::vector<LapCorrection> gate_corrections;  ///< per lap (Table III's columns)
   LapCorrection full_track_correction;          ///< every crossing of the flight (its Full Track column; lap 0)
   int laps = 0;

@@ -308,7 +308,18 @@ TEST(SequenceRun, GateCorrectionsAreDriftSinceTheLockNotTheFramesOffset) {
     EXPECT_EQ(metrics->full_track_correction.crossings, crossings);
     EXPECT_EQ(metrics->full_track_correction.lap, 0);
     EXPECT_LT(metrics->full_track_correction.mean_m, 1e-6);
+    // metrics.json's lock_world_T_odom_*: the search's frame, or the given one (the first map pose's).
+    ASSERT_TRUE(metrics->lock_world_T_odom.has_value());
+    EXPECT_TRUE(metrics->lock_world_T_odom->isApprox(world_T_odom, 1e-9)) << (searched ? "searched" : "given");
   }
+  // A run that never found its frame has no lock frame (null keys), not the identity.
+  SequenceRunResult never = run;
+  for (CorrectedPose& pose : never.estimate) pose.state = TrackingState::kInitialising;
+  never.initialization.emplace();
+  never.initialization->locked = false;
+  auto unlocked = computeRunMetrics(sequence, never);
+  ASSERT_TRUE(unlocked.ok()) << unlocked.status().message();
+  EXPECT_FALSE(unlocked->lock_world_T_odom.has_value());
   // A frame found 1 m off shows as a 1 m correction at every crossing.
   run.initialization.emplace();
   run.initialization->locked = true;
