@@ -77,7 +77,7 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
   history_.push(sample);
   if (monitor_.state() == TrackingState::kInitialising) {  // no graph until the frame is known
     history_.discardBefore(sample.t - kSearchHistorySeconds);
-    return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body, TrackingState::kInitialising};
+    return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body, TrackingState::kInitialising, std::nullopt};
   }
   if (main_->keyframes().empty()) {
     const Status first = main_->addFirstKeyframe(sample.t, sample.odom_T_body);
@@ -346,7 +346,8 @@ Eigen::Isometry3d Localizer::mapTOdom() const {
 std::vector<CorrectedPose> Localizer::keyframeTrajectory() const {
   std::vector<CorrectedPose> trajectory = given_up_keyframes_;
   for (size_t k = 0; k < main_->keyframes().size(); ++k) {
-    trajectory.push_back(CorrectedPose{main_->keyframes()[k].t, main_->keyframePose(k)});
+    trajectory.push_back(
+        CorrectedPose{main_->keyframes()[k].t, main_->keyframePose(k), TrackingState::kTracking, std::nullopt});
   }
   return trajectory;
 }

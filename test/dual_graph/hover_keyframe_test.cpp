@@ -34,7 +34,9 @@ Hover hover(double keyframe_max_interval_s) {
   covariance.diagonal() << 0.05 * 0.05, 0.05 * 0.05, 0.05 * 0.05, 3e-4, 3e-4, 3e-4;
   for (int k = 0; k <= 500; ++k) {
     const double t = k / 100.0;
-    if (k % 3 == 0 && k > 0) EXPECT_TRUE(localizer->addObservation(GateObservation::pose(t, 0, world_T_gate, covariance)).ok());
+    if (k % 3 == 0 && k > 0) {
+      EXPECT_TRUE(localizer->addObservation(GateObservation::pose(t, 0, world_T_gate, covariance)).ok());
+    }
     OdometrySample sample;
     sample.t = t;
     Result<CorrectedPose> pose = localizer->addOdometry(sample);
