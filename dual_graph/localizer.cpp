@@ -87,7 +87,10 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
   // Observations this sample now covers, in time order (attached before a keyframe at this instant), but none
   // after a keyframe that waits for late detections.
   processPending(keyframe_due_ ? std::min(*keyframe_due_, sample.t) : sample.t);
-  if (!keyframe_due_ && feed_->keyframeDueAfter(sample, *main_)) keyframe_due_ = sample.t;
+  const bool requested = keyframe_requested_after_ && notAfter(*keyframe_requested_after_, sample.t) &&
+                         main_->keyframes().back().t < sample.t;
+  if (!keyframe_due_ && (requested || feed_->keyframeDueAfter(sample, *main_))) keyframe_due_ = sample.t;
+  if (keyframe_due_) keyframe_requested_after_.reset();
   if (keyframe_due_ && elapsedAtLeast(sample.t, *keyframe_due_, params_.detection_latency)) closeDueKeyframe();
   const TrackingState state = monitor_.state();
   return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body, state,
@@ -285,6 +288,11 @@ Status Localizer::resumeWithNewGraph(double sigma_t, double sigma_r) {
   return Status();
 }
 
+void Localizer::requestKeyframe() {
+  if (history_.empty() || monitor_.state() == TrackingState::kInitialising) return;
+  keyframe_requested_after_ = std::max(last_observation_t_, history_.newest().t);
+}
+
 void Localizer::distrustFrame() {
   if (history_.empty()) return;
   monitor_.declareLost(history_.newest().t);
@@ -308,6 +316,7 @@ Result<double> Localizer::startGraph(const Eigen::Isometry3d& world_T_odom, doub
   counters_.observations_without_frame += dropped;
   pending_.clear();
   keyframe_due_.reset();
+  keyframe_requested_after_.reset();
   feed_->clear();
   LocalizerParams in_frame = params_;
   in_frame.initial_world_T_odom = world_T_odom;

@@ -158,6 +158,11 @@ class Localizer {
   /// Counted as a recovery. No-op unless lost; kFailedPrecondition before any odometry.
   Status resumeWithNewGraph(double sigma_t, double sigma_r);
   TrackingState trackingState() const { return monitor_.state(); }
+  /// Asks for a keyframe (a node in single mode) at the first odometry sample that covers every observation given
+  /// so far, whatever the VIO moved: after `relocalize` and the search's detections handed over again, the graph
+  /// refines the frame the search found at once instead of at the first keyframe the motion makes (the output
+  /// meanwhile carries the search's error). No-op while initialising.
+  void requestKeyframe();
   /// Tracking, but at least lost_min_failures detections failed in the last lost_after_s while others were
   /// used: the frame in use may be wrong (a VIO jump by about a gate spacing matches some gates to their
   /// neighbours and leaves the others unmatched). The cue for a search that checks it.
@@ -223,6 +228,8 @@ class Localizer {
   std::deque<GateObservation, Eigen::aligned_allocator<GateObservation>> pending_;
   /// A keyframe decided at this time [s] that waits until odometry reaches it + detection_latency.
   std::optional<double> keyframe_due_;
+  /// requestKeyframe: a keyframe at the first sample at or after this time [s].
+  std::optional<double> keyframe_requested_after_;
   double last_observation_t_ = -std::numeric_limits<double>::infinity();
   std::vector<KeyframeStats> stats_;
   PoseCovarianceTracker pose_covariance_;  ///< CorrectedPose::covariance

@@ -287,6 +287,9 @@ Status PipelineCore::searchWith(const DetectionInstant& instant, const Eigen::Is
     counters_.detections_frame_search_only -= static_cast<int>(seen.instant.size());
     DG_RETURN_IF_ERROR(handInstant(seen.instant, seen.odom_T_body, &seen.solved));
   }
+  // The found frame is a short window's best hypothesis: the graph refines it with those detections at the next
+  // sample rather than at the first keyframe the motion makes.
+  if (outcome->action == SearchAction::kRelocalized) localizer_->requestKeyframe();
   return Status();
 }
 
