@@ -90,7 +90,9 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
   const bool requested = keyframe_requested_after_ && notAfter(*keyframe_requested_after_, sample.t) &&
                          main_->keyframes().back().t < sample.t;
   if (!keyframe_due_ && (requested || feed_->keyframeDueAfter(sample, *main_))) keyframe_due_ = sample.t;
-  if (keyframe_due_) keyframe_requested_after_.reset();
+  if (keyframe_due_ && keyframe_requested_after_ && notAfter(*keyframe_requested_after_, *keyframe_due_)) {
+    keyframe_requested_after_.reset();  // this keyframe covers what the request asked for
+  }
   if (keyframe_due_ && elapsedAtLeast(sample.t, *keyframe_due_, params_.detection_latency)) closeDueKeyframe();
   const TrackingState state = monitor_.state();
   return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body, state,
