@@ -33,7 +33,6 @@ Result<ObservationUse> SingleGraphBaseline::addObservation(const GateObservation
       observation, node.odom_T_body.inverse() * odom_T_body, compensated ? &compensation : nullptr, params_.landmark);
   if (!measurement.ok()) return measurement.status();
   edges_.push_back(*measurement);
-  ++observations_;
   return ObservationUse::kCollected;
 }
 
@@ -41,15 +40,12 @@ ClosingEdges SingleGraphBaseline::handOverEdges(const MainGraph& main, bool keyf
   ClosingEdges closing;
   // The previous node's detections, gated against the graph that now holds the new node.
   closing.owner = main.keyframes().size() - (keyframe_added ? 2 : 1);
+  closing.observations = static_cast<int>(edges_.size());  // one edge per detection
   closing.edges = std::move(edges_);
-  closing.observations = observations_;
   clear();
   return closing;
 }
 
-void SingleGraphBaseline::clear() {
-  edges_.clear();
-  observations_ = 0;
-}
+void SingleGraphBaseline::clear() { edges_.clear(); }
 
 }  // namespace dualgraph

@@ -32,7 +32,7 @@ class SingleGraphBaseline final : public MainGraphFeed {
   /// The edges collected at the node before the newest one when `keyframe_added`, else at the newest.
   ClosingEdges handOverEdges(const MainGraph& main, bool keyframe_added, const OdometryHistory& history) override;
 
-  size_t numObservations() const override { return static_cast<size_t>(observations_); }
+  size_t numObservations() const override { return edges_.size(); }  ///< one edge per detection
   void clear() override;
   void setOdometryScale(const OdometryNoiseScale& scale) override { noise_model_.scale = scale; }
 
@@ -40,7 +40,6 @@ class SingleGraphBaseline final : public MainGraphFeed {
   const LocalizerParams params_;
   OdometryNoiseModel noise_model_;  ///< the motion compensation's
   GateEdgeMeasurements edges_;      ///< of the newest node, handed over when the next one is added
-  int observations_ = 0;
 };
 
 }  // namespace dualgraph

@@ -36,7 +36,6 @@ TemporaryGraph::TemporaryGraph(const LocalizerParams& params, std::shared_ptr<co
 void TemporaryGraph::clear() {
   nodes_.clear();
   records_.clear();
-  anchoring_records_ = 0;
 }
 
 Result<TemporaryGraph::Attachment> TemporaryGraph::attach(double t, const Eigen::Isometry3d& odom_T_body,
@@ -82,7 +81,6 @@ Status TemporaryGraph::addObservation(const GateObservation& observation, const 
   recordNode(*attachment, observation.t, odom_T_body, history);
   attached->node = nodes_.size() - 1;
   records_.push_back(*attached);
-  if (model.anchorsGate()) ++anchoring_records_;
   return Status();
 }
 
@@ -274,7 +272,10 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
                                           const OdometryHistory& history) {
   DistillationResult result;
   if (nodes_.empty()) return result;
-  if (anchoring_records_ == 0) {  // partial gates alone: nothing anchors them
+  const bool anchored = std::any_of(records_.begin(), records_.end(), [](const AttachedObservation& record) {
+    return observationModel(record.kind).anchorsGate();
+  });
+  if (!anchored) {  // partial gates alone: nothing anchors them
     result.partial_unanchored = static_cast<int>(records_.size());
     clear();
     return result;

@@ -126,7 +126,6 @@ class TemporaryGraph {
   std::vector<Node, Eigen::aligned_allocator<Node>> nodes_;
   /// The interval's observations at their nodes, in time order (ObservationModel::attach).
   std::vector<AttachedObservation, Eigen::aligned_allocator<AttachedObservation>> records_;
-  int anchoring_records_ = 0;  ///< of records_, those whose kind anchors its gate
   TemporaryPool problem_;  ///< the vertices and edges of the graph being distilled, reused between keyframes
   BlockLmSolver solver_;    ///< work buffers of the block solver, reused between keyframes
 };
