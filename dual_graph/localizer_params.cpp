@@ -89,6 +89,7 @@ Status validateSpacing(const LocalizerParams& params) {
 Status validateUncertainties(const LocalizerParams& params) {
   DG_RETURN_IF_ERROR(requirePositiveFinite("odom_sigma_t", params.odom_sigma_t));
   DG_RETURN_IF_ERROR(requirePositiveFinite("odom_sigma_r", params.odom_sigma_r));
+  DG_RETURN_IF_ERROR(requirePositiveFinite("odom_sigma_tilt", params.odom_sigma_tilt));
   DG_RETURN_IF_ERROR(requirePositiveFinite("odom_min_distance", params.odom_min_distance));
   DG_RETURN_IF_ERROR(requirePositiveFinite("odom_scale_min", params.odom_scale_min));
   DG_RETURN_IF_ERROR(requirePositiveFinite("odom_scale_max", params.odom_scale_max));

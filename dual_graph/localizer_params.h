@@ -64,7 +64,10 @@ struct LocalizerParams {
   // one (and `use_input_covariance`), otherwise σ·√d per metre travelled, d floored at `odom_min_distance`.
   bool use_input_covariance = true;
   double odom_sigma_t = 0.05;       ///< translation σ per √metre [m/√m]
-  double odom_sigma_r = 0.01;       ///< rotation σ per √metre [rad/√m]
+  double odom_sigma_r = 0.01;       ///< yaw σ per √metre (about the VIO frame's vertical) [rad/√m]
+  /// Roll and pitch σ per √metre (about the VIO frame's horizontal axes) [rad/√m]: a gravity-aligned VIO's tilt
+  /// does not drift as its yaw does.
+  double odom_sigma_tilt = 0.001;
   double odom_min_distance = 0.05;  ///< floor of d, so hovering still has a usable covariance [m]
   /// Dual mode with pose landmarks: the odometry covariance above (whichever it is) scaled by σ factors learnt in
   /// flight from gates seen again, and the distilled gate edges' covariances by range (OdometryNoiseLearner); the

@@ -5,6 +5,7 @@
 
 #include "dualgraph/dual_graph/observation_model.h"
 #include "dualgraph/types/se3_covariance.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 
@@ -41,6 +42,17 @@ GateObservation GateObservation::corners(double t, int gate_id, const GateCorner
   observation.corner_rays = rays;
   observation.body_T_gate = predicted_body_T_gate;
   observation.p_body = predicted_body_T_gate.translation();
+  return observation;
+}
+
+GateObservation inTurnedGateFrame(GateObservation observation, const Eigen::Matrix3d& turn) {
+  Eigen::Isometry3d gate_T_turned = Eigen::Isometry3d::Identity();
+  gate_T_turned.linear() = turn;
+  observation.body_T_gate = observation.body_T_gate * gate_T_turned;
+  const Matrix6d adjoint = se3Adjoint(gate_T_turned.inverse());
+  observation.pose_covariance = adjoint * observation.pose_covariance * adjoint.transpose();
+  GateCornerRays& rays = observation.corner_rays;
+  rays.p_gate.leftCols(rays.count) = turn.transpose() * rays.p_gate.leftCols(rays.count);
   return observation;
 }
 

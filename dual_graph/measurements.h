@@ -54,6 +54,8 @@ struct GateCornerRays {
 /// kPose: `body_T_gate` maps points from the gate frame to the body frame; `pose_covariance` is metric
 /// [t; θ] (m², rad²), a right perturbation in the gate frame (body_T_gate_true = body_T_gate · exp(ε)).
 /// kPosition: `p_body` is the gate centre in body axes [m], `position_covariance` in m², body axes.
+/// A kPose solved from corners may carry them (`corner_rays`, count 4, gate points in its gate frame): the dual
+/// graph's temporary graph then uses the rays (observation_models.h); count 0 otherwise.
 /// kCorners: `corner_rays` are the measurement; `body_T_gate` / `p_body` hold the pose the frontend predicted
 /// when it associated them (not a measurement: used for statistics only). Used by the dual graph with
 /// landmark pose only.
@@ -82,6 +84,11 @@ struct GateObservation {
 
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
+
+/// The same observation in the gate frame turned by `turn` (a rotation about the gate centre: gate_T_turned):
+/// body_T_gate · turn, the right-perturbation covariance Ad(turn⁻¹) Σ Ad(turn⁻¹)ᵀ, the corner rays' gate points
+/// turn⁻¹ · p_gate. How a detection is put on its map gate's side or quarter turn.
+GateObservation inTurnedGateFrame(GateObservation observation, const Eigen::Matrix3d& turn);
 
 /// kInvalidArgument naming the field when `t` or the pose is not finite, the rotation is not
 /// orthonormal (|RᵀR − I| > 1e-6 or det ≤ 0), or the covariance is not finite, symmetric and positive definite.

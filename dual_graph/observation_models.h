@@ -8,7 +8,11 @@ namespace dualgraph {
 
 /// kPose: `body_T_gate` with a 6×6 metric covariance (a right perturbation in the gate frame). Anchors its gate:
 /// an EdgeSE3 node → gate (pose landmarks; the covariance plus Ad(gate_T_body) Σ_c Ad(gate_T_body)ᵀ of the
-/// motion compensation, in g2o units) or, for point landmarks, its centre as an EdgeSE3PointXYZ.
+/// motion compensation, in g2o units) or, for point landmarks, its centre as an EdgeSE3PointXYZ. A pose that
+/// carries the four corner rays it was solved from (`corner_rays.count` 4, in its gate frame) becomes those four
+/// EdgeSE3CornerProjection in the temporary graph instead (pose landmarks; its pose then only the gate's first
+/// estimate): the graph fits the gate to every image's corners at once, so a PnP's per-image bias (a far gate's
+/// range, short by ∝ σ²) is not averaged in. The single-graph baseline and point landmarks use the pose.
 /// Threads: stateless; shared by every thread.
 class PoseObservationModel final : public ObservationModel {
  public:
@@ -62,5 +66,17 @@ class CornerRaysObservationModel final : public ObservationModel {
   Eigen::Vector3d centreInBody(const GateObservation& observation) const override;
   Eigen::Matrix3d centreCovarianceInBody(const GateObservation& observation) const override;
 };
+
+/// The checks of a GateCornerRays (count 2 … 4, finite corners and rays, covariances SPD, a rigid
+/// body_T_camera); kInvalidArgument naming the field after `where`.
+Status validateCornerRays(const GateCornerRays& rays, const std::string& where);
+/// Fills `attached.rays` and `attached.ray_information` from `rays` at the node of `at`: body_T_camera becomes
+/// node_T_camera, and each ray's covariance gains J Σ_c Jᵀ of the motion compensation at the corner that
+/// `body_T_gate` places.
+void attachCornerRays(const GateCornerRays& rays, const Eigen::Isometry3d& body_T_gate, const NodeAttachment& at,
+                      AttachedObservation& attached);
+/// One EdgeSE3CornerProjection per ray of `attached` from pose vertex `node` to gate vertex `gate`.
+Status addCornerRayEdges(const AttachedObservation& attached, TemporaryPool& pool, int node, int gate,
+                         const std::shared_ptr<const RobustKernel>& kernel);
 
 }  // namespace dualgraph

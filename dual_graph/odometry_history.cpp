@@ -13,12 +13,15 @@ Eigen::Isometry3d interpolateOdometry(const OdometrySample& before, const Odomet
   return interpolatePose(before.odom_T_body, after.odom_T_body, (t - before.t) / (after.t - before.t));
 }
 
-Matrix6d odometryModelCovariance(const Eigen::Isometry3d& increment, double sigma_t, double sigma_r,
-                                 double min_distance) {
-  const double d = std::max(translationOf(increment), min_distance);
-  Vector6d variances;
-  variances << Eigen::Vector3d::Constant(sigma_t * sigma_t * d), Eigen::Vector3d::Constant(sigma_r * sigma_r * d);
-  return variances.asDiagonal();
+Matrix6d odometryModelCovariance(const Eigen::Isometry3d& increment, const Eigen::Vector3d& up_in_b,
+                                 const OdometryNoiseModel& model) {
+  const double d = std::max(translationOf(increment), model.min_distance);
+  const Eigen::Matrix3d vertical = up_in_b * up_in_b.transpose();
+  Matrix6d covariance = Matrix6d::Zero();
+  covariance.topLeftCorner<3, 3>() = Eigen::Matrix3d::Identity() * (model.sigma_t * model.sigma_t * d);
+  covariance.bottomRightCorner<3, 3>() = (model.sigma_r * model.sigma_r * d) * vertical +
+                                         (model.sigma_tilt * model.sigma_tilt * d) * (Eigen::Matrix3d::Identity() - vertical);
+  return covariance;
 }
 
 Matrix6d scaledOdometryCovariance(const Matrix6d& base, const OdometryNoiseScale& scale) {
@@ -49,7 +52,8 @@ Result<Matrix6d> OdometryHistory::relativeCovariance(double t_a, double t_b, con
   }
   if (!all_have_covariance) {
     return scaledOdometryCovariance(
-        odometryModelCovariance(pose_a->inverse() * *pose_b, model.sigma_t, model.sigma_r, model.min_distance),
+        odometryModelCovariance(pose_a->inverse() * *pose_b, pose_b->linear().transpose() * Eigen::Vector3d::UnitZ(),
+                                model),
         model.scale);
   }
   // Walk the steps (k-1, k] that overlap (t_a, t_b], composing each step's share of its covariance.

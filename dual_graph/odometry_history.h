@@ -9,10 +9,15 @@
 
 namespace dualgraph {
 
-/// The per-metre odometry model: σ_t·√d and σ_r·√d with d = max(|translation|, min_distance), i.e.
-/// diag(σ_t² d I₃, σ_r² d I₃), metric [t; θ].
-Matrix6d odometryModelCovariance(const Eigen::Isometry3d& increment, double sigma_t, double sigma_r,
-                                 double min_distance);
+struct OdometryNoiseModel;
+
+/// The per-metre odometry model of `increment` = odom_T_a⁻¹ · odom_T_b, with d = max(|translation|,
+/// min_distance): translation σ_t² d I₃; rotation σ_r² d about the odometry frame's vertical (a gravity-aligned
+/// VIO's yaw; `up_in_b` = odom_R_b⁻¹ · z, unit) and σ_tilt² d about the two horizontal axes (its roll and pitch,
+/// which gravity keeps from drifting), i.e. σ_r² d u uᵀ + σ_tilt² d (I − u uᵀ); metric [t; θ], a right perturbation
+/// of the increment (axes of b). The model's `scale` is not applied.
+Matrix6d odometryModelCovariance(const Eigen::Isometry3d& increment, const Eigen::Vector3d& up_in_b,
+                                 const OdometryNoiseModel& model);
 
 /// odom_T_body at `t` between two consecutive samples, along the geodesic (interpolatePose): `before`'s pose
 /// for t ≤ before.t or when both share a stamp, `after`'s for t ≥ after.t. The one odometry interpolation of
@@ -51,7 +56,8 @@ Matrix6d scaledOdometryCovariance(const Matrix6d& base, const OdometryNoiseScale
 struct OdometryNoiseModel {
   bool use_input_covariance = true;
   double sigma_t = 0.05;       ///< [m/√m]
-  double sigma_r = 0.01;       ///< [rad/√m]
+  double sigma_r = 0.01;       ///< yaw, about the odometry frame's vertical [rad/√m]
+  double sigma_tilt = 0.001;   ///< roll and pitch, about its horizontal axes [rad/√m]
   double min_distance = 0.05;  ///< [m]
   OdometryNoiseScale scale;    ///< applied to whichever covariance the above gives
 };

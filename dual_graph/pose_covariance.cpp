@@ -32,7 +32,7 @@ void PoseCovarianceTracker::advance(const OdometrySample& previous, const Odomet
   const Matrix6d step = scaledOdometryCovariance(
       sample.relative_covariance && model.use_input_covariance
           ? *sample.relative_covariance
-          : odometryModelCovariance(increment, model.sigma_t, model.sigma_r, model.min_distance),
+          : odometryModelCovariance(increment, sample.odom_T_body.linear().transpose() * Eigen::Vector3d::UnitZ(), model),
       model.scale);
   covariance_ = composeRelativeCovariance(*covariance_, increment, step);
   t_ = sample.t;

@@ -6,7 +6,14 @@ namespace dualgraph {
 
 Status PoseObservationModel::validate(const GateObservation& observation, const std::string& where) const {
   DG_RETURN_IF_ERROR(checkRigidTransform(observation.body_T_gate, where + "body_T_gate"));
-  return checkCovariance(observation.pose_covariance, where + "pose_covariance");
+  DG_RETURN_IF_ERROR(checkCovariance(observation.pose_covariance, where + "pose_covariance"));
+  if (observation.corner_rays.count == 0) return Status();
+  if (observation.corner_rays.count != 4) {
+    return Status(StatusCode::kInvalidArgument, where + "corner_rays.count " +
+                                                    std::to_string(observation.corner_rays.count) +
+                                                    " on a pose: 0 (none) or 4 (the corners it was solved from)");
+  }
+  return validateCornerRays(observation.corner_rays, where + "corner_rays.");
 }
 
 Status PoseObservationModel::checkUsable(const LocalizerParams&, const std::string&) const { return Status(); }
@@ -27,11 +34,13 @@ Result<AttachedObservation> PoseObservationModel::attach(const GateObservation& 
   if (!information.ok()) return information.status();
   edge.pose_information = *information;
   edge.p_node = edge.node_T_gate.translation();
+  if (observation.corner_rays.count == 4) attachCornerRays(observation.corner_rays, observation.body_T_gate, at, attached);
   return attached;
 }
 
 Status PoseObservationModel::addTemporaryEdges(const AttachedObservation& attached, TemporaryPool& pool, int node,
                                                int gate, const std::shared_ptr<const RobustKernel>& kernel) const {
+  if (attached.rays.count == 4) return addCornerRayEdges(attached, pool, node, gate, kernel);
   return pool.addGateEdge(node, gate, attached.edge, kernel);
 }
 

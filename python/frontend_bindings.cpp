@@ -141,6 +141,10 @@ void bindRun(py::module_& m) {
                     [](SequenceRunParams& p, double v) { p.frontend.upright_prior_sigma_deg = v; },
                     "PnP holds each gate upright (z against gravity from the VIO's attitude) to this sigma per tilt "
                     "[deg]; 0: off")
+      .def_property("full_gate_rays", [](const SequenceRunParams& p) { return p.frontend.full_gate_rays; },
+                    [](SequenceRunParams& p, bool v) { p.frontend.full_gate_rays = v; },
+                    "True: a solved gate's four corners reach the temporary graph as rays, fitted with every other "
+                    "image of the gate; False: its PnP pose (frontend.full_gate_rays)")
       .def_property("partial_gates", [](const SequenceRunParams& p) { return p.frontend.partial_gates; },
                     [](SequenceRunParams& p, bool v) { p.frontend.partial_gates = v; },
                     "use gates partly out of the image (2-3 corners) as corner rays (dual mode, landmark 'pose')")

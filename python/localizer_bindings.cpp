@@ -105,7 +105,9 @@ void bindParams(py::module_& m) {
   DG_FIELD(use_input_covariance, "use the odometry's own relative covariance when every sample of an interval has one; "
                                  "otherwise sigma * sqrt(d) per metre travelled");
   DG_FIELD(odom_sigma_t, "odometry translation sigma per sqrt(metre) travelled [m/sqrt(m)]");
-  DG_FIELD(odom_sigma_r, "odometry rotation sigma per sqrt(metre) travelled [rad/sqrt(m)]");
+  DG_FIELD(odom_sigma_r, "odometry yaw sigma (about the VIO frame's vertical) per sqrt(metre) travelled [rad/sqrt(m)]");
+  DG_FIELD(odom_sigma_tilt, "odometry roll and pitch sigma (about the VIO frame's horizontal axes) per sqrt(metre) "
+                            "travelled [rad/sqrt(m)]");
   DG_FIELD(odom_min_distance, "floor of the distance d in sigma * sqrt(d), so hovering keeps a usable covariance [m]");
   DG_FIELD(learn_odometry_noise, "learn the odometry covariance's sigma factors (and the gate edges' by range) in flight");
   DG_FIELD(odom_scale_min, "lowest learnt sigma factor on the odometry covariance [-]");

@@ -26,11 +26,7 @@ Eigen::Isometry3d halfTurnAboutZ() {
 /// since exp(ε) in the old gate frame is Rz(π)⁻¹ exp(ε) Rz(π) = exp(Ad(Rz(π)⁻¹) ε) in the new one, the
 /// right-perturbation covariance becomes Ad Σ Adᵀ (Ad = diag(R, R) for a pure rotation).
 GateObservation reversedObservation(GateObservation observation) {
-  const Eigen::Isometry3d turn = halfTurnAboutZ();
-  observation.body_T_gate = observation.body_T_gate * turn;
-  const Matrix6d adjoint = se3Adjoint(turn.inverse());
-  observation.pose_covariance = adjoint * observation.pose_covariance * adjoint.transpose();
-  return observation;
+  return inTurnedGateFrame(std::move(observation), halfTurnAboutZ().linear());
 }
 
 /// Whether a detection normal passes against a reference normal, directly or turned by Rz(π).

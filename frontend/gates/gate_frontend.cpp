@@ -25,11 +25,8 @@ void turnToMapGate(GateObservation& observation, const Eigen::Isometry3d& world_
     }
   }
   if (best == 0) return;
-  Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
-  turn.linear() = Eigen::AngleAxisd(best * M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  observation.body_T_gate = observation.body_T_gate * turn;
-  const Matrix6d adjoint = se3Adjoint(turn.inverse());
-  observation.pose_covariance = adjoint * observation.pose_covariance * adjoint.transpose();
+  observation = inTurnedGateFrame(std::move(observation),
+                                  Eigen::AngleAxisd(best * M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix());
 }
 
 }  // namespace
@@ -110,7 +107,13 @@ Result<SolvedDetections> GateFrontend::solveImage(const std::vector<CornerDetect
       ++solved.pnp_rejected_by_reason[static_cast<int>(solution.rejection)];
       continue;
     }
-    solved.poses.push_back(solution.observation(detection.t, detection.gate_id));
+    GateObservation observation = solution.observation(detection.t, detection.gate_id);
+    if (params_.full_gate_rays) {
+      Result<GateCornerRays> rays = solvedCornerRays(pixels, *camera_, pnp.gate_size, pnp.pixel_sigma);
+      if (!rays.ok()) return rays.status();
+      observation.corner_rays = *rays;
+    }
+    solved.poses.push_back(std::move(observation));
   }
   return solved;
 }

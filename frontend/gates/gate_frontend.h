@@ -31,6 +31,11 @@ struct GateFrontendParams {
   /// projection (partial_gate.h, within the association distance) and handed over as corner rays, which the
   /// dual graph's temporary graph turns into corner edges; false (or mapping): counted in partial_skipped.
   bool partial_gates = true;
+  /// true: each solved gate's observation carries its four corners as rays (GateObservation::corner_rays), which
+  /// the dual graph's temporary graph fits instead of the PnP pose (observation_models.h): one fit of the gate to
+  /// every image's corners, not an average of per-image PnP poses each biased short at range; false: the pose
+  /// alone (bench/README.md, "Full gates as corner rays").
+  bool full_gate_rays = true;
   /// > 0: PnP holds each gate upright (its z axis against gravity, the VIO's attitude at the image giving gravity
   /// in the camera; the VIO's frame z up) to this σ on each tilt [deg] (solveGatePnp's UprightGatePrior), where the
   /// caller gives that attitude (the pipeline does); 0 (the default): no such prior. With 2° a far gate's tilt comes

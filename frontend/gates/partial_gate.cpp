@@ -33,6 +33,21 @@ Eigen::Matrix2d rayCovariance(const CameraModel& camera, const Eigen::Vector2d& 
   return pixel_sigma * pixel_sigma * inverse * inverse.transpose();
 }
 
+Result<GateCornerRays> solvedCornerRays(const GateCornerPixels& pixels, const CameraModel& camera, double gate_size,
+                                        double pixel_sigma) {
+  Result<Eigen::Matrix2Xd> normalized = camera.undistortToNormalized(pixels);
+  if (!normalized.ok()) return normalized.status();
+  GateCornerRays rays;
+  rays.count = 4;
+  rays.p_gate = gateCornersInGateFrame(gate_size, GateSide::kFront);
+  rays.normalized = *normalized;
+  for (int k = 0; k < 4; ++k) {
+    rays.covariance[static_cast<size_t>(k)] = rayCovariance(camera, normalized->col(k), pixel_sigma);
+  }
+  rays.body_T_camera = camera.body_T_camera;
+  return rays;
+}
+
 Result<std::optional<PartialGateMatch>> matchPartialGate(const CornerDetection& detection, const CameraModel& camera,
                                                          const GateMap& map, const Eigen::Isometry3d& world_T_body,
                                                          const PartialGateParams& params, std::optional<int> only_gate) {

@@ -23,6 +23,13 @@ std::array<int, 4> cornerLabelOrder(const GateCornerPixels& pixels);
 /// analytic Jacobian). At the image centre ≈ diag(σ/fx, σ/fy)²; towards a fisheye's border several times more.
 Eigen::Matrix2d rayCovariance(const CameraModel& camera, const Eigen::Vector2d& normalized, double pixel_sigma);
 
+/// The four corners `pixels` [px] of a gate a PnP solved as rays (count 4) in the gate frame the PnP used
+/// (gateCornersInGateFrame(gate_size, kFront): column i is pixel i's corner), each with rayCovariance at
+/// `pixel_sigma`, on the camera's mount: what GateObservation::corner_rays carries for a full gate.
+/// Errors of the camera's undistortion.
+Result<GateCornerRays> solvedCornerRays(const GateCornerPixels& pixels, const CameraModel& camera, double gate_size,
+                                        double pixel_sigma);
+
 /// What matching a partial detection needs.
 struct PartialGateParams {
   double gate_size = 1.5;      ///< inner side of the map's gates [m]

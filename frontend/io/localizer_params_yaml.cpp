@@ -55,6 +55,7 @@ constexpr FieldSlot<double> kNumberFields[] = {
     {"d_temp", &LocalizerParams::d_temp}, {"theta_temp", &LocalizerParams::theta_temp},
     {"d_single", &LocalizerParams::d_single}, {"theta_single", &LocalizerParams::theta_single},
     {"odom_sigma_t", &LocalizerParams::odom_sigma_t}, {"odom_sigma_r", &LocalizerParams::odom_sigma_r},
+    {"odom_sigma_tilt", &LocalizerParams::odom_sigma_tilt},
     {"odom_min_distance", &LocalizerParams::odom_min_distance},
     {"odom_scale_min", &LocalizerParams::odom_scale_min}, {"odom_scale_max", &LocalizerParams::odom_scale_max},
     {"map_sigma_t", &LocalizerParams::map_sigma_t}, {"map_sigma_r", &LocalizerParams::map_sigma_r},

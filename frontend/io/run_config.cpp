@@ -65,6 +65,8 @@ const FrontendField kFrontendFields[] = {
      [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.frontend.adaptive_pixel_sigma); }},
     {"partial_gates",
      [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.frontend.partial_gates); }},
+    {"full_gate_rays",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.frontend.full_gate_rays); }},
     {"upright_prior_sigma_deg",
      [](Text s, Text f, Node v, SequenceRunParams& p) {
        const Status read = readNumber(s, f, v, p.frontend.upright_prior_sigma_deg);

@@ -45,10 +45,13 @@ Result<std::unique_ptr<PipelineCore>> PipelineCore::create(const SequenceRunPara
   if (!known_map.ok()) return known_map.status();
   GateFrontendParams frontend_params = params.frontend;
   frontend_params.mapping = params.localizer.mapping;
-  // Corner rays are used by the dual graph's temporary graph with SE(3) gates only; elsewhere they are counted.
+  // Corner rays are used by the dual graph's temporary graph with SE(3) gates only; elsewhere partial gates are
+  // counted and full gates go as PnP poses (mapping too: its new gates are placed from poses).
   if (params.localizer.mode != LocalizerMode::kDual || params.localizer.landmark != LandmarkModel::kPose) {
     frontend_params.partial_gates = false;
+    frontend_params.full_gate_rays = false;
   }
+  if (params.localizer.mapping) frontend_params.full_gate_rays = false;
   const double time_offset = params.time_offset ? *params.time_offset : (camera ? camera->time_offset : 0.0);
   auto frontend = GateFrontend::create(frontend_params, map, std::move(camera));
   if (!frontend.ok()) return frontend.status();

@@ -55,7 +55,9 @@ OdometryNoiseLearner::Factors learn(const Flight& flight, uint32_t seed) {
       learner.addKeyframe(vio, std::nullopt);
     } else {
       const Eigen::Isometry3d increment = previous_true.inverse() * world_T_body;
-      const Matrix6d base = odometryModelCovariance(increment, 0.05, 0.01, 0.05);
+      OdometryNoiseModel isotropic;  // 0.05 m and 0.01 rad per √m on every axis
+      isotropic.sigma_tilt = isotropic.sigma_r;
+      const Matrix6d base = odometryModelCovariance(increment, Eigen::Vector3d::UnitZ(), isotropic);
       const double f2 = flight.odometry_factor * flight.odometry_factor;
       vio = vio * increment * se3Exp(gaussian(rng, f2 * base));
       learner.addKeyframe(vio, base);

@@ -24,6 +24,7 @@ inline void expectSameLocalizerParams(const LocalizerParams& a, const LocalizerP
   EXPECT_EQ(a.use_input_covariance, b.use_input_covariance);
   EXPECT_EQ(a.odom_sigma_t, b.odom_sigma_t);
   EXPECT_EQ(a.odom_sigma_r, b.odom_sigma_r);
+  EXPECT_EQ(a.odom_sigma_tilt, b.odom_sigma_tilt);
   EXPECT_EQ(a.odom_min_distance, b.odom_min_distance);
   EXPECT_EQ(a.learn_odometry_noise, b.learn_odometry_noise);
   EXPECT_EQ(a.odom_scale_min, b.odom_scale_min);

@@ -22,7 +22,7 @@ const char* const kSource = "cfg.yaml";
 /// Every field name of LocalizerParams (the YAML keys).
 const std::vector<std::string> kFieldNames = {
     "mode", "landmark", "mapping", "d_main", "theta_main", "keyframe_max_interval_s", "d_temp", "theta_temp", "d_single", "theta_single",
-    "single_all_detections", "use_input_covariance", "odom_sigma_t", "odom_sigma_r", "odom_min_distance", "learn_odometry_noise", "odom_scale_min", "odom_scale_max", "map_sigma_t", "map_sigma_r",
+    "single_all_detections", "use_input_covariance", "odom_sigma_t", "odom_sigma_r", "odom_sigma_tilt", "odom_min_distance", "learn_odometry_noise", "odom_scale_min", "odom_scale_max", "map_sigma_t", "map_sigma_r",
     "fix_map_gates", "initial_world_T_odom", "initial_sigma_t", "initial_sigma_r", "main_max_iterations",
     "main_time_budget_ms", "main_relative_decrease_stop", "main_window", "temp_max_iterations", "temp_relative_decrease_stop", "temp_model_decrease_stop", "linear_solver", "lm_damping", "temp_solver", "robust_kernel", "distilled_floor_range", "distilled_floor_lateral", "distilled_floor_rotation", "chi2_gate_pose",
     "chi2_gate_point", "lost_after_s", "lost_min_failures", "detection_latency"};
@@ -42,6 +42,7 @@ single_all_detections: false
 use_input_covariance: false
 odom_sigma_t: 0.07
 odom_sigma_r: 0.02
+odom_sigma_tilt: 0.003
 odom_min_distance: 0.1
 learn_odometry_noise: true
 odom_scale_min: 0.1
@@ -78,7 +79,7 @@ LocalizerParams allOverriddenExpected() {
   p.mode = LocalizerMode::kSingle, p.landmark = LandmarkModel::kPoint, p.mapping = true;
   p.d_main = 3.5, p.theta_main = 0.25, p.keyframe_max_interval_s = 2.5, p.d_temp = 0.2, p.theta_temp = 0.05, p.d_single = 1.5, p.theta_single = 0.75;
   p.single_all_detections = false;
-  p.use_input_covariance = false, p.odom_sigma_t = 0.07, p.odom_sigma_r = 0.02, p.odom_min_distance = 0.1;
+  p.use_input_covariance = false, p.odom_sigma_t = 0.07, p.odom_sigma_r = 0.02, p.odom_sigma_tilt = 0.003, p.odom_min_distance = 0.1;
   p.learn_odometry_noise = true, p.odom_scale_min = 0.1, p.odom_scale_max = 2.5;
   p.map_sigma_t = 0.3, p.map_sigma_r = 0.04, p.fix_map_gates = true;
   p.initial_world_T_odom.linear() = quatFromXyzw(0, 0, std::sqrt(0.5), std::sqrt(0.5)).toRotationMatrix();
@@ -257,6 +258,7 @@ TEST(LocalizerParamsValidation, EachOutOfDomainFieldIsNamed) {
       {"theta_single", [](LocalizerParams& p) { p.theta_single = -1.0; }},
       {"odom_sigma_t", [](LocalizerParams& p) { p.odom_sigma_t = 0.0; }},
       {"odom_sigma_r", [](LocalizerParams& p) { p.odom_sigma_r = -0.01; }},
+      {"odom_sigma_tilt", [](LocalizerParams& p) { p.odom_sigma_tilt = 0.0; }},
       {"odom_min_distance", [](LocalizerParams& p) { p.odom_min_distance = 0.0; }},
       {"odom_scale_min", [](LocalizerParams& p) { p.odom_scale_min = 0.0; }},
       {"odom_scale_max", [](LocalizerParams& p) { p.odom_scale_max = std::nan(""); }},

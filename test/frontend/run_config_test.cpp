@@ -44,6 +44,7 @@ TEST(RunConfig, BundledDefaultYamlIsExactlyTheDefaults) {
   expectSameAssociation(loaded->frontend.association, AssociationParams{});
   EXPECT_EQ(loaded->frontend.trust_ids, defaults.frontend.trust_ids);
   EXPECT_EQ(loaded->frontend.partial_gates, defaults.frontend.partial_gates);
+  EXPECT_EQ(loaded->frontend.full_gate_rays, defaults.frontend.full_gate_rays);
   EXPECT_EQ(loaded->frontend.upright_prior_sigma_deg, defaults.frontend.upright_prior_sigma_deg);
   EXPECT_EQ(loaded->frontend.mapping, defaults.frontend.mapping);
   EXPECT_EQ(loaded->pose_detection_sigma_t, defaults.pose_detection_sigma_t);
@@ -85,6 +86,7 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
       "  max_refinement_iterations: 7\n"
       "  pnp_covariance: tilt_posterior\n"
       "  upright_prior_sigma_deg: 3.5\n"
+      "  full_gate_rays: false\n"
       "  max_association_distance: 1.25\n"
       "  max_normal_angle: 0.9\n"
       "  allow_reversed: false\n"
@@ -111,6 +113,7 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
   EXPECT_EQ(f.pnp.max_refinement_iterations, 7);
   EXPECT_EQ(f.pnp.covariance_model, PnpCovarianceModel::kTiltPosterior);
   EXPECT_EQ(f.upright_prior_sigma_deg, 3.5);
+  EXPECT_FALSE(f.full_gate_rays);
   EXPECT_EQ(f.pnp.gate_size, GatePnpParams{}.gate_size);  // from the map, not the config
   EXPECT_EQ(f.association.max_distance, 1.25);
   EXPECT_EQ(f.association.max_normal_angle, 0.9);
