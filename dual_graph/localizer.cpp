@@ -250,6 +250,7 @@ void Localizer::optimizeAndRecord(KeyframeStats& row, double start_ms) {
   stats_.push_back(row);
   if (!params_.mapping) {
     monitor_.addUpdate(row.t, row.gate_edges_added, row.observations_rejected);
+    if (row.gate_edges_added > 0) frame_confirmed_ = true;
     counters_.losses = monitor_.losses();
     counters_.recoveries = monitor_.recoveries();
   }
@@ -306,6 +307,7 @@ Result<double> Localizer::relocalize(const Eigen::Isometry3d& world_T_odom, doub
   if (history_.empty()) return Status(StatusCode::kFailedPrecondition, "relocalize: no odometry yet");
   DG_RETURN_IF_ERROR(checkRigidTransform(world_T_odom, "relocalize: world_T_odom"));
   if (monitor_.state() == TrackingState::kLost) ++counters_.relocalizations;
+  frame_confirmed_ = false;
   return startGraph(world_T_odom, since, sigma_t, sigma_r);
 }
 

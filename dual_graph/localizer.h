@@ -158,6 +158,10 @@ class Localizer {
   /// Counted as a recovery. No-op unless lost; kFailedPrecondition before any odometry.
   Status resumeWithNewGraph(double sigma_t, double sigma_r);
   TrackingState trackingState() const { return monitor_.state(); }
+  /// Whether a gate edge entered the main graph since the frame in use was set (given at `create`, or found and
+  /// handed to `relocalize`): false for a frame no gate has confirmed yet, which a loss then says nothing good
+  /// of (a given initial_world_T_odom the detections contradict).
+  bool frameConfirmed() const { return frame_confirmed_; }
   /// Asks for a keyframe (a node in single mode) at the first odometry sample that covers every observation given
   /// so far, whatever the VIO moved: after `relocalize` and the search's detections handed over again, the graph
   /// refines the frame the search found at once instead of at the first keyframe the motion makes (the output
@@ -230,6 +234,7 @@ class Localizer {
   std::optional<double> keyframe_due_;
   /// requestKeyframe: a keyframe at the first sample at or after this time [s].
   std::optional<double> keyframe_requested_after_;
+  bool frame_confirmed_ = false;  ///< see frameConfirmed()
   double last_observation_t_ = -std::numeric_limits<double>::infinity();
   std::vector<KeyframeStats> stats_;
   PoseCovarianceTracker pose_covariance_;  ///< CorrectedPose::covariance

@@ -165,7 +165,12 @@ int runRunCommand(const RunOptions& o) {
   if (sequence->odometry.unknown_covariance_rows > 0) {
     warn(std::to_string(sequence->odometry.unknown_covariance_rows) + " rows of " + sequence->vio_path +
          " carry an all- or partly-zero covariance (unknown: a VIO before its filter has one, or a recorder that " +
-         "writes none); the increments at them use localizer.odom_sigma_t / odom_sigma_r");
+         "writes none); the increments at them use localizer.odom_sigma_t / odom_sigma_r / odom_sigma_tilt");
+  }
+  if (run->pipeline_counters.unconfirmed_frame_searches > 0) {
+    warn(std::string(params->auto_initialize ? "the frame found was" : "the given frame (localizer.initial_world_T_odom) was") +
+         " lost before any gate confirmed it (" + std::to_string(run->pipeline_counters.unconfirmed_frame_searches) +
+         " time(s)): the VIO's frame was searched in the whole map, not near that frame");
   }
   if (params->self_calibration_after_s > 0.0 && !self_calibration.applied && sequence->camera) {
     warn("self-calibration not applied (" + self_calibration.why_not + "): the whole run used " + o.sequence +

@@ -153,6 +153,7 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
       .add("relocalizations", m.relocalizations)
       .add("frame_checks", m.frame_checks)
       .add("frames_replaced", m.frames_replaced)
+      .add("unconfirmed_frame_searches", m.unconfirmed_frame_searches)
       .add("keyframes_conditioned", run.localizer_counters.keyframes_conditioned)
       .add("wall_s", run.wall_seconds);
   if (self != nullptr) {

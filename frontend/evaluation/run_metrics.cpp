@@ -92,6 +92,7 @@ void addStateTimes(const SequenceRunResult& run, RunMetrics& m) {
   m.relocalizations = run.localizer_counters.relocalizations;
   m.frame_checks = run.frame_checks;
   m.frames_replaced = run.frame_checks_replaced;
+  m.unconfirmed_frame_searches = run.pipeline_counters.unconfirmed_frame_searches;
 }
 
 /// Mean and population std of `corrections` as lap `lap` (0: the whole flight), by evo's statistics.

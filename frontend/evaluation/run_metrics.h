@@ -59,6 +59,9 @@ struct RunMetrics {
   int recoveries = 0;                ///< lost turned tracking again without a new frame
   int relocalizations = 0;           ///< a new frame found while lost, or replacing a wrong one (frames_replaced)
   int frame_checks = 0;              ///< checks of the frame in use while tracking (failures beside used gates)
+  /// Relocalisations searched over the whole map because the frame lost was never confirmed by a gate (a given
+  /// frame the detections contradicted): PipelineCounters::unconfirmed_frame_searches.
+  int unconfirmed_frame_searches = 0;
   int frames_replaced = 0;           ///< of them, the frame found clearly better: counted as a loss and a relocalisation
   /// The last sample's state (initialising for a run without samples).
   TrackingState final_state = TrackingState::kInitialising;

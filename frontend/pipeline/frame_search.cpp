@@ -35,6 +35,12 @@ void FrameSearch::startRelocalization(double t, const Eigen::Isometry3d& world_T
   checking_ = false;
 }
 
+void FrameSearch::startRelocalizationAnywhere(double, const Eigen::Isometry3d& odom_T_body) {
+  start(params_.initialization, odom_T_body, -1.0);  // the whole map already: nothing to widen after global_after_s
+  initial_ = false;
+  checking_ = false;
+}
+
 void FrameSearch::startCheck(double t, const Eigen::Isometry3d& world_T_body, const Eigen::Isometry3d& odom_T_body) {
   startRelocalization(t, world_T_body, odom_T_body);
   checking_ = true;
@@ -150,6 +156,7 @@ double FrameSearch::foundSigmaT(const FrameInitialization& found) const {
 
 void FrameSearch::start(const FrameInitializerParams& search, const Eigen::Isometry3d& odom_T_body, double t) {
   initializer_.emplace(search, map_);
+  has_start_pose_ = search.start_world_T_body.has_value();
   initializer_->setStartOdometry(odom_T_body);
   started_t_ = t;
 }

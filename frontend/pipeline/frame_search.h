@@ -51,10 +51,15 @@ class FrameSearch {
   };
 
   bool active() const { return initializer_.has_value(); }
+  /// A search is running over the whole map (no start pose to search near).
+  bool searchingAnywhere() const { return initializer_.has_value() && !has_start_pose_; }
   /// The first search, from the first odometry sample.
   void startInitial(const Eigen::Isometry3d& first_odom_T_body);
   /// A relocalisation search at t [s] from where the estimate puts the body.
   void startRelocalization(double t, const Eigen::Isometry3d& world_T_body, const Eigen::Isometry3d& odom_T_body);
+  /// A relocalisation search at t [s] anywhere in the map (as the first search, without its start pose): the
+  /// estimate is no guide (its frame was never confirmed by a gate).
+  void startRelocalizationAnywhere(double t, const Eigen::Isometry3d& odom_T_body);
   /// A check of the frame in use (tracking but suspicious): a relocalisation's search that replaces the frame only
   /// by a clearly better one.
   void startCheck(double t, const Eigen::Isometry3d& world_T_body, const Eigen::Isometry3d& odom_T_body);
@@ -94,6 +99,7 @@ class FrameSearch {
   bool checking_ = false;         ///< a check of the frame in use while tracking, not a relocalisation
   bool initial_started_ = false;  ///< the run looks for the frame (auto_initialize): it reports how that went
   std::optional<Eigen::Isometry3d> first_odom_T_body_;  ///< where the first search began
+  bool has_start_pose_ = false;   ///< the running search looks near a start pose (else the whole map)
   double started_t_ = -1.0;       ///< a relocalisation search's start [s]; −1: global already
   size_t placed_ = 0;
   std::optional<FrameInitialization> initialization_;

@@ -91,6 +91,9 @@ struct PipelineCounters {
   std::string last_error;
   int frame_checks = 0;                ///< checks of the frame in use started while tracking
   int frame_checks_replaced = 0;       ///< of them: a clearly better frame found, relocalised
+  /// Relocalisation searches over the whole map because the frame lost was never confirmed by a gate edge (a given
+  /// initial_world_T_odom the detections contradicted, or a found frame lost before its first edge).
+  int unconfirmed_frame_searches = 0;
   int covariance_clamped = 0;          ///< eigenvalues RelativeCovarianceStream raised to its floor
   int covariance_shrinks = 0;          ///< samples whose absolute covariance really shrank (RelativeCovarianceStream)
 };

@@ -136,10 +136,13 @@ TEST(LocalizerTracking, InitialisingUsesNoObservationUntilRelocalizedThenTracks)
 TEST(LocalizerTracking, RelocalizeKeepsTheKeyframesSoFarAndCountsWhatItDrops) {
   const SyntheticRace race = makeSyntheticRace({});
   std::unique_ptr<Localizer> localizer = makeLocalizer(LocalizerParams{}, race.map);
+  EXPECT_FALSE(localizer->frameConfirmed());  // given, no gate edge yet
   const RunOutput half = runRace(*localizer, race);  // the whole race, tracking from the given frame
+  EXPECT_TRUE(localizer->frameConfirmed());
   const size_t before = localizer->keyframeTrajectory().size();
   ASSERT_GT(before, 2u);
   ASSERT_TRUE(localizer->relocalize(Eigen::Isometry3d::Identity()).ok());
+  EXPECT_FALSE(localizer->frameConfirmed());  // a new frame: no gate edge in it yet
   EXPECT_EQ(localizer->keyframeTrajectory().size(), before + 1);  // the old ones, then the new first keyframe
   EXPECT_EQ(localizer->trackingState(), TrackingState::kTracking);
   Eigen::Isometry3d sheared = Eigen::Isometry3d::Identity();
