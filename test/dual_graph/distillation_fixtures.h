@@ -3,15 +3,20 @@
 // dense oracle (Schur complement of an independently assembled H).
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <Eigen/Dense>
 #include <map>
 #include <random>
 #include <vector>
 
+#include "dualgraph/dual_graph/edge_factories.h"
 #include "dualgraph/dual_graph/odometry_history.h"
 #include "dualgraph/dual_graph/localizer_params.h"
 #include "dualgraph/core/graph.h"
+#include "dualgraph/types/edge_se3_corner_projection.h"
 #include "dualgraph/types/se3_math.h"
+#include "dualgraph/types/vertex_se3.h"
 
 namespace dualgraph::testing {
 
@@ -103,6 +108,59 @@ inline Eigen::MatrixXd denseMarginalInformation(Graph& graph, int target) {
     for (size_t i = 0; i < others.size(); ++i) Hoo(i, j) = H(others[i], others[j]);
   }
   return Htt - Hto * Hoo.ldlt().solve(Hto.transpose());
+}
+
+/// Poses t = 0..4 flying about 1 m a step along x in a gentle turn (the keyframe at 4), each step with a random
+/// covariance, towards a gate 9 m ahead turned 0.1 rad in yaw.
+struct GateApproach {
+  std::vector<Eigen::Isometry3d> poses;
+  std::vector<Matrix6d> steps;
+  Eigen::Isometry3d gate = Eigen::Isometry3d::Identity();
+  GateApproach() {
+    for (int k = 0; k < 5; ++k) {
+      Vector6d step;
+      step << 1.0, 0.05 * k, 0.02, 0.01, -0.02, 0.03;
+      poses.push_back(k == 0 ? Eigen::Isometry3d::Identity() : poses.back() * se3Exp(step));
+      steps.push_back(randomCovariance<6>(0.001));
+    }
+    gate.translation() << 9.0, 0.3, 0.2;
+    gate.linear() = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  }
+};
+
+/// The oracle's odometry chain by hand: keyframe 100 fixed at poses[4], nodes 201..203 at poses[1..3], each node
+/// linked to the next (203 to 100) by the relative pose with the information of its step's covariance steps[t + 1].
+inline void addOracleChain(Graph& graph, const std::vector<Eigen::Isometry3d>& poses, const std::vector<Matrix6d>& steps) {
+  auto pose_vertex = [&](int id, const Eigen::Isometry3d& pose, bool fixed) {
+    auto v = std::make_unique<VertexSE3>(id);
+    v->setEstimate(pose);
+    v->setFixed(fixed);
+    EXPECT_TRUE(graph.addVertex(std::move(v)).ok());
+  };
+  pose_vertex(100, poses[4], true);
+  for (size_t t = 1; t <= 3; ++t) pose_vertex(200 + static_cast<int>(t), poses[t], false);
+  for (size_t t = 1; t <= 3; ++t) {
+    const int from = 200 + static_cast<int>(t);
+    const int to = t == 3 ? 100 : from + 1;
+    const Matrix6d information = informationMetricToG2o(steps[t + 1].inverse());
+    EXPECT_TRUE(addRelativePoseEdge(graph, from, to, poses[t].inverse() * poses[t + 1], information).ok());
+  }
+}
+
+/// One EdgeSE3CornerProjection per ray of `rays` from pose vertex `node` to gate vertex `gate`, on the camera
+/// `node_T_camera`, information 1/σ² per normalised coordinate.
+inline void addOracleCornerEdges(Graph& graph, int node, int gate, const GateCornerRays& rays,
+                                 const Eigen::Isometry3d& node_T_camera, double sigma) {
+  for (int k = 0; k < rays.count; ++k) {
+    auto edge = std::make_unique<EdgeSE3CornerProjection>();
+    EXPECT_TRUE(edge->setVertex(0, graph.vertex(node)).ok());
+    EXPECT_TRUE(edge->setVertex(1, graph.vertex(gate)).ok());
+    edge->setCamera(0, node_T_camera);
+    edge->setPoint(rays.p_gate.col(k));
+    edge->setMeasurement(rays.normalized.col(k));
+    edge->setInformation(Eigen::Matrix2d::Identity() / (sigma * sigma));
+    EXPECT_TRUE(graph.addEdge(std::move(edge)).ok());
+  }
 }
 
 }  // namespace dualgraph::testing

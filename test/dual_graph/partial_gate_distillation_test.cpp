@@ -33,23 +33,9 @@ Eigen::Matrix<double, 3, 4> gateCorners() {
 }
 
 /// Poses t = 0..4 flying along x towards a gate 9 m ahead (keyframe at 4), a second gate off to the side.
-struct PartialScenario {
-  std::vector<Eigen::Isometry3d> poses;
-  std::vector<Matrix6d> steps;
-  Eigen::Isometry3d gate = Eigen::Isometry3d::Identity();
+struct PartialScenario : GateApproach {
   Matrix6d pose_covariance = randomCovariance<6>(0.01);
   double ray_sigma = 3.0 / 400.0;  // 3 px at f = 400 px
-
-  PartialScenario() {
-    for (int k = 0; k < 5; ++k) {
-      Vector6d step;
-      step << 1.0, 0.05 * k, 0.02, 0.01, -0.02, 0.03;
-      poses.push_back(k == 0 ? Eigen::Isometry3d::Identity() : poses.back() * se3Exp(step));
-      steps.push_back(randomCovariance<6>(0.001));
-    }
-    gate.translation() << 9.0, 0.3, 0.2;
-    gate.linear() = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  }
   GateObservation poseAt(int t) const {
     return GateObservation::pose(t, 0, poses[static_cast<size_t>(t)].inverse() * gate, pose_covariance);
   }
@@ -73,36 +59,15 @@ struct PartialScenario {
 /// the corner rays at t = 2, 3 (corners 0 and 1, then 0, 1 and 3).
 Eigen::MatrixXd oracleInformation(const PartialScenario& s) {
   Graph graph;
-  auto pose_vertex = [&](int id, const Eigen::Isometry3d& pose, bool fixed) {
-    auto v = std::make_unique<VertexSE3>(id);
-    v->setEstimate(pose);
-    v->setFixed(fixed);
-    EXPECT_TRUE(graph.addVertex(std::move(v)).ok());
-  };
-  pose_vertex(100, s.poses[4], true);
-  for (int t = 1; t <= 3; ++t) pose_vertex(200 + t, s.poses[static_cast<size_t>(t)], false);
-  for (int t = 1; t <= 3; ++t) {
-    const int to = t == 3 ? 100 : 201 + t;
-    const Matrix6d information = informationMetricToG2o(s.steps[static_cast<size_t>(t + 1)].inverse());
-    EXPECT_TRUE(addRelativePoseEdge(graph, 200 + t, to, s.poses[static_cast<size_t>(t)].inverse() * s.poses[static_cast<size_t>(t + 1)], information).ok());
-  }
+  addOracleChain(graph, s.poses, s.steps);
   EXPECT_TRUE(addGateVertex(graph, 300, LandmarkModel::kPose, s.gate).ok());
   Result<GateEdgeMeasurement> m = attachObservationToNode(s.poseAt(1), Eigen::Isometry3d::Identity(), nullptr, LandmarkModel::kPose);
   EXPECT_TRUE(m.ok());
   EXPECT_TRUE(addGateEdge(graph, 201, 300, *m, nullptr).ok());
   const std::vector<std::vector<int>> seen = {{0, 1}, {0, 1, 3}};
   for (int t = 2; t <= 3; ++t) {
-    const GateObservation rays = s.raysAt(t, seen[static_cast<size_t>(t - 2)]);
-    for (int k = 0; k < rays.corner_rays.count; ++k) {
-      auto edge = std::make_unique<EdgeSE3CornerProjection>();
-      EXPECT_TRUE(edge->setVertex(0, graph.vertex(200 + t)).ok());
-      EXPECT_TRUE(edge->setVertex(1, graph.vertex(300)).ok());
-      edge->setCamera(0, forwardCamera());
-      edge->setPoint(rays.corner_rays.p_gate.col(k));
-      edge->setMeasurement(rays.corner_rays.normalized.col(k));
-      edge->setInformation(Eigen::Matrix2d::Identity() / (s.ray_sigma * s.ray_sigma));
-      EXPECT_TRUE(graph.addEdge(std::move(edge)).ok());
-    }
+    addOracleCornerEdges(graph, 200 + t, 300, s.raysAt(t, seen[static_cast<size_t>(t - 2)]).corner_rays, forwardCamera(),
+                         s.ray_sigma);
   }
   return denseMarginalInformation(graph, 300);
 }

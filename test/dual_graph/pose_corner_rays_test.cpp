@@ -27,22 +27,8 @@ Eigen::Isometry3d cameraAlongX() {  // looking along the body's x axis
 
 /// Poses t = 0..4 flying towards a 1.5 m gate 9 m ahead (keyframe at 4); pose observations at t = 1..3, each
 /// with its four corners' exact rays, and a pose `range_error` too near (a PnP's short range).
-struct RaysScenario {
-  std::vector<Eigen::Isometry3d> poses;
-  std::vector<Matrix6d> steps;
-  Eigen::Isometry3d gate = Eigen::Isometry3d::Identity();
+struct RaysScenario : GateApproach {
   double ray_sigma = 2.0 / 450.0;  // 2 px at f = 450 px
-
-  RaysScenario() {
-    for (int k = 0; k < 5; ++k) {
-      Vector6d step;
-      step << 1.0, 0.05 * k, 0.02, 0.01, -0.02, 0.03;
-      poses.push_back(k == 0 ? Eigen::Isometry3d::Identity() : poses.back() * se3Exp(step));
-      steps.push_back(randomCovariance<6>(0.001));
-    }
-    gate.translation() << 9.0, 0.3, 0.2;
-    gate.linear() = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  }
   GateObservation at(int t, double range_error) const {
     const Eigen::Isometry3d body_T_gate = poses[static_cast<size_t>(t)].inverse() * gate;
     Eigen::Isometry3d biased = body_T_gate;
@@ -64,33 +50,9 @@ struct RaysScenario {
 /// The oracle by hand: fixed keyframe 100, nodes 201..203 on the odometry, gate 300, twelve corner edges.
 Eigen::MatrixXd raysOracleInformation(const RaysScenario& s) {
   Graph graph;
-  auto pose_vertex = [&](int id, const Eigen::Isometry3d& pose, bool fixed) {
-    auto v = std::make_unique<VertexSE3>(id);
-    v->setEstimate(pose);
-    v->setFixed(fixed);
-    EXPECT_TRUE(graph.addVertex(std::move(v)).ok());
-  };
-  pose_vertex(100, s.poses[4], true);
-  for (int t = 1; t <= 3; ++t) pose_vertex(200 + t, s.poses[static_cast<size_t>(t)], false);
-  for (int t = 1; t <= 3; ++t) {
-    const int to = t == 3 ? 100 : 201 + t;
-    const Matrix6d information = informationMetricToG2o(s.steps[static_cast<size_t>(t + 1)].inverse());
-    EXPECT_TRUE(addRelativePoseEdge(graph, 200 + t, to, s.poses[static_cast<size_t>(t)].inverse() * s.poses[static_cast<size_t>(t + 1)], information).ok());
-  }
+  addOracleChain(graph, s.poses, s.steps);
   EXPECT_TRUE(addGateVertex(graph, 300, LandmarkModel::kPose, s.gate).ok());
-  for (int t = 1; t <= 3; ++t) {
-    const GateCornerRays rays = s.at(t, 0.0).corner_rays;
-    for (int k = 0; k < 4; ++k) {
-      auto edge = std::make_unique<EdgeSE3CornerProjection>();
-      EXPECT_TRUE(edge->setVertex(0, graph.vertex(200 + t)).ok());
-      EXPECT_TRUE(edge->setVertex(1, graph.vertex(300)).ok());
-      edge->setCamera(0, cameraAlongX());
-      edge->setPoint(rays.p_gate.col(k));
-      edge->setMeasurement(rays.normalized.col(k));
-      edge->setInformation(Eigen::Matrix2d::Identity() / (s.ray_sigma * s.ray_sigma));
-      EXPECT_TRUE(graph.addEdge(std::move(edge)).ok());
-    }
-  }
+  for (int t = 1; t <= 3; ++t) addOracleCornerEdges(graph, 200 + t, 300, s.at(t, 0.0).corner_rays, cameraAlongX(), s.ray_sigma);
   return denseMarginalInformation(graph, 300);
 }
 

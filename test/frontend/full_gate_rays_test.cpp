@@ -9,6 +9,7 @@
 #include "dualgraph/frontend/gates/gate_frontend.h"
 #include "dualgraph/frontend/gates/partial_gate.h"
 #include "dualgraph/frontend/io/camera_io.h"
+#include "test/frontend/gate_view_fixtures.h"
 #include "test/testing/shared_data.h"
 
 namespace dualgraph {
@@ -34,13 +35,7 @@ View viewOf(double roll_deg, const Eigen::Matrix3d& map_turn) {
   gate.position = view.world_T_body * Eigen::Vector3d(4.0, 0.3, 1.5);
   gate.yaw = 0.15;
   gate.size = 1.5;
-  const Eigen::Isometry3d camera_T_gate = (view.world_T_body * view.camera.body_T_camera).inverse() * gate.worldTGate();
-  const Eigen::Matrix<double, 3, 4> p_gate = gateCornersInGateFrame(1.5);
-  GateCornerPixels pixels;
-  for (int i = 0; i < 4; ++i) pixels.col(i) = view.camera.project(camera_T_gate * Eigen::Vector3d(p_gate.col(i))).pixel;
-  const std::array<int, 4> order = cornerLabelOrder(pixels);
-  view.detection.t = 2.0;
-  for (size_t i = 0; i < 4; ++i) view.detection.corners[i] = pixels.col(order[i]);
+  view.detection = testing::exactCornerDetection(view.camera, view.world_T_body, gate.worldTGate(), 1.5, 2.0);
   // The map gate turned: roll and pitch of TrackGate are angles too; express the turn through them.
   const Eigen::Matrix3d turned = gate.worldTGate().linear() * map_turn;
   const Eigen::Vector3d ypr = turned.eulerAngles(2, 1, 0);

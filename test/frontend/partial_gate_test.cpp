@@ -12,6 +12,7 @@
 #include "dualgraph/frontend/gates/partial_gate.h"
 #include "dualgraph/frontend/io/camera_io.h"
 #include "dualgraph/frontend/io/detection_io.h"
+#include "test/frontend/gate_view_fixtures.h"
 #include "test/frontend/readers_fixtures.h"
 #include "test/testing/shared_data.h"
 #include "dualgraph/types/se3_math.h"
@@ -50,14 +51,7 @@ PartialView partialView(double roll_deg) {
   view.camera = *camera;
   view.world_T_body = rolled(roll_deg);
   view.map.gates = {gateAt(1, view.world_T_body * Eigen::Vector3d(3.5, 0.4, 1.6), 0.2), gateAt(2, {-8.0, 0.0, 1.0}, 0.0)};
-  const Eigen::Isometry3d camera_T_gate =
-      (view.world_T_body * view.camera.body_T_camera).inverse() * view.map.gates[0].worldTGate();
-  const Eigen::Matrix<double, 3, 4> p_gate = gateCornersInGateFrame(1.5);
-  GateCornerPixels pixels;
-  for (int i = 0; i < 4; ++i) pixels.col(i) = view.camera.project(camera_T_gate * Eigen::Vector3d(p_gate.col(i))).pixel;
-  const std::array<int, 4> order = cornerLabelOrder(pixels);
-  view.detection.t = 2.0;
-  for (size_t i = 0; i < 4; ++i) view.detection.corners[i] = pixels.col(order[i]);
+  view.detection = testing::exactCornerDetection(view.camera, view.world_T_body, view.map.gates[0].worldTGate(), 1.5, 2.0);
   return view;
 }
 
