@@ -143,12 +143,13 @@ struct LocalizerParams {
   /// the line of sight = distilled_floor_range · range, across it = distilled_floor_lateral · range, and
   /// distilled_floor_rotation [rad] per axis. The detections a distilled edge averages share this part of their
   /// error (a far gate's PnP range biased short, its orientation off, a camera mount not yet calibrated), so it
-  /// does not shrink with their number. Defaults 2 %, 1 %, 0.08 rad (4.6°): chosen on the real-VIO flights, the
-  /// field table and the simulator's regimes together (bench/README.md, "Distilled edges: a systematic floor");
-  /// 0 = none.
+  /// does not shrink with their number. Defaults 2 %, 1 %, 0.15 rad (8.6°): chosen on the real-VIO flights, the
+  /// field table and the simulator's regimes together (bench/README.md, "Distilled edges: a systematic floor"; the
+  /// rotation raised from 0.08 rad with full gates as corner rays, whose joint fit is as sure of a far gate's tilt
+  /// as one PnP); 0 = none.
   double distilled_floor_range = 0.02;     ///< [-]
   double distilled_floor_lateral = 0.01;   ///< [-]
-  double distilled_floor_rotation = 0.08;  ///< [rad]
+  double distilled_floor_rotation = 0.15;  ///< [rad]
   /// χ² gate on a distilled (dual) or detection (single) edge against the main graph: the edge is rejected
   /// when eᵀS⁻¹e exceeds the threshold, S = the edge's covariance + the main graph's predicted covariance
   /// of the residual. Defaults: the 99.9 % quantiles of χ² with 6 and 3 degrees of freedom; 0 disables.
