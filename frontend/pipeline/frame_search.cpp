@@ -35,7 +35,7 @@ void FrameSearch::startRelocalization(double t, const Eigen::Isometry3d& world_T
   checking_ = false;
 }
 
-void FrameSearch::startRelocalizationAnywhere(double, const Eigen::Isometry3d& odom_T_body) {
+void FrameSearch::startRelocalizationAnywhere(const Eigen::Isometry3d& odom_T_body) {
   start(params_.initialization, odom_T_body, -1.0);  // the whole map already: nothing to widen after global_after_s
   initial_ = false;
   checking_ = false;

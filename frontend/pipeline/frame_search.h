@@ -57,9 +57,10 @@ class FrameSearch {
   void startInitial(const Eigen::Isometry3d& first_odom_T_body);
   /// A relocalisation search at t [s] from where the estimate puts the body.
   void startRelocalization(double t, const Eigen::Isometry3d& world_T_body, const Eigen::Isometry3d& odom_T_body);
-  /// A relocalisation search at t [s] anywhere in the map (as the first search, without its start pose): the
-  /// estimate is no guide (its frame was never confirmed by a gate).
-  void startRelocalizationAnywhere(double t, const Eigen::Isometry3d& odom_T_body);
+  /// A relocalisation search anywhere in the map (as the first search, without its start pose), placing the
+  /// detections through the odometry from odom_T_body on: the estimate is no guide (its frame was never confirmed
+  /// by a gate), and there is nothing to widen to after relocalization_global_after_s.
+  void startRelocalizationAnywhere(const Eigen::Isometry3d& odom_T_body);
   /// A check of the frame in use (tracking but suspicious): a relocalisation's search that replaces the frame only
   /// by a clearly better one.
   void startCheck(double t, const Eigen::Isometry3d& world_T_body, const Eigen::Isometry3d& odom_T_body);

@@ -338,7 +338,7 @@ Status PipelineCore::handInstant(const DetectionInstant& instant, const Eigen::I
   if (!localizer.frameConfirmed() && !search_->searchingAnywhere()) {
     // Lost in a frame no gate confirmed (a given frame the detections contradict): the estimate is no guide, so
     // the search (a check's, or none yet) goes over the whole map at once.
-    search_->startRelocalizationAnywhere(instant.t, odom_T_body);
+    search_->startRelocalizationAnywhere(odom_T_body);
     ++counters_.unconfirmed_frame_searches;
     report_.search_started = true;
   } else if (!search_->active()) {
