@@ -71,6 +71,7 @@ SequenceRunResult sequenceRunResult(std::vector<CorrectedPose> estimate, Pipelin
   result.initialization = finished.initialization;
   result.camera_switched_at = finished.camera_switched_at;
   result.self_calibration = finished.self_calibration;
+  result.odometry_scale = finished.odometry_scale;
   result.wall_seconds = wall_seconds;
   return result;
 }

@@ -43,6 +43,7 @@ struct SequenceRunResult {
   std::optional<FrameInitialization> initialization;
   /// Self-calibration (SequenceRunParams::self_calibration_after_s): what it did, or why not.
   SelfCalibrationReport self_calibration;
+  OdometryScaleReport odometry_scale;         ///< the VIO's scale, estimated and applied (SequenceRunParams::odometry_scale)
   PipelineCounters pipeline_counters;         ///< the pipeline's refusals by reason (the ints above among them)
   double wall_seconds = 0.0;                  ///< whole run
   /// With params.camera_switch: the odometry sample's time [s] at which the run switched to that camera.

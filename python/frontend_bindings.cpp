@@ -123,6 +123,18 @@ void bindRun(py::module_& m) {
       .def_readwrite("self_calibration_after_s", &SequenceRunParams::self_calibration_after_s,
                      "[s]: after this much of the flight, the camera's clock offset and mount are calibrated on the "
                      "flight so far and the rest of the run uses that camera (0: off; data/config/default.yaml: 15)")
+      .def_property(
+          "estimate_odometry_scale", [](const SequenceRunParams& p) { return p.odometry_scale.enabled; },
+          [](SequenceRunParams& p, bool v) { p.odometry_scale.enabled = v; },
+          "the VIO's translation scale estimated in flight and taken out of the odometry once beyond "
+          "odometry_scale_min_error and 3 sigma (dual_graph/odometry_scale.h)")
+      .def_property(
+          "odometry_scale_min_error", [](const SequenceRunParams& p) { return p.odometry_scale.min_error; },
+          [](SequenceRunParams& p, double v) {
+            if (!(v >= 0.0 && v < p.odometry_scale.max_error)) throw py::value_error("odometry_scale_min_error: must be in [0, 0.5)");
+            p.odometry_scale.min_error = v;
+          },
+          "[-]: a scale error the VIO may have before one is applied")
       .def_property("initialization", [](const SequenceRunParams& p) { return p.auto_initialize ? "auto" : "given"; },
                     [](SequenceRunParams& p, const std::string& v) {
                       if (v != "auto" && v != "given") throw py::value_error("initialization: expected auto or given, got " + v);

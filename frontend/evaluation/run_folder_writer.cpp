@@ -155,6 +155,11 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
       .add("frames_replaced", m.frames_replaced)
       .add("unconfirmed_frame_searches", m.unconfirmed_frame_searches)
       .add("keyframes_conditioned", run.localizer_counters.keyframes_conditioned)
+      .add("odometry_scale_applied", run.odometry_scale.enabled ? (run.odometry_scale.applied ? 1L : 0L) : -1L)
+      .add("odometry_scale_applied_at_s", run.odometry_scale.applied_at_s)
+      .add("odometry_scale", run.odometry_scale.scale)
+      .add("odometry_scale_estimate", run.odometry_scale.estimate)
+      .add("odometry_scale_sigma", run.odometry_scale.sigma)
       .add("wall_s", run.wall_seconds);
   if (self != nullptr) {
     json.add("self_calibration_applied", self->applied ? 1L : (self->attempted ? 0L : -1L))

@@ -141,6 +141,10 @@ const FrontendField kFrontendFields[] = {
      [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.max_detection_lead_s); }},
     {"max_odometry_gap_s",
      [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_gap_s); }},
+    {"estimate_odometry_scale",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.odometry_scale.enabled); }},
+    {"odometry_scale_min_error",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.odometry_scale.min_error); }},
     {"self_calibration_after_s",
      [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.self_calibration_after_s); }},
 };
@@ -174,6 +178,10 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
   if (!(params.self_calibration_after_s >= 0.0)) {
     return fieldError(source, markOf("self_calibration_after_s"), "frontend.self_calibration_after_s",
                       "must be >= 0 [s] (0: off)");
+  }
+  if (!(params.odometry_scale.min_error >= 0.0 && params.odometry_scale.min_error < params.odometry_scale.max_error)) {
+    return fieldError(source, markOf("odometry_scale_min_error"), "frontend.odometry_scale_min_error",
+                      "must be in [0, 0.5) [-]");
   }
   if (!(params.max_odometry_gap_s >= 0.0) || !std::isfinite(params.max_odometry_gap_s)) {
     return fieldError(source, markOf("max_odometry_gap_s"), "frontend.max_odometry_gap_s", "must be >= 0 [s] (0: off)");

@@ -8,6 +8,7 @@
 
 #include "dualgraph/core/status.h"
 #include "dualgraph/dual_graph/localizer_params.h"
+#include "dualgraph/dual_graph/odometry_scale.h"
 #include "dualgraph/frontend/gates/frame_initializer.h"
 #include "dualgraph/frontend/gates/gate_frontend.h"
 #include "dualgraph/types/se3_math.h"
@@ -54,6 +55,9 @@ struct SequenceRunParams {
   /// detections inside it are refused (no pose to place them at), the samples after it are lost until gates fit
   /// again or a search finds the frame (counted, PipelineCounters::odometry_gaps) [s], >= 0.
   double max_odometry_gap_s = 0.5;
+  /// The VIO's translation scale estimated in flight and taken out of the odometry (`frontend.estimate_odometry_scale`,
+  /// `frontend.odometry_scale_min_error`; dual_graph/odometry_scale.h).
+  OdometryScaleParams odometry_scale;
   /// Set in code, not read: the camera the run switches to once the odometry reaches `t` [s] (its model, mount
   /// and time_offset for the detections handed over after that; params.time_offset no longer applies).
   struct CameraSwitch {
@@ -82,6 +86,8 @@ struct SequenceRunParams {
 ///                                      #   [rad], allow_reversed, mapping_min_sightings, mapping_consistency [m]
 ///       pose_detection_sigma_t: 0.1  # SequenceRunParams [m], [rad] (_r)
 ///       time_offset: 0.015           # optional [s]: overrides the camera file's time_offset
+///       estimate_odometry_scale: true  # the VIO's scale estimated in flight (dual_graph/odometry_scale.h);
+///       odometry_scale_min_error: 0.02 #   applied once beyond this and 3 sigma from 1, in [0, 0.5)
 ///       self_calibration_after_s: 15 # [s], >= 0 (0: off): self-calibration (frontend/self_calibration.h)
 ///       relocalization_sigma_t: 2.0  # RelocalizationParams [m]; likewise _sigma_r [rad], _global_after_s [s], _replace_ratio
 ///

@@ -28,7 +28,8 @@ Result<SolvedDetections> solveInstant(GateFrontend& frontend, const DetectionIns
 
 }  // namespace
 
-PipelineCore::PipelineCore(const SequenceRunParams& params, GateMap map) : params_(params), map_(std::move(map)) {}
+PipelineCore::PipelineCore(const SequenceRunParams& params, GateMap map)
+    : params_(params), map_(std::move(map)), odometry_scale_(params.odometry_scale) {}
 
 Result<std::unique_ptr<PipelineCore>> PipelineCore::create(const SequenceRunParams& params, const Track& map,
                                                            std::optional<CameraModel> camera) {
@@ -80,6 +81,7 @@ Result<std::unique_ptr<PipelineCore>> PipelineCore::borrow(Localizer& localizer,
   SequenceRunParams params;
   params.localizer = localizer.params();
   params.auto_initialize = false;
+  params.odometry_scale.enabled = false;  // the Localizer's odometry as its owner feeds it
   std::unique_ptr<PipelineCore> core(new PipelineCore(params, frontend.map()));
   core->localizer_ = &localizer;
   core->frontend_ = &frontend;
@@ -182,8 +184,14 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
     (void)localizer.addOdometry(sample);  // counted there too (LocalizerCounters::odometry_rejected)
     return valid;
   }
+  // From here on the odometry is the rescaled VIO's (odom', OdometryScale): everything downstream uses it.
+  sample.odom_T_body = odometry_scale_.rescaled(input.odom_T_body);
+  if (sample.relative_covariance) sample.relative_covariance = odometry_scale_.rescaled(*sample.relative_covariance);
+  const std::optional<Matrix6d> absolute_covariance =
+      input.absolute_covariance ? std::optional<Matrix6d>(odometry_scale_.rescaled(*input.absolute_covariance))
+                                : std::nullopt;
   if (input.absolute_covariance || !input.relative_covariance) {
-    Result<std::optional<Matrix6d>> relative = covariances_.next(input.odom_T_body, input.absolute_covariance);
+    Result<std::optional<Matrix6d>> relative = covariances_.next(sample.odom_T_body, absolute_covariance);
     if (!relative.ok()) {
       ++counters_.odometry_invalid;
       return Status(relative.status().code(), "odometry sample at t=" + formatTimestamp(input.t) + ": " +
@@ -222,7 +230,7 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
       !params_.localizer.mapping) {
     // Until the frame is found, the estimate is the odometry through the best guess there is: the start pose.
     LocalizerParams guessed = params_.localizer;
-    guessed.initial_world_T_odom = *params_.localizer.initial_world_T_body * input.odom_T_body.inverse();
+    guessed.initial_world_T_odom = *params_.localizer.initial_world_T_body * sample.odom_T_body.inverse();
     auto remade = Localizer::create(guessed, map_, TrackingState::kInitialising);
     if (!remade.ok()) return remade.status();
     owned_localizer_ = std::move(remade).value();
@@ -230,26 +238,44 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
   }
   Result<CorrectedPose> corrected = localizer_->addOdometry(sample);
   if (!corrected.ok()) return corrected.status();
+  odometry_scale_.accept(input.t, input.odom_T_body);
   newest_odometry_t_ = input.t;
   if (self_calibrator_) self_calibrator_->addOdometry(sample);
   if (first) {  // the first accepted sample: the detections at its own instant (earlier ones cannot be placed)
     first_odometry_t_ = input.t;
-    if (search_ && params_.auto_initialize) search_->startInitial(input.odom_T_body);
+    if (search_ && params_.auto_initialize) search_->startInitial(sample.odom_T_body);
     DG_RETURN_IF_ERROR(handUpTo(input.t - latency, nullptr));
     corrected->state = localizer_->trackingState();
   }
   if (gap) {  // the odometry across the gap may have jumped: the frame is confirmed again before it is trusted
-    const Eigen::Isometry3d world_T_body = localizer_->mapTOdom() * input.odom_T_body;
+    const Eigen::Isometry3d world_T_body = localizer_->mapTOdom() * sample.odom_T_body;
     if (localizer_->trackingState() == TrackingState::kTracking) localizer_->distrustFrame();
-    if (search_) search_->restartAfterGap(input.t, world_T_body, input.odom_T_body);
+    if (search_) search_->restartAfterGap(input.t, world_T_body, sample.odom_T_body);
     corrected->state = localizer_->trackingState();
   }
   const std::vector<KeyframeStats>& stats = localizer_->keyframeStats();
+  if (stats.size() > updates_before) updateOdometryScale(input.t);
   report_.updates.assign(stats.begin() + static_cast<long>(std::min(updates_before, stats.size())), stats.end());
   report_.keyframe_failed = localizer_->counters().keyframes_failed > failed_before;
   if (corrected->state != TrackingState::kTracking) corrected->covariance.reset();  // a gap made it lost
   report_.state = corrected->state;
   return PoseUpdate{*corrected, report_};
+}
+
+void PipelineCore::updateOdometryScale(double t) {
+  if (!params_.odometry_scale.enabled || localizer_->trackingState() != TrackingState::kTracking ||
+      !localizer_->frameConfirmed()) {
+    return;
+  }
+  const MainGraph& graph = localizer_->mainGraph();
+  const size_t count = graph.keyframes().size();
+  const size_t used = std::min(count, static_cast<size_t>(params_.odometry_scale.window) + 1);
+  std::vector<OdometryScale::KeyframePair, Eigen::aligned_allocator<OdometryScale::KeyframePair>> keyframes;
+  keyframes.reserve(used);
+  for (size_t k = count - used; k < count; ++k) {
+    keyframes.push_back({graph.keyframes()[k].t, graph.keyframePose(k), graph.keyframes()[k].odom_T_body});
+  }
+  odometry_scale_.update(keyframes, t);
 }
 
 Status PipelineCore::handUpTo(double until, const OdometrySample* next) {

@@ -9,6 +9,7 @@
 #include "dualgraph/core/status.h"
 #include "dualgraph/dual_graph/localizer.h"
 #include "dualgraph/dual_graph/odometry_covariance.h"
+#include "dualgraph/dual_graph/odometry_scale.h"
 #include "dualgraph/frontend/gates/gate_frontend.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/pipeline/frame_search.h"
@@ -63,8 +64,12 @@ class PipelineCore {
   /// The camera-to-odometry clock offset applied to the instants handed over now [s].
   double timeOffset() const { return time_offset_; }
   const SequenceRunParams& params() const { return params_; }
+  /// The VIO's scale as estimated and applied (SequenceRunParams::odometry_scale).
+  const OdometryScale& odometryScale() const { return odometry_scale_; }
 
  private:
+  /// After a main-graph update: the scale estimate from the graph's newest keyframes.
+  void updateOdometryScale(double t);
   PipelineCore(const SequenceRunParams& params, GateMap map);
   /// Hands over the waiting instants with (t − offset) ≤ until; `next`: the sample about to be added.
   Status handUpTo(double until, const OdometrySample* next);
@@ -84,6 +89,7 @@ class PipelineCore {
   GateFrontend* frontend_ = nullptr;
   std::optional<FrameSearch> search_;
   RelativeCovarianceStream covariances_;
+  OdometryScale odometry_scale_;
   std::deque<DetectionInstant> waiting_;  ///< camera clock, arrival (= time) order
   double last_instant_t_ = -std::numeric_limits<double>::infinity();  ///< camera clock
   std::optional<double> first_odometry_t_;

@@ -180,6 +180,7 @@ Result<PipelineResults> StreamingLocalizer::finish() {
   results.initialization = core_->initialization();
   results.camera_switched_at = core_->cameraSwitchedAt();
   results.self_calibration = core_->selfCalibration();
+  results.odometry_scale = core_->odometryScale().report();
   return results;
 }
 

@@ -52,6 +52,7 @@ struct PipelineResults {
   std::optional<FrameInitialization> initialization;  ///< the first frame search's answer (auto_initialize)
   std::optional<double> camera_switched_at;           ///< [s], self-calibration's or a configured camera switch
   SelfCalibrationReport self_calibration;
+  OdometryScaleReport odometry_scale;  ///< the VIO's scale, estimated and applied (SequenceRunParams::odometry_scale)
 };
 
 /// The onboard pipeline (frontend/pipeline/README.md): built from the run configuration, the gate map and the
