@@ -172,6 +172,13 @@ int runRunCommand(const RunOptions& o) {
          " lost before any gate confirmed it (" + std::to_string(run->pipeline_counters.unconfirmed_frame_searches) +
          " time(s)): the VIO's frame was searched in the whole map, not near that frame");
   }
+  if (run->odometry_scale.applied) {
+    char text[200];
+    std::snprintf(text, sizeof(text), "the VIO's translation scale is off: from t=%.2f s its odometry was rescaled, by %.4f "
+                  "at the end (estimate %.4f +- %.4f; frontend.estimate_odometry_scale)", run->odometry_scale.applied_at_s,
+                  run->odometry_scale.scale, run->odometry_scale.estimate, run->odometry_scale.sigma);
+    warn(text);
+  }
   if (params->self_calibration_after_s > 0.0 && !self_calibration.applied && sequence->camera) {
     warn("self-calibration not applied (" + self_calibration.why_not + "): the whole run used " + o.sequence +
          "/camera.yaml as it is");
