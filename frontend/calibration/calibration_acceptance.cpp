@@ -28,6 +28,8 @@ CalibrationAcceptance judgeCalibration(const CameraModel& camera, const CameraCa
   const bool time_significant =
       std::abs(time_change) > std::max(3.0 * whole.time_offset_sigma, params.min_time_offset_change);
   const bool mount_significant = mount_change * kDeg > std::max(3.0 * mount_sigma * kDeg, params.min_mount_change_deg);
+  out.time_offset_significant = time_significant;
+  out.mount_significant = mount_significant;
   if (!time_significant) {
     out.why_not_time_offset = format("the clock offset moved %.1f ms, within max(3 sigma = %.1f ms, %.1f ms)",
                                      1e3 * time_change, 3e3 * whole.time_offset_sigma, 1e3 * params.min_time_offset_change);

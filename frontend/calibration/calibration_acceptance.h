@@ -29,6 +29,9 @@ struct CalibrationAcceptance {
   double half_time_offsets[2] = {0.0, 0.0};   ///< the halves' δ [s] (when both calibrated)
   double half_mount_change_deg[2] = {0.0, 0.0};  ///< the halves' mount corrections [deg]
   bool halves_calibrated = false;
+  /// The whole flight's estimate of each part is beyond 3σ and the floor (checked before the halves).
+  bool time_offset_significant = false;
+  bool mount_significant = false;
 };
 
 /// Judges `whole` (started from `camera`) against the calibrations of its halves (null: a half could not be

@@ -173,6 +173,7 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
         .add("self_calibration_why_not_time_offset", self->why_not_time_offset)
         .add("self_calibration_why_not_mount", self->why_not_mount)
         .add("self_calibration_iterations", static_cast<long>(self->iterations))
+        .add("self_calibration_attempts", static_cast<long>(self->attempts))
         .add("self_calibration_why_not", self->why_not);
   }
   return json;

@@ -156,7 +156,7 @@ Status PipelineCore::addDetections(const DetectionInstant& instant) {
   last_instant_t_ = instant.t;
   if (self_calibrator_) {
     if (!instant.poses.empty()) self_calibrator_->notePoseDetections();
-    self_calibrator_->addCorners(instant.corners);
+    self_calibrator_->addCorners(instant.corners, localizer_->trackingState() == TrackingState::kTracking);
   }
   waiting_.push_back(instant);
   return Status();

@@ -14,6 +14,10 @@ namespace dualgraph {
 /// What a self-calibrating run did (metrics.json `self_calibration_*`).
 struct SelfCalibrationReport {
   bool attempted = false;            ///< the flight lasted past the calibration time and had corners and a camera
+  int attempts = 0;                  ///< calibrations run (SelfCalibrator::kMaxAttempts at most)
+  /// The last attempt found too little to go on (failed, did not converge, or a significant part could not be
+  /// checked on both halves); another follows while attempts remain.
+  bool evidence_missing = false;
   bool applied = false;              ///< the rest of the run used the calibrated camera
   double at_s = 0.0;                 ///< t_c: the flight so far ends there; the camera switched there [s]
   double time_offset_before = 0.0;   ///< the clock offset the run started with [s]

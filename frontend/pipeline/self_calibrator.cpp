@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <utility>
 
 #include "dualgraph/core/stamp_tolerance.h"
@@ -17,8 +18,8 @@ SelfCalibrator::SelfCalibrator(double after_s, double time_offset_before, std::s
   report_.why_not = std::move(why_off);
 }
 
-void SelfCalibrator::addCorners(const std::vector<CornerDetection>& corners) {
-  if (pending_) corners_.insert(corners_.end(), corners.begin(), corners.end());
+void SelfCalibrator::addCorners(const std::vector<CornerDetection>& corners, bool tracking) {
+  if (pending_ && tracking) corners_.insert(corners_.end(), corners.begin(), corners.end());
 }
 
 void SelfCalibrator::addOdometry(const OdometrySample& sample) {
@@ -36,20 +37,43 @@ bool SelfCalibrator::due(double t, bool tracking) const {
 
 std::optional<CameraModel> SelfCalibrator::run(double t, const CameraModel& camera, const Track& track,
                                                const std::vector<CorrectedPose>& keyframes) {
-  pending_ = false;
+  SelfCalibrationReport fresh;
+  fresh.time_offset_before = report_.time_offset_before;
+  report_ = fresh;
   report_.at_s = t;
   report_.attempted = true;
+  report_.attempts = ++attempts_;
+  last_attempt_t_ = t;
+  // The flight so far; kept for a later attempt when this one finds too little to go on.
   std::vector<CornerDetection> corners;
-  corners.swap(corners_);
-  std::vector<OdometrySample> odometry;
-  odometry.swap(odometry_);
-  corners.erase(std::remove_if(corners.begin(), corners.end(), [&](const CornerDetection& d) { return d.t > t; }),
-                corners.end());
+  std::copy_if(corners_.begin(), corners_.end(), std::back_inserter(corners),
+               [&](const CornerDetection& d) { return d.t <= t; });
+  const std::optional<CameraModel> camera_to_use = attempt(camera, track, keyframes, corners);
+  SelfCalibrationReport& self = report_;
+  pending_ = !camera_to_use && self.evidence_missing && attempts_ < kMaxAttempts;
+  if (pending_) {
+    report_.at_s = t + after_s_;  // the next attempt, on a longer flight so far
+    self.why_not += " (attempt " + std::to_string(attempts_) + " of " + std::to_string(kMaxAttempts) +
+                    "; again at t = " + formatTimestamp(report_.at_s) + " s)";
+  } else {
+    corners_.clear();
+    corners_.shrink_to_fit();
+    odometry_.clear();
+    odometry_.shrink_to_fit();
+  }
+  return camera_to_use;
+}
+
+std::optional<CameraModel> SelfCalibrator::attempt(const CameraModel& camera, const Track& track,
+                                                   const std::vector<CorrectedPose>& keyframes,
+                                                   const std::vector<CornerDetection>& corners) {
+  const std::vector<OdometrySample>& odometry = odometry_;
   SelfCalibrationReport& self = report_;
   Result<CameraCalibration> calibrated =
       calibrateCameraOnRun(corners, track, camera, odometry, keyframes, CalibrationParams{}, "the flight so far");
   if (!calibrated.ok()) {
     self.why_not = "the calibration failed: " + calibrated.status().message();
+    self.evidence_missing = true;
     return std::nullopt;
   }
   self.iterations = static_cast<int>(calibrated->iterations.size());
@@ -58,6 +82,7 @@ std::optional<CameraModel> SelfCalibrator::run(double t, const CameraModel& came
   self.mount_change_deg = calibrated->mount_correction.norm() * 180.0 / M_PI;
   if (!calibrated->converged) {
     self.why_not = "the calibration did not converge in " + std::to_string(self.iterations) + " iterations";
+    self.evidence_missing = true;
     return std::nullopt;
   }
   // Each half of the flight so far on its own: a correction is applied only when both halves show it.
@@ -71,6 +96,10 @@ std::optional<CameraModel> SelfCalibrator::run(double t, const CameraModel& came
                                                           h == 0 ? "its first half" : "its second half");
     if (half.ok()) {
       half_calibrations[h] = std::move(half).value();
+      if (!half_calibrations[h]->converged && half_failed.empty()) {
+        half_failed = std::string(h == 0 ? "its first half" : "its second half") + " did not converge in " +
+                      std::to_string(half_calibrations[h]->iterations.size()) + " iterations";
+      }
     } else if (half_failed.empty()) {
       half_failed = half.status().message();
     }
@@ -84,6 +113,9 @@ std::optional<CameraModel> SelfCalibrator::run(double t, const CameraModel& came
   self.why_not_mount = accepted.why_not_mount;
   if (!accepted.time_offset && !accepted.mount) {
     self.why_not = "neither part cleared the bar: " + accepted.why_not_time_offset + "; " + accepted.why_not_mount;
+    // A part that was significant but could not be checked on both halves: the flight so far was too short for it.
+    self.evidence_missing =
+        !accepted.halves_calibrated && (accepted.time_offset_significant || accepted.mount_significant);
     return std::nullopt;
   }
   self.applied = true;
@@ -93,6 +125,11 @@ std::optional<CameraModel> SelfCalibrator::run(double t, const CameraModel& came
 void SelfCalibrator::finish(std::optional<double> newest_t) {
   if (!pending_ || !newest_t) return;
   pending_ = false;
+  if (attempts_ > 0) {  // a later attempt was due: the last one's figures and reasons stand
+    report_.why_not += "; the flight ended before the next attempt";
+    report_.at_s = last_attempt_t_;
+    return;
+  }
   if (corners_.empty() && pose_detections_seen_) {
     report_.why_not = "needs corner detections and a camera (pose detections carry no pixels)";
   } else if (notAfter(report_.at_s, *newest_t)) {

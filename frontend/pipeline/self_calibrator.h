@@ -15,20 +15,27 @@
 namespace dualgraph {
 
 /// The camera's clock offset and mount rotation calibrated on the flight so far, onboard (PipelineCore's). From the
-/// first odometry sample t0 it keeps the corner detections (camera clock) and the odometry; at the first sample at
-/// or after t_c = t0 + after_s at which the localizer is tracking and at least kMinCorners corners are in, it runs
+/// first odometry sample t0 it keeps the odometry and the corner detections (camera clock) that arrive while the
+/// localizer is tracking; at the first sample at or after t_c = t0 + after_s at which it is tracking and at least
+/// kMinCorners such corners are in, it runs
 /// calibrateCameraOnRun on them and on each half apart, and hands back the camera with the parts judgeCalibration
-/// accepts (frontend/calibration/calibration_acceptance.h), or none; the report says what happened. Once only.
+/// accepts (frontend/calibration/calibration_acceptance.h), or none; the report says what happened. Once, unless that
+/// attempt found too little to go on (the calibration failed or did not converge, or a significant part could not
+/// be checked on both halves): then again after_s later on the longer flight so far, kMaxAttempts in all.
 /// Not thread-safe (the pipeline's thread).
 class SelfCalibrator {
  public:
   static constexpr size_t kMinCorners = 200;
+  /// Attempts at most: a later one only when the one before found too little to go on (evidence_missing).
+  static constexpr int kMaxAttempts = 3;
 
   /// `why_off` non-empty: never runs, the report says so. `time_offset_before`: the camera's offset at the start [s].
   SelfCalibrator(double after_s, double time_offset_before, std::string why_off);
 
   bool pending() const { return pending_; }
-  void addCorners(const std::vector<CornerDetection>& corners);
+  /// Corners as they arrive; kept only while `tracking`: before the lock or while lost there is no trajectory
+  /// to match them against (a flight locked late, at 24.5 s, calibrated on its first keyframe alone: 6.3 deg).
+  void addCorners(const std::vector<CornerDetection>& corners, bool tracking);
   void notePoseDetections() { pose_detections_seen_ = true; }
   /// Every accepted odometry sample; the first sets t_c.
   void addOdometry(const OdometrySample& sample);
@@ -43,7 +50,14 @@ class SelfCalibrator {
   const SelfCalibrationReport& report() const { return report_; }
 
  private:
+  /// One calibration of `corners` (the flight so far) into report_; the camera to use, or none.
+  std::optional<CameraModel> attempt(const CameraModel& camera, const Track& track,
+                                     const std::vector<CorrectedPose>& keyframes,
+                                     const std::vector<CornerDetection>& corners);
+
   double after_s_;
+  int attempts_ = 0;
+  double last_attempt_t_ = 0.0;
   bool pending_;
   bool started_ = false;
   bool pose_detections_seen_ = false;

@@ -10,6 +10,7 @@
 
 #include "dualgraph/frontend/self_calibration.h"
 #include "dualgraph/frontend/evaluation/run_metrics.h"
+#include "dualgraph/frontend/pipeline/self_calibrator.h"
 #include "test/frontend/calibration_fixtures.h"
 
 namespace dualgraph {
@@ -161,6 +162,69 @@ TEST(SelfCalibration, AnInvalidCameraSwitchIsRefusedNamingTheField) {
   auto given = parseRunConfig("frontend:\n  self_calibration_after_s: 15\n", "run.yaml");
   ASSERT_TRUE(given.ok());
   EXPECT_EQ(given->self_calibration_after_s, 15.0);
+}
+
+}  // namespace
+}  // namespace dualgraph
+
+namespace dualgraph {
+namespace {
+
+/// A SelfCalibrator fed a flight's odometry and corners (all of them, as arriving while `tracking`), due at 5 s.
+SelfCalibrator fedCalibrator(const Sequence& sequence, bool tracking) {
+  SelfCalibrator calibrator(5.0, 0.0, "");
+  for (const OdometrySample& sample : sequence.odometry.samples) calibrator.addOdometry(sample);
+  calibrator.addCorners(sequence.corners, tracking);
+  return calibrator;
+}
+
+// Corners that arrive before the lock (or while lost) have no trajectory to be matched against: they are not kept,
+// so they neither count towards kMinCorners nor enter the calibration (a flight that locked at 24.5 s calibrated on
+// its first keyframe alone and found 6.3 degrees of mount error, the halves 12 degrees apart).
+TEST(SelfCalibrator, KeepsOnlyTheCornersThatArriveWhileTracking) {
+  const Sequence sequence = caltest::realisticFlight("ratm_ellipse.yaml", 1, 2, 0.015);
+  ASSERT_GT(sequence.corners.size(), SelfCalibrator::kMinCorners);
+  const double late = sequence.odometry.samples.front().t + 6.0;
+  EXPECT_FALSE(fedCalibrator(sequence, false).due(late, true));
+  EXPECT_TRUE(fedCalibrator(sequence, true).due(late, true));
+}
+
+// A calibration that finds too little to go on (here the map is 100 m off, so no corner matches a gate) is tried
+// again after_s later on the longer flight so far, three times in all, each saying so; then the camera is kept.
+TEST(SelfCalibrator, TriesAgainWhenTheFlightSoFarCouldNotCarryIt) {
+  const Sequence sequence = caltest::realisticFlight("ratm_ellipse.yaml", 1, 2, 0.015);
+  Track far = sequence.map;
+  for (TrackGate& gate : far.gates) gate.position.x() += 100.0;
+  SelfCalibrator calibrator = fedCalibrator(sequence, true);
+  const double t0 = sequence.odometry.samples.front().t;
+  for (int attempt = 1; attempt <= SelfCalibrator::kMaxAttempts; ++attempt) {
+    SCOPED_TRACE(::testing::Message() << "attempt " << attempt);
+    const double t = t0 + 5.0 * attempt;
+    ASSERT_TRUE(calibrator.due(t, true));
+    EXPECT_FALSE(calibrator.run(t, caltest::trueCamera(), far, {}).has_value());
+    const SelfCalibrationReport& report = calibrator.report();
+    EXPECT_EQ(report.attempts, attempt);
+    EXPECT_TRUE(report.evidence_missing);
+    EXPECT_FALSE(report.applied);
+    EXPECT_NE(report.why_not.find("the calibration failed"), std::string::npos) << report.why_not;
+    if (attempt < SelfCalibrator::kMaxAttempts) {
+      EXPECT_TRUE(calibrator.pending());
+      EXPECT_EQ(report.at_s, t + 5.0);
+      EXPECT_NE(report.why_not.find("attempt " + std::to_string(attempt) + " of 3"), std::string::npos) << report.why_not;
+      EXPECT_FALSE(calibrator.due(t + 4.9, true));
+    } else {
+      EXPECT_FALSE(calibrator.pending());
+      EXPECT_EQ(report.at_s, t);
+    }
+  }
+  // A retry still due when the flight ends: the last attempt's reasons stand, and the report says it ended first.
+  SelfCalibrator ended = fedCalibrator(sequence, true);
+  ASSERT_FALSE(ended.run(t0 + 5.0, caltest::trueCamera(), far, {}).has_value());
+  ASSERT_TRUE(ended.pending());
+  ended.finish(t0 + 7.0);
+  EXPECT_FALSE(ended.pending());
+  EXPECT_EQ(ended.report().at_s, t0 + 5.0);
+  EXPECT_NE(ended.report().why_not.find("the flight ended before the next attempt"), std::string::npos);
 }
 
 }  // namespace
