@@ -206,6 +206,22 @@ void bindRun(py::module_& m) {
       .def_readonly("wall_seconds", &SequenceRunResult::wall_seconds, "wall time of the run [s]")
       .def_readonly("camera_switched_at", &SequenceRunResult::camera_switched_at,
                     "[s]: when the run switched to the self-calibrated camera (None: it did not)")
+      .def_property_readonly(
+          "odometry_scale",
+          [](const SequenceRunResult& r) {
+            const OdometryScaleReport& s = r.odometry_scale;
+            py::dict out;
+            out["enabled"] = s.enabled;
+            out["applied"] = s.applied;
+            out["applied_at_s"] = s.applied ? py::object(py::float_(s.applied_at_s)) : py::object(py::none());
+            out["scale"] = s.scale;
+            out["estimate"] = s.estimate;
+            out["sigma"] = s.sigma;
+            out["updates"] = s.updates;
+            return out;
+          },
+          "the VIO's translation scale (dual_graph/odometry_scale.h): enabled, applied, applied_at_s [s] (None: never), "
+          "scale (at the end), estimate and sigma (the last estimate), updates [count]; metrics.json odometry_scale_*")
       .def("__repr__", [](const SequenceRunResult& r) {
         char text[64];
         std::snprintf(text, sizeof(text), ", wall_seconds=%.3f)", r.wall_seconds);

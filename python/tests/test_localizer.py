@@ -117,6 +117,23 @@ class SameAsTheCli(unittest.TestCase):
         with self.assertRaises(ValueError):
             config.initialization = "guess"
 
+    def test_the_vio_scale_is_the_configs_and_reported(self):
+        self.assertTrue(dualgraph.RunConfig().estimate_odometry_scale)
+        config = dualgraph.load_run_config(CONFIG)
+        self.assertTrue(config.estimate_odometry_scale)
+        self.assertEqual(config.odometry_scale_min_error, 0.02)
+        with self.assertRaises(ValueError):
+            config.odometry_scale_min_error = 0.7
+        scale = dualgraph.run_sequence(self.sequence, config).odometry_scale
+        self.assertTrue(scale["enabled"])
+        self.assertFalse(scale["applied"])  # the bundled flight's VIO has no scale error to take out
+        self.assertIsNone(scale["applied_at_s"])
+        self.assertEqual(scale["scale"], 1.0)
+        self.assertGreater(scale["updates"], 0)
+        self.assertLess(abs(scale["estimate"] - 1.0), 0.02)
+        config.estimate_odometry_scale = False
+        self.assertFalse(dualgraph.run_sequence(self.sequence, config).odometry_scale["enabled"])
+
     def test_self_calibration_is_the_configs(self):
         self.assertEqual(dualgraph.RunConfig().self_calibration_after_s, 0.0)
         self.assertEqual(dualgraph.load_run_config(CONFIG).self_calibration_after_s, 15.0)
