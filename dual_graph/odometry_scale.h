@@ -47,6 +47,8 @@ struct OdometryScaleReport {
 /// when it was added, the gates towards the true one, so ŝ lies between them; taken as the next scale at every
 /// keyframe it converges to the scale at which gates and odometry agree. Applied only once ŝ is beyond
 /// max(min_error, 3 σ) from 1 (a good VIO is left as it is); then followed, by at most max_change per keyframe.
+/// PipelineCore updates it after each main-graph update while tracking in a frame a gate edge confirmed
+/// (Localizer::frameConfirmed): so not in mapping mode, where no map fixes the scale of anything.
 /// Units: metres, dimensionless scale. Not thread-safe (the pipeline's thread).
 class OdometryScale {
  public:
