@@ -119,9 +119,9 @@ TEST(OdometryScale, AChangeOfScaleBendsNoPastPoseAndLeavesNoJump) {
   std::vector<Eigen::Isometry3d> rescaled;
   fly(scale, vio, 600, nullptr, &rescaled);
   ASSERT_TRUE(scale.applied());
-  // Asked again now, every past raw pose maps to a point on the same path only at and after the last change; what
-  // was handed out before stays as it was handed out (the pipeline never re-reads it), and consecutive samples are
-  // never further apart than the raw VIO's step times the largest scale.
+  // Each change of scale starts from where the rescaled path was (a knot at the last sample): consecutive samples
+  // are never further apart than the raw step times the scales in force (here between 1 and 1 / 1.08), so a change
+  // makes no jump; and the rotation is the VIO's own.
   for (size_t k = 1; k < rescaled.size(); ++k) {
     const double step = (rescaled[k].translation() - rescaled[k - 1].translation()).norm();
     const double raw_step = (vio.at(static_cast<int>(k)).translation() - vio.at(static_cast<int>(k) - 1).translation()).norm();
