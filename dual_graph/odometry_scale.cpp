@@ -7,7 +7,7 @@
 namespace dualgraph {
 
 Eigen::Isometry3d OdometryScale::rescaled(const Eigen::Isometry3d& odom_T_body) const {
-  if (!applied_at_) return odom_T_body;  // the VIO as it is, to the bit
+  if (!report_.applied) return odom_T_body;  // the VIO as it is, to the bit
   const Knot& knot = knots_.back();
   Eigen::Isometry3d rescaled = odom_T_body;
   rescaled.translation() = knot.rescaled + knot.scale * (odom_T_body.translation() - knot.raw);
@@ -20,22 +20,10 @@ void OdometryScale::accept(double t, const Eigen::Isometry3d& odom_T_body) {
   last_t_ = t;
 }
 
-OdometryScaleReport OdometryScale::report() const {
-  OdometryScaleReport report;
-  report.enabled = params_.enabled;
-  report.applied = applied_at_.has_value();
-  if (applied_at_) report.applied_at_s = *applied_at_;
-  report.scale = scale_;
-  report.estimate = last_estimate_;
-  report.sigma = last_sigma_;
-  report.updates = updates_;
-  return report;
-}
-
 Matrix6d OdometryScale::rescaled(const Matrix6d& covariance) const {
   Matrix6d rescaled = covariance;
-  rescaled.topRows<3>() *= scale_;
-  rescaled.leftCols<3>() *= scale_;
+  rescaled.topRows<3>() *= report_.scale;
+  rescaled.leftCols<3>() *= report_.scale;
   return rescaled;
 }
 
@@ -78,20 +66,22 @@ bool OdometryScale::update(const std::vector<KeyframePair, Eigen::aligned_alloca
   }
   const double sigma = std::sqrt(residual / static_cast<double>(n - 1) / squared);
   if (!std::isfinite(estimate) || !std::isfinite(sigma)) return false;
-  ++updates_;
-  last_estimate_ = estimate;
-  last_sigma_ = sigma;
-  if (!applied_at_) {
+  ++report_.updates;
+  report_.estimate = estimate;
+  report_.sigma = sigma;
+  if (!report_.applied) {
     if (std::abs(estimate - 1.0) <= std::max(params_.min_error, 3.0 * sigma)) return false;
-    applied_at_ = t;
+    report_.applied = true;
+    report_.applied_at_s = t;
   }
-  const double step = params_.max_change * scale_;
-  const double next = std::clamp(std::clamp(estimate, scale_ - step, scale_ + step), 1.0 - params_.max_error,
+  const double scale = report_.scale;
+  const double step = params_.max_change * scale;
+  const double next = std::clamp(std::clamp(estimate, scale - step, scale + step), 1.0 - params_.max_error,
                                  1.0 + params_.max_error);
-  if (next == scale_) return false;
+  if (next == scale) return false;
   const Eigen::Vector3d last_rescaled = rescaled(*last_raw_).translation();  // under the scale until now
-  scale_ = next;
-  knots_.push_back({last_t_, last_raw_->translation(), last_rescaled, scale_});
+  report_.scale = next;
+  knots_.push_back({last_t_, last_raw_->translation(), last_rescaled, next});
   return true;
 }
 

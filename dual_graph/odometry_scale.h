@@ -52,7 +52,7 @@ struct OdometryScaleReport {
 /// Units: metres, dimensionless scale. Not thread-safe (the pipeline's thread).
 class OdometryScale {
  public:
-  explicit OdometryScale(const OdometryScaleParams& params) : params_(params) {}
+  explicit OdometryScale(const OdometryScaleParams& params) : params_(params) { report_.enabled = params.enabled; }
 
   /// The VIO pose of a new sample in the rescaled frame (the first sample maps to itself). Changes nothing:
   /// `accept` the sample once it was used, so a refused one leaves no trace.
@@ -72,14 +72,17 @@ class OdometryScale {
   /// Returns true when the applied scale changed.
   bool update(const std::vector<KeyframePair, Eigen::aligned_allocator<KeyframePair>>& keyframes, double t);
 
-  double scale() const { return scale_; }        ///< applied to the VIO's translation now [-]
-  bool applied() const { return applied_at_.has_value(); }
-  std::optional<double> appliedAt() const { return applied_at_; }  ///< first applied at this odometry time [s]
-  double lastEstimate() const { return last_estimate_; }  ///< s · c at the last update [-]
-  double lastSigma() const { return last_sigma_; }        ///< its σ [-]
-  int updates() const { return updates_; }                ///< updates with enough pairs
+  double scale() const { return report_.scale; }  ///< applied to the VIO's translation now [-]
+  bool applied() const { return report_.applied; }
+  /// First applied at this odometry time [s].
+  std::optional<double> appliedAt() const {
+    return report_.applied ? std::optional<double>(report_.applied_at_s) : std::nullopt;
+  }
+  double lastEstimate() const { return report_.estimate; }  ///< ŝ at the last update [-]
+  double lastSigma() const { return report_.sigma; }        ///< its σ [-]
+  int updates() const { return report_.updates; }           ///< updates with enough pairs
   const OdometryScaleParams& params() const { return params_; }
-  OdometryScaleReport report() const;
+  const OdometryScaleReport& report() const { return report_; }
 
  private:
   OdometryScaleParams params_;
@@ -94,14 +97,10 @@ class OdometryScale {
   /// The raw VIO position of an odom' position at time t (a keyframe's), through the knot in force then.
   Eigen::Vector3d rawPosition(double t, const Eigen::Vector3d& rescaled) const;
 
-  double scale_ = 1.0;
+  OdometryScaleReport report_;  ///< the state: the scale applied, when first, the last estimate
   std::optional<Eigen::Isometry3d> last_raw_;
   double last_t_ = 0.0;
   std::deque<Knot, Eigen::aligned_allocator<Knot>> knots_;  ///< time order; the oldest in force at the window's start
-  std::optional<double> applied_at_;
-  double last_estimate_ = 1.0;
-  double last_sigma_ = 0.0;
-  int updates_ = 0;
 };
 
 }  // namespace dualgraph

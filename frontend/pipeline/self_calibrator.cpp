@@ -49,11 +49,10 @@ std::optional<CameraModel> SelfCalibrator::run(double t, const CameraModel& came
   std::copy_if(corners_.begin(), corners_.end(), std::back_inserter(corners),
                [&](const CornerDetection& d) { return d.t <= t; });
   const std::optional<CameraModel> camera_to_use = attempt(camera, track, keyframes, corners);
-  SelfCalibrationReport& self = report_;
-  pending_ = !camera_to_use && self.evidence_missing && attempts_ < kMaxAttempts;
+  pending_ = !camera_to_use && report_.evidence_missing && attempts_ < kMaxAttempts;
   if (pending_) {
     report_.at_s = t + after_s_;  // the next attempt, on a longer flight so far
-    self.why_not += " (attempt " + std::to_string(attempts_) + " of " + std::to_string(kMaxAttempts) +
+    report_.why_not += " (attempt " + std::to_string(attempts_) + " of " + std::to_string(kMaxAttempts) +
                     "; again at t = " + formatTimestamp(report_.at_s) + " s)";
   } else {
     corners_.clear();
