@@ -122,7 +122,7 @@ class SameAsTheCli(unittest.TestCase):
         config = dualgraph.load_run_config(CONFIG)
         self.assertTrue(config.estimate_odometry_scale)
         self.assertEqual(config.odometry_scale_min_error, 0.02)
-        with self.assertRaises(ValueError):
+        with self.assertRaisesRegex(ValueError, r"must be in \[0, 0\.5\)"):  # OdometryScaleParams::max_error
             config.odometry_scale_min_error = 0.7
         scale = dualgraph.run_sequence(self.sequence, config).odometry_scale
         self.assertTrue(scale["enabled"])

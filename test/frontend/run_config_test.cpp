@@ -3,6 +3,7 @@
 // every `frontend:` key is read, and every error names the line and the field.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <string>
 
 #include "dualgraph/frontend/io/run_config.h"
@@ -174,6 +175,9 @@ TEST(RunConfig, ErrorsNameTheLineAndTheField) {
       {"negative replace ratio", "frontend:\n  relocalization_replace_ratio: -0.1\n", 2,
        "frontend.relocalization_replace_ratio"},
       {"zero mapping_min_sightings", "frontend:\n  mapping_min_sightings: 0\n", 2, "frontend.mapping_min_sightings"},
+      {"scale bar at the scale's bound", "frontend:\n  trust_ids: true\n  odometry_scale_min_error: 0.5\n", 3,
+       "frontend.odometry_scale_min_error"},
+      {"negative scale bar", "frontend:\n  odometry_scale_min_error: -0.01\n", 2, "frontend.odometry_scale_min_error"},
       {"frontend a number", "localizer:\n  d_main: 2.0\nfrontend: 3\n", 3, "frontend"},
       {"frontend a list", "frontend:\n  - trust_ids\n", 2, "frontend"},
       {"unknown localizer key", "localizer:\n  d_mian: 2.0\nfrontend:\n  trust_ids: true\n", 2, "d_mian"},
@@ -187,6 +191,18 @@ TEST(RunConfig, ErrorsNameTheLineAndTheField) {
     EXPECT_NE(message.find("field '" + std::string(c.field) + "'"), std::string::npos) << c.name << ": " << message;
     EXPECT_EQ(message.find('\n'), std::string::npos) << c.name << ": " << message;
   }
+}
+
+TEST(RunConfig, TheScaleBarsRangeIsTheScalesOwnBound) {
+  auto parsed = parseRunConfig("frontend:\n  odometry_scale_min_error: 0.7\n", kSource);
+  ASSERT_FALSE(parsed.ok());
+  char bound[32];
+  std::snprintf(bound, sizeof bound, "%g", OdometryScaleParams{}.max_error);
+  EXPECT_NE(parsed.status().message().find(std::string("must be in [0, ") + bound + ")"), std::string::npos)
+      << parsed.status().message();
+  auto kept = parseRunConfig("frontend:\n  odometry_scale_min_error: 0.49\n", kSource);
+  ASSERT_TRUE(kept.ok()) << kept.status().message();
+  EXPECT_EQ(kept->odometry_scale.min_error, 0.49);
 }
 
 TEST(RunConfig, LocalizerRangeErrorsKeepTheirLineBehindAFrontendSection) {
