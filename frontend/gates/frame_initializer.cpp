@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include "dualgraph/core/stamp_tolerance.h"
@@ -41,7 +42,8 @@ const FrameInitialization& FrameInitializer::addSightings(double t, const Eigen:
   for (const GateObservation& observation : observations) {
     if (observation.kind != ObservationKind::kPose) continue;
     const Eigen::Isometry3d odom_T_gate = odom_T_body * observation.body_T_gate;
-    Sighting sighting{t, observation.gate_id, odom_T_gate.translation(), headingOf(odom_T_gate.linear())};
+    Sighting sighting{t, observation.gate_id, odom_T_gate.translation(), headingOf(odom_T_gate.linear()),
+                      observation.centreCovarianceInBody().trace() / 3.0};
     if (world_T_body != nullptr) {
       const Eigen::Isometry3d world_T_gate = *world_T_body * observation.body_T_gate;
       sighting.has_in_use = true;
@@ -255,8 +257,46 @@ void FrameInitializer::search() {
       sum_sq += (state_.world_T_odom * window_[k].p_odom - map_.world_T_gate.at(id).translation()).squaredNorm();
     }
     state_.residual_rms_m = best_pairs.empty() ? 0.0 : std::sqrt(sum_sq / static_cast<double>(best_pairs.size()));
+    setUncertainty(best_pairs);
   }
   state_.why_not = why.str();
+}
+
+void FrameInitializer::setUncertainty(const std::vector<std::pair<size_t, int>>& inlier_pairs) {
+  if (inlier_pairs.empty()) return;
+  // Per gate: the mean of its detections' centres (odometry frame) and of its map centre's residuals.
+  struct GateSum {
+    Eigen::Vector3d odom = Eigen::Vector3d::Zero();
+    int count = 0;
+  };
+  std::map<int, GateSum> gates;
+  double squared = 0.0, pnp_variance = 0.0;
+  for (const auto& [k, id] : inlier_pairs) {
+    const Sighting& s = window_[k];
+    squared += (state_.world_T_odom * s.p_odom - map_.world_T_gate.at(id).translation()).squaredNorm() / 3.0;
+    pnp_variance += std::isfinite(s.centre_variance) ? s.centre_variance : 0.0;
+    gates[id].odom += s.p_odom;
+    ++gates[id].count;
+  }
+  const double n = static_cast<double>(inlier_pairs.size());
+  const double variance = std::max(squared / n, pnp_variance / n);
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (auto& [id, sum] : gates) {
+    sum.odom /= sum.count;
+    centroid += sum.odom;
+  }
+  centroid /= static_cast<double>(gates.size());
+  double spread = 0.0;
+  for (const auto& [id, sum] : gates) spread += (sum.odom - centroid).head<2>().squaredNorm();
+  state_.centroid_odom = centroid;
+  state_.centroid_sigma_m = std::sqrt(variance / static_cast<double>(gates.size()));
+  state_.yaw_sigma_rad = spread > 0.0 ? std::sqrt(variance / spread) : std::numeric_limits<double>::infinity();
+}
+
+double FrameInitialization::positionSigmaAt(const Eigen::Isometry3d& odom_T_body) const {
+  const double lever = (odom_T_body.translation() - centroid_odom).head<2>().norm();
+  const double yaw_term = lever > 0.0 ? yaw_sigma_rad * lever : 0.0;  // an unknown yaw moves nothing at the centroid
+  return std::sqrt(centroid_sigma_m * centroid_sigma_m + yaw_term * yaw_term);
 }
 
 }  // namespace dualgraph

@@ -37,6 +37,16 @@ struct FrameInitialization {
   int runner_up = 0;        ///< inliers of the best distinct hypothesis
   double locked_at = 0.0;   ///< time of the detection that locked it [s]
   double residual_rms_m = 0.0;  ///< when locked: RMS distance of the inliers' gate centres from their map gates [m]
+  /// When locked: the frame's uncertainty from its inliers, each gate counted once (its detections share their
+  /// errors). σ² per axis s² = the inliers' mean squared residual per axis, at least their PnP centre variance;
+  /// the centroid of the gates' centres σ²/G; the yaw s² / Σ_g |h_g − h̄|² (h: a gate centre's horizontal
+  /// position), infinite with one gate.
+  double centroid_sigma_m = 0.0;
+  double yaw_sigma_rad = 0.0;
+  Eigen::Vector3d centroid_odom = Eigen::Vector3d::Zero();  ///< that centroid in the odometry frame [m]
+  /// The position σ per axis [m] this frame puts on a body at `odom_T_body`: the centroid's, and the yaw's times the
+  /// horizontal distance from the centroid.
+  double positionSigmaAt(const Eigen::Isometry3d& odom_T_body) const;
   std::string why_not;      ///< when not locked: too few detections, or an ambiguous layout (with counts)
 };
 
@@ -77,6 +87,7 @@ class FrameInitializer {
     int gate_id;
     Eigen::Vector3d p_odom;  ///< gate centre in the odometry frame [m]
     double yaw_odom;         ///< heading of the gate normal in the odometry frame [rad]
+    double centre_variance = 0.0;  ///< the PnP's variance of p_odom per axis (trace / 3) [m²]
     bool has_in_use = false;          ///< added with the estimate in use (addInUse)
     Eigen::Vector3d p_in_use = Eigen::Vector3d::Zero();  ///< gate centre where that estimate put it [m, world]
     double yaw_in_use = 0.0;          ///< its normal's heading there [rad]
@@ -103,6 +114,8 @@ class FrameInitializer {
   /// MSAC's cost of a hypothesis over the window: Σ min(d², inlier_distance²) [m²], d an explained detection's
   /// distance from its map gate (the threshold's square for the others).
   double truncatedCost(const Hypothesis& hypothesis) const;
+  /// The locked frame's uncertainty (FrameInitialization::centroid_sigma_m, yaw_sigma_rad, centroid_odom).
+  void setUncertainty(const std::vector<std::pair<size_t, int>>& inlier_pairs);
 
   FrameInitializerParams params_;
   GateMap map_;

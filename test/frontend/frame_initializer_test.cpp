@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <map>
+#include <optional>
 #include <random>
 #include <set>
 
@@ -175,6 +178,84 @@ TEST(FrameInitializer, TheEstimateInUseIsJudgedWhereItPutTheDetections) {
     EXPECT_GT(right.state().inliers, 0);
     EXPECT_EQ(right.state().inliers, wrong.state().inliers);
   }
+}
+
+}  // namespace
+}  // namespace dualgraph
+
+namespace dualgraph {
+namespace {
+
+// The found frame's uncertainty is honest where the run anchors it: a detection's error is mostly its gate's own
+// (a PnP bias shared by every view of that gate, 0.15 m per axis) plus 3 cm of white noise, and over 40 frames the
+// error at the body where the search began (the run's first keyframe) is on average as large as the σ says. The
+// inliers' residual RMS — what held the first keyframe before — sees only the part a few gates can disagree about.
+TEST(FrameInitializer, TheFoundFramesSigmaCoversItsErrorWhereTheSearchBegan) {
+  const GateMap map = ellipseGates(false);
+  const Flight flight = ellipseFlight(6.0);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  std::uniform_real_distribution<double> yaw(-M_PI, M_PI), offset(-7.0, 7.0);
+  Matrix6d stated = Matrix6d::Zero();
+  stated.diagonal() << Eigen::Vector3d::Constant(0.15 * 0.15 + 0.03 * 0.03), Eigen::Vector3d::Constant(0.03 * 0.03);
+  double nees_sum = 0.0, residual_nees_sum = 0.0;
+  int within_3_sigma = 0, trials = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const Eigen::Isometry3d world_T_odom = gravityAligned(yaw(rng), {offset(rng), offset(rng), 0.0});
+    std::map<int, Eigen::Vector3d> bias;
+    for (const auto& [id, pose] : map.world_T_gate) bias[id] = 0.15 * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+    FrameInitializer initializer(FrameInitializerParams{}, map);
+    std::optional<Eigen::Isometry3d> first_odom_T_body, first_world_T_body;
+    for (size_t k = 0; k < flight.t.size() && !initializer.state().locked; ++k) {
+      const Eigen::Isometry3d odom_T_body = world_T_odom.inverse() * flight.world_T_body[k];
+      std::vector<GateObservation> seen;
+      for (const auto& [id, body_T_gate] : gatesInView(map, flight.world_T_body[k])) {
+        Eigen::Isometry3d noisy = body_T_gate;
+        noisy.translation() += bias[id] + 0.03 * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+        seen.push_back(GateObservation::pose(flight.t[k], id, noisy, stated));
+      }
+      if (!seen.empty() && !first_odom_T_body) first_odom_T_body = odom_T_body, first_world_T_body = flight.world_T_body[k];
+      initializer.add(flight.t[k], odom_T_body, seen);
+    }
+    const FrameInitialization& found = initializer.state();
+    if (!found.locked) continue;
+    ++trials;
+    const double error = ((found.world_T_odom * *first_odom_T_body).translation() - first_world_T_body->translation()).norm();
+    const double sigma = found.positionSigmaAt(*first_odom_T_body);  // per axis
+    ASSERT_TRUE(std::isfinite(sigma) && sigma > 0.0);
+    nees_sum += error * error / (3.0 * sigma * sigma);
+    residual_nees_sum += error * error / (3.0 * found.residual_rms_m * found.residual_rms_m);
+    within_3_sigma += error <= 3.0 * std::sqrt(3.0) * sigma;
+  }
+  ASSERT_GE(trials, 30);
+  const double mean_nees = nees_sum / trials;  // 1 when honest
+  std::printf("mean NEES %.2f, with the residual RMS %.2f, within 3 sigma %d of %d\n", mean_nees, residual_nees_sum / trials, within_3_sigma, trials);
+  EXPECT_GT(mean_nees, 0.3);
+  EXPECT_LT(mean_nees, 2.0);
+  EXPECT_GE(within_3_sigma, trials - 2);
+  EXPECT_GT(residual_nees_sum / trials, 2.0 * mean_nees);  // the residual RMS understates it
+}
+
+// One gate (a start pose lets the search lock on it) fixes no yaw from positions: the σ grows without bound away
+// from it, and at the gates' centroid it is the centroid's own.
+TEST(FrameInitializer, OneGateGivesNoYawFromPositions) {
+  GateMap map;
+  map.world_T_gate[1] = gravityAligned(0.0, {4.0, 0.0, 1.2});
+  FrameInitializerParams params;
+  params.start_world_T_body = gravityAligned(0.0, {0.0, 0.0, 1.2});
+  FrameInitializer initializer(params, map);
+  Matrix6d stated = Matrix6d::Identity() * 0.01;
+  for (int k = 0; k < 20; ++k) {
+    const Eigen::Isometry3d world_T_body = gravityAligned(0.0, {0.05 * k, 0.0, 1.2});
+    initializer.add(0.05 * k, world_T_body,
+                    {GateObservation::pose(0.05 * k, 1, world_T_body.inverse() * map.world_T_gate[1], stated)});
+  }
+  const FrameInitialization& found = initializer.state();
+  ASSERT_TRUE(found.locked) << found.why_not;
+  EXPECT_TRUE(std::isinf(found.yaw_sigma_rad));
+  EXPECT_TRUE(std::isinf(found.positionSigmaAt(Eigen::Isometry3d::Identity())));
+  EXPECT_NEAR(found.positionSigmaAt(gravityAligned(0.0, found.centroid_odom)), found.centroid_sigma_m, 1e-12);
+  EXPECT_NEAR(found.centroid_sigma_m, 0.1, 1e-9);  // the stated PnP variance (0.01 m² per axis) over one gate
 }
 
 }  // namespace
