@@ -306,13 +306,35 @@ Result<double> Localizer::relocalize(const Eigen::Isometry3d& world_T_odom, doub
                                      double sigma_r) {
   if (history_.empty()) return Status(StatusCode::kFailedPrecondition, "relocalize: no odometry yet");
   DG_RETURN_IF_ERROR(checkRigidTransform(world_T_odom, "relocalize: world_T_odom"));
-  if (monitor_.state() == TrackingState::kLost) ++counters_.relocalizations;
+  const TrackingState before = monitor_.state();
+  Result<double> anchor = startGraph(world_T_odom, since, sigma_t, sigma_r);
+  if (!anchor.ok()) return anchor.status();
+  if (before == TrackingState::kLost) ++counters_.relocalizations;
   frame_confirmed_ = false;
-  return startGraph(world_T_odom, since, sigma_t, sigma_r);
+  return anchor;
 }
 
 Result<double> Localizer::startGraph(const Eigen::Isometry3d& world_T_odom, double since, double sigma_t,
                                      double sigma_r) {
+  // σ ≤ 0: the configured prior; anything else must be a usable σ (its square finite), or nothing changes.
+  for (const double sigma : {sigma_t, sigma_r}) {
+    if (std::isnan(sigma) || (sigma > 0.0 && !std::isfinite(sigma * sigma))) {
+      return Status(StatusCode::kInvalidArgument, "new main graph: prior sigma " + std::to_string(sigma) +
+                                                      " is not a usable standard deviation (> 0 and finite, or <= 0 "
+                                                      "for localizer.initial_sigma_t / initial_sigma_r)");
+    }
+  }
+  LocalizerParams in_frame = params_;
+  in_frame.initial_world_T_odom = world_T_odom;
+  if (sigma_t > 0.0 && sigma_r > 0.0) {
+    in_frame.initial_sigma_t = sigma_t;
+    in_frame.initial_sigma_r = sigma_r;
+  }
+  // The new graph and its first keyframe first: when they fail, the run goes on as it was.
+  auto fresh = std::make_unique<MainGraph>(in_frame, map_, kernel_);
+  (void)fresh->setOdometryScale(noise_model_.scale);  // an empty graph: nothing to rescale, nothing to fail
+  const OdometrySample anchor = history_.sampleAtOrBefore(std::min(since, history_.newest().t));
+  DG_RETURN_IF_ERROR(fresh->addFirstKeyframe(anchor.t, anchor.odom_T_body));
   given_up_keyframes_ = keyframeTrajectory();
   given_up_graph_keyframes_ += main_->keyframes().size();
   given_up_graph_edges_ += main_->totalEdges();
@@ -322,20 +344,11 @@ Result<double> Localizer::startGraph(const Eigen::Isometry3d& world_T_odom, doub
   keyframe_due_.reset();
   keyframe_requested_after_.reset();
   feed_->clear();
-  LocalizerParams in_frame = params_;
-  in_frame.initial_world_T_odom = world_T_odom;
-  if (sigma_t > 0.0 && sigma_r > 0.0 && std::isfinite(sigma_t) && std::isfinite(sigma_r)) {
-    in_frame.initial_sigma_t = sigma_t;
-    in_frame.initial_sigma_r = sigma_r;
-  }
-  main_ = std::make_unique<MainGraph>(in_frame, map_, kernel_);
-  (void)main_->setOdometryScale(noise_model_.scale);  // an empty graph: nothing to rescale, nothing to fail
+  main_ = std::move(fresh);
   pose_covariance_.reset();
-  const OdometrySample anchor = history_.sampleAtOrBefore(std::min(since, history_.newest().t));
   history_.discardBefore(anchor.t);
   monitor_.locked(history_.newest().t);
   last_observation_t_ = -std::numeric_limits<double>::infinity();
-  DG_RETURN_IF_ERROR(main_->addFirstKeyframe(anchor.t, anchor.odom_T_body));
   noise_learner_.addKeyframe(anchor.odom_T_body, std::nullopt);
   return anchor.t;
 }

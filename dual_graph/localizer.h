@@ -144,7 +144,8 @@ class Localizer {
   /// keyframes so far stay in
   /// keyframeTrajectory; collected and queued observations, associated in the old frame, are dropped
   /// (counted). State: tracking. Returns the first keyframe's time. kFailedPrecondition before any odometry;
-  /// kInvalidArgument for a non-rigid transform.
+  /// kInvalidArgument for a non-rigid transform or an unusable σ (NaN, infinite, or one whose square overflows).
+  /// On any error nothing changes: the run goes on in the graph and state it had.
   Result<double> relocalize(const Eigen::Isometry3d& world_T_odom,
                             double since = std::numeric_limits<double>::infinity(), double sigma_t = 0.0,
                             double sigma_r = 0.0);
@@ -155,7 +156,8 @@ class Localizer {
   /// as the best frame found): tracking again at the current estimate, but in a new main graph whose first
   /// keyframe is held by a prior of `sigma_t` [m] / `sigma_r` [rad] — the old graph's marginal prior, confident
   /// in a pose that failed to explain the detections for lost_after_s, is dropped (as `relocalize` does).
-  /// Counted as a recovery. No-op unless lost; kFailedPrecondition before any odometry.
+  /// Counted as a recovery. No-op unless lost; kFailedPrecondition before any odometry; kInvalidArgument for an
+  /// unusable σ, as `relocalize`, and then nothing changes.
   Status resumeWithNewGraph(double sigma_t, double sigma_r);
   TrackingState trackingState() const { return monitor_.state(); }
   /// Whether a gate edge entered the main graph since the frame in use was set (given at `create`, or found and

@@ -3,6 +3,10 @@
 // initialising until relocalize, the states its poses carry, relocalize's bookkeeping.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+#include <string>
+
 #include "dualgraph/dual_graph/tracking_monitor.h"
 #include "test/dual_graph/localizer_fixtures.h"
 
@@ -151,6 +155,54 @@ TEST(LocalizerTracking, RelocalizeKeepsTheKeyframesSoFarAndCountsWhatItDrops) {
   EXPECT_EQ(Localizer::create(LocalizerParams{}, race.map, TrackingState::kLost).status().code(),
             StatusCode::kInvalidArgument);
   (void)half;
+}
+
+}  // namespace
+}  // namespace dualgraph
+
+namespace dualgraph {
+namespace {
+
+// A drone may hand relocalize or resumeWithNewGraph a σ computed onboard: NaN, infinity or one whose square
+// overflows is refused, and the run goes on in the graph it had — before, the new graph replaced the old one
+// before its first keyframe's prior was refused, and the next keyframe read a graph without keyframes.
+TEST(LocalizerTracking, AnUnusablePriorSigmaIsRefusedAndChangesNothing) {
+  const SyntheticRace race = makeSyntheticRace({});
+  std::unique_ptr<Localizer> localizer = makeLocalizer(LocalizerParams{}, race.map);
+  const size_t half = race.odometry.size() / 2;
+  size_t next_observation = 0;
+  auto feed = [&](size_t from, size_t to) {
+    for (size_t k = from; k < to; ++k) {
+      while (next_observation < race.observations.size() && race.observations[next_observation].t <= race.odometry[k].t) {
+        ASSERT_TRUE(localizer->addObservation(race.observations[next_observation++]).ok());
+      }
+      ASSERT_TRUE(localizer->addOdometry(race.odometry[k]).ok());
+    }
+  };
+  feed(0, half);
+  const size_t keyframes = localizer->keyframeTrajectory().size();
+  ASSERT_GT(keyframes, 2u);
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::pair<double, double> unusable[] = {{NAN, 0.1}, {0.2, NAN}, {inf, 0.1}, {0.2, inf}, {1e200, 0.1}, {0.2, 1e160}};
+  for (const auto& [sigma_t, sigma_r] : unusable) {
+    SCOPED_TRACE(std::to_string(sigma_t) + " " + std::to_string(sigma_r));
+    const auto refused = localizer->relocalize(Eigen::Isometry3d::Identity(), race.odometry[half - 1].t, sigma_t, sigma_r);
+    EXPECT_EQ(refused.status().code(), StatusCode::kInvalidArgument);
+    EXPECT_NE(refused.status().message().find("sigma"), std::string::npos) << refused.status().message();
+    EXPECT_EQ(localizer->keyframeTrajectory().size(), keyframes);
+    EXPECT_TRUE(localizer->frameConfirmed());
+    EXPECT_EQ(localizer->trackingState(), TrackingState::kTracking);
+  }
+  localizer->distrustFrame();
+  ASSERT_EQ(localizer->trackingState(), TrackingState::kLost);
+  EXPECT_EQ(localizer->resumeWithNewGraph(1e200, 0.1).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(localizer->trackingState(), TrackingState::kLost);
+  EXPECT_EQ(localizer->counters().recoveries, 0);
+  localizer->resumeTracking();
+  feed(half, race.odometry.size());
+  ASSERT_TRUE(localizer->finish().ok());
+  EXPECT_GT(localizer->keyframeTrajectory().size(), keyframes);
+  EXPECT_EQ(localizer->counters().relocalizations, 0);
 }
 
 }  // namespace
