@@ -283,6 +283,15 @@ TEST(LocalizerParamsValidation, EachOutOfDomainFieldIsNamed) {
       {"robust_kernel", [](LocalizerParams& p) { p.robust_kernel = "bogus:1"; }},
       {"temp_solver", [](LocalizerParams& p) { p.temp_solver = static_cast<TemporarySolverKind>(7); }},
       {"robust_kernel", [](LocalizerParams& p) { p.robust_kernel = "huber"; }},
+      // A σ whose square overflows or underflows: finite, but no usable covariance (1e200 once made a main graph
+      // fail each gate's map prior after adding its vertex: "duplicate vertex id" on every later keyframe).
+      {"map_sigma_t", [](LocalizerParams& p) { p.map_sigma_t = 1e200; }},
+      {"map_sigma_r", [](LocalizerParams& p) { p.map_sigma_r = 1e-200; }},
+      {"odom_sigma_t", [](LocalizerParams& p) { p.odom_sigma_t = 1e160; }},
+      {"odom_sigma_r", [](LocalizerParams& p) { p.odom_sigma_r = 1e-170; }},
+      {"odom_sigma_tilt", [](LocalizerParams& p) { p.odom_sigma_tilt = 1e155; }},
+      {"initial_sigma_t", [](LocalizerParams& p) { p.initial_sigma_t = 1e200; }},
+      {"initial_sigma_r", [](LocalizerParams& p) { p.initial_sigma_r = 1e170; }},
       {"initial_world_T_odom", [](LocalizerParams& p) { p.initial_world_T_odom.translation().x() = INFINITY; }},
       {"initial_world_T_odom", [](LocalizerParams& p) { p.initial_world_T_odom.linear()(0, 0) = 1.001; }},
       {"initial_world_T_odom", [](LocalizerParams& p) { p.initial_world_T_odom.linear()(2, 2) = -1.0; }},
