@@ -264,7 +264,7 @@ void FrameInitializer::search() {
 
 void FrameInitializer::setUncertainty(const std::vector<std::pair<size_t, int>>& inlier_pairs) {
   if (inlier_pairs.empty()) return;
-  // Per gate: the mean of its detections' centres (odometry frame) and of its map centre's residuals.
+  // The residuals' mean square over every inlier; per gate, the mean of its detections' centres (odometry frame).
   struct GateSum {
     Eigen::Vector3d odom = Eigen::Vector3d::Zero();
     int count = 0;

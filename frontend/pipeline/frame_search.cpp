@@ -99,7 +99,7 @@ Result<FrameSearch::Outcome> FrameSearch::add(const DetectionInstant& instant, c
         localizer.resumeTracking();
         outcome.action = SearchAction::kResumed;
       } else {
-        DG_RETURN_IF_ERROR(localizer.resumeWithNewGraph(foundSigmaT(found), params_.localizer.initial_sigma_r));
+        DG_RETURN_IF_ERROR(localizer.resumeWithNewGraph(foundSigmaT(found, odom_T_body), params_.localizer.initial_sigma_r));
         outcome.action = SearchAction::kResumedNewGraph;
       }
       stop();
@@ -112,10 +112,12 @@ Result<FrameSearch::Outcome> FrameSearch::add(const DetectionInstant& instant, c
   }
   if (found.locked) {
     const double since = seen_.empty() ? std::numeric_limits<double>::infinity() : seen_.front().instant.t;
+    // The new first keyframe: at the search's first detection (a first lock), else at the newest sample.
+    const Eigen::Isometry3d anchor_odom_T_body = seen_.empty() ? odom_T_body : seen_.front().odom_T_body;
     // The found frame's position is held as well as its uncertainty at the first keyframe says (foundSigmaT); its
     // yaw keeps the configured σ (a few nearby gates fix it only to degrees).
     Result<double> anchor =
-        localizer.relocalize(found.world_T_odom, since, foundSigmaT(found), params_.localizer.initial_sigma_r);
+        localizer.relocalize(found.world_T_odom, since, foundSigmaT(found, anchor_odom_T_body), params_.localizer.initial_sigma_r);
     if (!anchor.ok()) return anchor.status();
     for (Seen& seen : seen_) {
       if (notAfter(*anchor, seen.instant.t)) outcome.replay.push_back(std::move(seen));
@@ -148,12 +150,12 @@ bool FrameSearch::sameFrame(const FrameInitialization& found, const Eigen::Isome
   return apart <= std::max(0.5, 3.0 * found.residual_rms_m) && std::abs(yaw) <= 5.0 * M_PI / 180.0;
 }
 
-/// A found frame's position σ where its first keyframe will be (the search's first detection): the frame's own
-/// uncertainty (FrameInitialization::positionSigmaAt), at least 0.1 m, no worse than the configured initial prior
-/// [m]. Not the inliers' residual RMS: two or three gates fitted by a yaw and a translation agree with each other
-/// far better than with the map when their errors are their own (a far gate's range bias).
-double FrameSearch::foundSigmaT(const FrameInitialization& found) const {
-  const double sigma = seen_.empty() ? found.centroid_sigma_m : found.positionSigmaAt(seen_.front().odom_T_body);
+/// A found frame's position σ at the body its first keyframe will be (odom_T_body): the frame's own uncertainty
+/// there (FrameInitialization::positionSigmaAt), at least 0.1 m, no worse than the configured initial prior [m].
+/// Not the inliers' residual RMS: two or three gates fitted by a yaw and a translation agree with each other far
+/// better than with the map when their errors are their own (a far gate's range bias).
+double FrameSearch::foundSigmaT(const FrameInitialization& found, const Eigen::Isometry3d& odom_T_body) const {
+  const double sigma = found.positionSigmaAt(odom_T_body);
   return std::clamp(std::isfinite(sigma) ? sigma : params_.localizer.initial_sigma_t, 0.1,
                     std::max(0.1, params_.localizer.initial_sigma_t));
 }

@@ -89,7 +89,7 @@ class FrameSearch {
  private:
   static bool sameFrame(const FrameInitialization& found, const Eigen::Isometry3d& current,
                         const Eigen::Isometry3d& odom_T_body);
-  double foundSigmaT(const FrameInitialization& found) const;
+  double foundSigmaT(const FrameInitialization& found, const Eigen::Isometry3d& odom_T_body) const;
   void start(const FrameInitializerParams& search, const Eigen::Isometry3d& odom_T_body, double t);
 
   const SequenceRunParams& params_;
