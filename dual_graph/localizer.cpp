@@ -316,14 +316,9 @@ Result<double> Localizer::relocalize(const Eigen::Isometry3d& world_T_odom, doub
 
 Result<double> Localizer::startGraph(const Eigen::Isometry3d& world_T_odom, double since, double sigma_t,
                                      double sigma_r) {
-  // σ ≤ 0: the configured prior; anything else must be a usable σ (its square finite), or nothing changes.
-  for (const double sigma : {sigma_t, sigma_r}) {
-    if (std::isnan(sigma) || (sigma > 0.0 && !std::isfinite(sigma * sigma))) {
-      return Status(StatusCode::kInvalidArgument, "new main graph: prior sigma " + std::to_string(sigma) +
-                                                      " is not a usable standard deviation (> 0 and finite, or <= 0 "
-                                                      "for localizer.initial_sigma_t / initial_sigma_r)");
-    }
-  }
+  // σ ≤ 0: the configured prior; anything else (NaN included) must be a usable σ, or nothing changes.
+  if (!(sigma_t <= 0.0)) DG_RETURN_IF_ERROR(validateSigma("prior sigma_t", sigma_t));
+  if (!(sigma_r <= 0.0)) DG_RETURN_IF_ERROR(validateSigma("prior sigma_r", sigma_r));
   LocalizerParams in_frame = params_;
   in_frame.initial_world_T_odom = world_T_odom;
   if (sigma_t > 0.0 && sigma_r > 0.0) {

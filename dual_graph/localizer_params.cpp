@@ -32,16 +32,6 @@ Status requirePositiveFinite(const char* field, double value) {
   return invalid(field, "must be finite and > 0, got " + formatValue(value));
 }
 
-// A standard deviation whose square (the covariance's entry) is finite and non-zero: 1e200 or 1e-200 pass
-// requirePositiveFinite but make an infinite or zero variance, an information matrix no graph can use.
-Status requireUsableSigma(const char* field, double value) {
-  if (std::isfinite(value) && value > 0.0 && std::isnormal(value * value) && std::isnormal(1.0 / (value * value))) {
-    return Status::okStatus();
-  }
-  return invalid(field, "must be a usable standard deviation (finite, > 0, its square and the square's inverse "
-                        "finite and non-zero), got " + formatValue(value));
-}
-
 Status requireNonNegativeFinite(const char* field, double value) {
   if (std::isfinite(value) && value >= 0.0) return Status::okStatus();
   return invalid(field, "must be finite and >= 0, got " + formatValue(value));
@@ -97,21 +87,21 @@ Status validateSpacing(const LocalizerParams& params) {
 }
 
 Status validateUncertainties(const LocalizerParams& params) {
-  DG_RETURN_IF_ERROR(requireUsableSigma("odom_sigma_t", params.odom_sigma_t));
-  DG_RETURN_IF_ERROR(requireUsableSigma("odom_sigma_r", params.odom_sigma_r));
-  DG_RETURN_IF_ERROR(requireUsableSigma("odom_sigma_tilt", params.odom_sigma_tilt));
+  DG_RETURN_IF_ERROR(validateSigma("odom_sigma_t", params.odom_sigma_t));
+  DG_RETURN_IF_ERROR(validateSigma("odom_sigma_r", params.odom_sigma_r));
+  DG_RETURN_IF_ERROR(validateSigma("odom_sigma_tilt", params.odom_sigma_tilt));
   DG_RETURN_IF_ERROR(requirePositiveFinite("odom_min_distance", params.odom_min_distance));
   DG_RETURN_IF_ERROR(requirePositiveFinite("odom_scale_min", params.odom_scale_min));
   DG_RETURN_IF_ERROR(requirePositiveFinite("odom_scale_max", params.odom_scale_max));
   if (params.odom_scale_min > params.odom_scale_max) return invalid("odom_scale_min", "must not exceed odom_scale_max");
-  DG_RETURN_IF_ERROR(requireUsableSigma("map_sigma_t", params.map_sigma_t));
-  DG_RETURN_IF_ERROR(requireUsableSigma("map_sigma_r", params.map_sigma_r));
+  DG_RETURN_IF_ERROR(validateSigma("map_sigma_t", params.map_sigma_t));
+  DG_RETURN_IF_ERROR(validateSigma("map_sigma_r", params.map_sigma_r));
   DG_RETURN_IF_ERROR(validateRigid("initial_world_T_odom", params.initial_world_T_odom));
   // σ_t ≤ 0 means "fix the first keyframe", so σ_r only matters (and must be positive) when σ_t > 0.
   DG_RETURN_IF_ERROR(requireFinite("initial_sigma_t", params.initial_sigma_t));
   if (params.initial_sigma_t > 0.0) {
-    DG_RETURN_IF_ERROR(requireUsableSigma("initial_sigma_t", params.initial_sigma_t));
-    DG_RETURN_IF_ERROR(requireUsableSigma("initial_sigma_r", params.initial_sigma_r));
+    DG_RETURN_IF_ERROR(validateSigma("initial_sigma_t", params.initial_sigma_t));
+    DG_RETURN_IF_ERROR(validateSigma("initial_sigma_r", params.initial_sigma_r));
   } else {
     DG_RETURN_IF_ERROR(requireFinite("initial_sigma_r", params.initial_sigma_r));
   }
@@ -143,6 +133,16 @@ Status validateOptimisation(const LocalizerParams& params) {
 }
 
 }  // namespace
+
+// 1e200 or 1e-200 pass requirePositiveFinite but make an infinite or zero variance, an information matrix no graph
+// can use.
+Status validateSigma(const char* field, double sigma) {
+  if (std::isfinite(sigma) && sigma > 0.0 && std::isnormal(sigma * sigma) && std::isnormal(1.0 / (sigma * sigma))) {
+    return Status::okStatus();
+  }
+  return invalid(field, "must be a usable standard deviation (finite, > 0, its square and the square's inverse "
+                        "finite and non-zero), got " + formatValue(sigma));
+}
 
 Status validateLocalizerParams(const LocalizerParams& params) {
   DG_RETURN_IF_ERROR(validateChoices(params));

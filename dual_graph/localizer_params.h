@@ -170,6 +170,9 @@ struct LocalizerParams {
 /// OK when every field is in its domain (positive spacings and σ where required, finite numbers, a rigid
 /// initial transform, a parsable robust kernel); otherwise kInvalidArgument naming the field.
 Status validateLocalizerParams(const LocalizerParams& params);
+/// kInvalidArgument naming `field` unless `sigma` is a usable standard deviation [its unit]: finite, > 0, and its
+/// square and the square's inverse finite and non-zero (1e200 or 1e-200 would make an unusable covariance).
+Status validateSigma(const char* field, double sigma);
 /// OK when `map` suits `params`: a map in localization mode (kInvalidArgument "localization mode needs a gate
 /// map" otherwise), non-negative ids, rigid poses (the first offence named).
 Status validateGateMapFor(const LocalizerParams& params, const GateMap& map);

@@ -3,8 +3,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace dualgraph {
+
+std::string OdometryScaleParams::minErrorProblem(double bar) const {
+  if (bar >= 0.0 && bar < max_error) return "";
+  char bound[32];
+  std::snprintf(bound, sizeof bound, "%g", max_error);
+  return std::string("must be in [0, ") + bound + ")";
+}
 
 Eigen::Isometry3d OdometryScale::rescaled(const Eigen::Isometry3d& odom_T_body) const {
   if (!report_.applied) return odom_T_body;  // the VIO as it is, to the bit

@@ -23,6 +23,9 @@ struct OdometryScaleParams {
   double min_step = 0.3;       ///< pairs of keyframes closer than this (by the VIO) are skipped [m]
   double max_change = 0.02;    ///< largest relative change of the applied scale per keyframe [-]
   double max_error = 0.5;      ///< the scale stays within [1 − max_error, 1 + max_error] [-]
+
+  /// Empty when `bar` can be min_error, else why not: "must be in [0, max_error)" with max_error's value.
+  std::string minErrorProblem(double bar) const;
 };
 
 /// What OdometryScale did (metrics.json odometry_scale_*).

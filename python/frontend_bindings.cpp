@@ -131,11 +131,8 @@ void bindRun(py::module_& m) {
       .def_property(
           "odometry_scale_min_error", [](const SequenceRunParams& p) { return p.odometry_scale.min_error; },
           [](SequenceRunParams& p, double v) {
-            if (!(v >= 0.0 && v < p.odometry_scale.max_error)) {
-              char bound[32];
-              std::snprintf(bound, sizeof bound, "%g", p.odometry_scale.max_error);
-              throw py::value_error(std::string("odometry_scale_min_error: must be in [0, ") + bound + ")");
-            }
+            const std::string problem = p.odometry_scale.minErrorProblem(v);
+            if (!problem.empty()) throw py::value_error("odometry_scale_min_error: " + problem);
             p.odometry_scale.min_error = v;
           },
           "[-]: a scale error the VIO may have before one is applied")

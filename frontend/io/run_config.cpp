@@ -2,7 +2,6 @@
 #include "dualgraph/frontend/io/run_config.h"
 
 #include <cmath>
-#include <cstdio>
 #include <map>
 
 #include "dualgraph/frontend/io/localizer_params_node.h"
@@ -180,11 +179,10 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
     return fieldError(source, markOf("self_calibration_after_s"), "frontend.self_calibration_after_s",
                       "must be >= 0 [s] (0: off)");
   }
-  if (!(params.odometry_scale.min_error >= 0.0 && params.odometry_scale.min_error < params.odometry_scale.max_error)) {
-    char bound[32];
-    std::snprintf(bound, sizeof bound, "%g", params.odometry_scale.max_error);
+  const std::string scale_bar = params.odometry_scale.minErrorProblem(params.odometry_scale.min_error);
+  if (!scale_bar.empty()) {
     return fieldError(source, markOf("odometry_scale_min_error"), "frontend.odometry_scale_min_error",
-                      std::string("must be in [0, ") + bound + ") [-] (the scale's bound, OdometryScaleParams::max_error)");
+                      scale_bar + " [-] (the scale's bound, OdometryScaleParams::max_error)");
   }
   if (!(params.max_odometry_gap_s >= 0.0) || !std::isfinite(params.max_odometry_gap_s)) {
     return fieldError(source, markOf("max_odometry_gap_s"), "frontend.max_odometry_gap_s", "must be >= 0 [s] (0: off)");
