@@ -2,6 +2,7 @@
 #include "dualgraph/dual_graph/measurements.h"
 
 #include <cmath>
+#include <utility>
 
 #include "dualgraph/dual_graph/observation_model.h"
 #include "dualgraph/types/se3_covariance.h"
@@ -51,8 +52,20 @@ GateObservation inTurnedGateFrame(GateObservation observation, const Eigen::Matr
   observation.body_T_gate = observation.body_T_gate * gate_T_turned;
   const Matrix6d adjoint = se3Adjoint(gate_T_turned.inverse());
   observation.pose_covariance = adjoint * observation.pose_covariance * adjoint.transpose();
+  if (observation.has_alternative) {
+    observation.alternative_body_T_gate = observation.alternative_body_T_gate * gate_T_turned;
+    observation.alternative_covariance = adjoint * observation.alternative_covariance * adjoint.transpose();
+  }
   GateCornerRays& rays = observation.corner_rays;
   rays.p_gate.leftCols(rays.count) = turn.transpose() * rays.p_gate.leftCols(rays.count);
+  return observation;
+}
+
+GateObservation withAlternativeTaken(GateObservation observation) {
+  if (!observation.has_alternative) return observation;
+  std::swap(observation.body_T_gate, observation.alternative_body_T_gate);
+  std::swap(observation.pose_covariance, observation.alternative_covariance);
+  observation.p_body = observation.body_T_gate.translation();
   return observation;
 }
 

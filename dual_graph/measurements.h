@@ -68,6 +68,13 @@ struct GateObservation {
   Eigen::Vector3d p_body = Eigen::Vector3d::Zero();
   Eigen::Matrix3d position_covariance = Eigen::Matrix3d::Identity();
   GateCornerRays corner_rays;
+  /// kPose only: a second pose that explains the same image about as well (a PnP's mirrored tilt, ambiguous near
+  /// frontal views; GatePnpSolution::ambiguous) and its covariance about it, in the same chart as
+  /// `pose_covariance`. The frontend's association keeps whichever of the two agrees with the map gate's
+  /// orientation (frontend/gates/gate_association.h); the dual graph reads `body_T_gate` only.
+  bool has_alternative = false;
+  Eigen::Isometry3d alternative_body_T_gate = Eigen::Isometry3d::Identity();
+  Matrix6d alternative_covariance = Matrix6d::Identity();
 
   static GateObservation pose(double t, int gate_id, const Eigen::Isometry3d& body_T_gate,
                               const Matrix6d& covariance);
@@ -89,6 +96,10 @@ struct GateObservation {
 /// body_T_gate · turn, the right-perturbation covariance Ad(turn⁻¹) Σ Ad(turn⁻¹)ᵀ, the corner rays' gate points
 /// turn⁻¹ · p_gate. How a detection is put on its map gate's side or quarter turn.
 GateObservation inTurnedGateFrame(GateObservation observation, const Eigen::Matrix3d& turn);
+
+/// The observation with its alternative pose (and covariance) taken as the pose, the pose kept as the alternative;
+/// unchanged without one.
+GateObservation withAlternativeTaken(GateObservation observation);
 
 /// kInvalidArgument naming the field when `t` or the pose is not finite, the rotation is not
 /// orthonormal (|RᵀR − I| > 1e-6 or det ≤ 0), or the covariance is not finite, symmetric and positive definite.

@@ -27,6 +27,7 @@ py::dict frontendCounters(const GateFrontendCounters& c) {
   out["detections"] = c.detections;
   out["used"] = c.used;
   out["reversed"] = c.reversed;
+  out["mirrored"] = c.mirrored;
   out["pnp_rejected"] = c.pnp_rejected;
   out["not_associated"] = c.not_associated;
   out["mapping_pending"] = c.mapping_pending;

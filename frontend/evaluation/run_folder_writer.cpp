@@ -133,6 +133,7 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
       .add("pnp_rejected", run.frontend_counters.pnp_rejected)
       .add("not_associated", run.frontend_counters.not_associated)
       .add("reversed", run.frontend_counters.reversed)
+      .add("mirrored", run.frontend_counters.mirrored)
       .add("partial_detections", run.frontend_counters.partial)
       .add("partial_skipped", run.frontend_counters.partial_skipped)
       .add("partial_used", run.localizer_counters.partial_used)

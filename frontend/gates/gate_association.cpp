@@ -33,6 +33,7 @@ GateObservation reversedObservation(GateObservation observation) {
 struct OrientationMatch {
   bool passes = false;
   bool reversed = false;
+  double angle = kPi;  ///< between the normals, after the turn when reversed [rad]
 };
 
 OrientationMatch matchNormals(const Eigen::Vector3d& normal, const Eigen::Vector3d& reference,
@@ -40,7 +41,8 @@ OrientationMatch matchNormals(const Eigen::Vector3d& normal, const Eigen::Vector
   const double angle = std::acos(std::clamp(normal.dot(reference), -1.0, 1.0));
   const bool direct = angle <= params.max_normal_angle;
   const bool turned = params.allow_reversed && kPi - angle <= params.max_normal_angle;
-  return {direct || turned, turned && (!direct || kPi - angle < angle)};
+  const bool reversed = turned && (!direct || kPi - angle < angle);
+  return {direct || turned, reversed, reversed ? kPi - angle : angle};
 }
 
 /// A detection placed in the world.
@@ -48,6 +50,9 @@ struct PlacedDetection {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  ///< world_R_gate (kPose only)
   bool has_normal = false;
+  bool has_alternative = false;  ///< a kPose's mirrored-tilt alternative (GateObservation::has_alternative)
+  Eigen::Vector3d alternative_centre = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d alternative_rotation = Eigen::Matrix3d::Identity();
   Eigen::Vector3d normal() const { return rotation.col(0); }
 };
 
@@ -62,6 +67,9 @@ Status validateInputs(const AssociationParams& params, const Eigen::Isometry3d& 
     const std::string what = "association: detection " + std::to_string(i);
     if (detections[i].kind == ObservationKind::kPose) {
       DG_RETURN_IF_ERROR(checkRigidTransform(detections[i].body_T_gate, what + " body_T_gate"));
+      if (detections[i].has_alternative) {
+        DG_RETURN_IF_ERROR(checkRigidTransform(detections[i].alternative_body_T_gate, what + " alternative_body_T_gate"));
+      }
     } else if (!detections[i].p_body.allFinite()) {
       return Status(StatusCode::kInvalidArgument, what + " p_body is not finite");
     }
@@ -81,6 +89,12 @@ Result<std::vector<AssociationResult>> associateToMap(const AssociationParams& p
     placed[i].centre = world_T_body * detections[i].centreInBody();
     placed[i].has_normal = detections[i].kind == ObservationKind::kPose;
     if (placed[i].has_normal) placed[i].rotation = world_T_body.linear() * detections[i].body_T_gate.linear();
+    placed[i].has_alternative = placed[i].has_normal && detections[i].has_alternative;
+    if (placed[i].has_alternative) {
+      const Eigen::Isometry3d world_T_alternative = world_T_body * detections[i].alternative_body_T_gate;
+      placed[i].alternative_centre = world_T_alternative.translation();
+      placed[i].alternative_rotation = world_T_alternative.linear();
+    }
   }
   std::vector<int> gate_ids;
   for (const auto& entry : map.world_T_gate) gate_ids.push_back(entry.first);
@@ -89,6 +103,7 @@ Result<std::vector<AssociationResult>> associateToMap(const AssociationParams& p
   Eigen::MatrixXd cost = Eigen::MatrixXd::Constant(n, m, kInf);
   using BoolMatrix = Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>;
   BoolMatrix reversed = BoolMatrix::Constant(n, m, false);
+  BoolMatrix alternative = BoolMatrix::Constant(n, m, false);  // the pair holds with the detection's alternative pose
   std::vector<char> near_any(detections.size(), 0);
   for (Eigen::Index i = 0; i < n; ++i) {
     const PlacedDetection& detection = placed[static_cast<size_t>(i)];
@@ -97,12 +112,25 @@ Result<std::vector<AssociationResult>> associateToMap(const AssociationParams& p
       const double distance = (detection.centre - world_T_gate.translation()).norm();
       if (!(distance <= params.max_distance)) continue;
       near_any[static_cast<size_t>(i)] = 1;
-      if (detection.has_normal) {
-        const OrientationMatch match = matchNormals(detection.normal(), world_T_gate.linear().col(0), params);
-        if (!match.passes) continue;
-        reversed(i, j) = match.reversed;
+      if (!detection.has_normal) {
+        cost(i, j) = distance;
+        continue;
       }
+      const OrientationMatch match = matchNormals(detection.normal(), world_T_gate.linear().col(0), params);
+      if (!match.passes) continue;
+      reversed(i, j) = match.reversed;
       cost(i, j) = distance;
+      // The pair holds on the returned pose; the map gate's orientation then chooses between it and its mirrored
+      // tilt. The alternative never makes a pair the returned pose fails: a wrong frame must not find twice as many
+      // gates to confirm it (InitializationFlights.AGivenFrameTheDetectionsContradictIsSearchedForInTheWholeMap).
+      if (!detection.has_alternative) continue;
+      const double alternative_distance = (detection.alternative_centre - world_T_gate.translation()).norm();
+      const OrientationMatch other = matchNormals(detection.alternative_rotation.col(0), world_T_gate.linear().col(0), params);
+      if (alternative_distance <= params.max_distance && other.passes && other.angle < match.angle) {
+        alternative(i, j) = true;
+        reversed(i, j) = other.reversed;
+        cost(i, j) = alternative_distance;
+      }
     }
   }
   const Result<Assignment> assignment = solveAssignment(cost);
@@ -115,6 +143,8 @@ Result<std::vector<AssociationResult>> associateToMap(const AssociationParams& p
     detection.gate_id = -1;
     const int col = assignment->row_to_col[static_cast<size_t>(i)];
     if (col >= 0) {
+      result.mirrored = alternative(i, col);
+      if (result.mirrored) detection = withAlternativeTaken(std::move(detection));
       result.reversed = reversed(i, col);
       result.outcome = result.reversed ? AssociationOutcome::kAssignedReversed : AssociationOutcome::kAssigned;
       result.gate_id = gate_ids[static_cast<size_t>(col)];

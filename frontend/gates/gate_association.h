@@ -48,6 +48,7 @@ struct AssociationResult {
   int gate_id = -1;
   GateObservation observation;
   bool reversed = false;  ///< the pose was turned by Rz(π) (kAssignedReversed, or a kNewLandmark seen from behind)
+  bool mirrored = false;  ///< the detection's alternative pose (its mirrored tilt) agreed with the gate and was taken
 
   bool associated() const {
     return outcome == AssociationOutcome::kAssigned || outcome == AssociationOutcome::kAssignedReversed ||
@@ -65,8 +66,13 @@ struct AssociationResult {
 /// — for kPose detections — when the angle between the normals (gate-frame x axes) exceeds
 /// max_normal_angle and, with allow_reversed, so does the angle to the flipped normal (π − angle).
 /// When both pass (max_normal_angle ≥ π/2) the smaller angle decides. kPosition detections carry no
-/// orientation and are gated on distance only. The Hungarian assignment (`solveAssignment`) then gives
-/// each gate at most one detection and each detection at most one gate, assigning as many detections
+/// orientation and are gated on distance only. A kPose detection with an alternative (GateObservation::
+/// has_alternative: a PnP's mirrored tilt) is paired on its returned pose as above; where a pair holds, the map gate's
+/// orientation chooses between the two poses: when the alternative is within max_distance, passes the orientation
+/// check and its normal is nearer the gate's, the pair's cost is its distance and the result's observation takes it
+/// as its pose (withAlternativeTaken; `mirrored`). The alternative never makes a pair the returned pose fails: under
+/// a wrong frame, twice the chances to pass would confirm the frame. The Hungarian assignment (`solveAssignment`)
+/// then gives each gate at most one detection and each detection at most one gate, assigning as many detections
 /// as possible, then minimising the summed distance.
 ///
 /// Mapping mode (`associateMapping`) tracks detections with no map gate within max_distance across

@@ -235,6 +235,7 @@ Result<std::vector<GateObservation>> GateFrontend::associate(std::vector<GateObs
     }
     ++counters_.used;
     if (result.reversed) ++counters_.reversed;
+    if (result.mirrored) ++counters_.mirrored;
     observations.push_back(observation);
   }
   return observations;

@@ -49,6 +49,7 @@ struct GateFrontendCounters {
   int detections = 0;
   int used = 0;                 ///< handed to the Localizer (reversed ones included)
   int reversed = 0;             ///< of `used`: seen from behind, turned by Rz(π)
+  int mirrored = 0;             ///< of `used`: the PnP's mirrored tilt, which the map gate's orientation chose
   int pnp_rejected = 0;         ///< PnP refused the corners (see pnp_rejected_by_reason)
   int not_associated = 0;       ///< no map gate within the distance/orientation gates, or taken by another
   int mapping_pending = 0;      ///< mapping mode: sightings of not yet confirmed gates

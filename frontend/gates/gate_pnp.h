@@ -96,12 +96,15 @@ struct GatePnpSolution {
   bool ambiguous = false;
   Eigen::Isometry3d alternative_camera_T_gate = Eigen::Isometry3d::Identity();
   double alternative_reprojection_rms = 0.0;  ///< [px]; 0 when no candidate differs by > 1°
+  /// When `ambiguous` (and no upright prior): the two-mode covariance about the alternative, as `covariance` is about
+  /// the returned pose (the Laplace mixture below, whichever covariance_model), in the alternative's gate frame.
+  Matrix6d alternative_covariance = Matrix6d::Identity();
+  bool has_alternative_covariance = false;  ///< alternative_covariance was computed (an alternative, no upright prior)
 
   bool ok() const { return rejection == GatePnpRejection::kNone; }
-  /// The kPose GateObservation of an accepted solution (body_T_gate, covariance).
-  GateObservation observation(double t, int gate_id) const {
-    return GateObservation::pose(t, gate_id, body_T_gate, covariance);
-  }
+  /// The kPose GateObservation of an accepted solution (body_T_gate, covariance; when `ambiguous`, the alternative
+  /// as the observation's alternative, for the association to choose against the map).
+  GateObservation observation(double t, int gate_id) const;
 
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };

@@ -175,4 +175,23 @@ bool tiltPosteriorCovariance(const TiltPosteriorInput& input, const Corners3& p_
   return covariance.allFinite();
 }
 
+bool twoModeMoment(const Eigen::Isometry3d& centre, const Matrix6d& centre_covariance, double centre_ssr,
+                   const Eigen::Isometry3d& other, const Matrix6d& other_covariance, double other_ssr, double sigma2,
+                   Matrix6d& moment) {
+  // other ⊞ ε_o = centre ⊞ (δ + A ε_o) to first order.
+  const Vector6d delta = se3BoxMinus(centre, other);
+  Matrix6d adjoint = Matrix6d::Zero();
+  adjoint.topLeftCorner<3, 3>() = centre.linear().transpose() * other.linear();
+  adjoint.bottomRightCorner<3, 3>() = so3RightJacobianInverse(delta.tail<3>());
+  const Matrix6d moved = adjoint * other_covariance * adjoint.transpose();
+  // log(w_o / w_c), then a logistic that neither overflows nor underflows to NaN.
+  const double log_ratio = -(other_ssr - centre_ssr) / (2.0 * sigma2) +
+                           0.5 * std::log(std::max(1e-300, moved.determinant() / centre_covariance.determinant()));
+  if (std::isnan(log_ratio)) return false;
+  const double w_other = log_ratio > 0.0 ? 1.0 / (1.0 + std::exp(-log_ratio)) : std::exp(log_ratio) / (1.0 + std::exp(log_ratio));
+  moment = (1.0 - w_other) * centre_covariance + w_other * (moved + delta * delta.transpose());
+  moment = 0.5 * (moment + moment.transpose()).eval();
+  return moment.allFinite();
+}
+
 }  // namespace dualgraph::pnp_detail

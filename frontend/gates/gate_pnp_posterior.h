@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Internal to gate_pnp.cpp: the corners' reprojection residuals and the tilt-grid posterior covariance.
+// Internal to gate_pnp.cpp: the corners' reprojection residuals, the tilt-grid posterior and the two-mode moment.
 #pragma once
 // Internal to frontend/gates/gate_pnp.cpp: the reprojection residuals and the tilt-grid posterior
 // covariance of a gate's pose. Not installed, not part of the public API.
@@ -49,5 +49,15 @@ struct TiltPosteriorInput {
 /// weight.
 bool tiltPosteriorCovariance(const TiltPosteriorInput& input, const Corners3& p_gate, const GateCornerPixels& pixels,
                              const CameraModel& camera, double pixel_sigma, Matrix6d& covariance);
+
+/// Two poses explain the pixels: the second moment of the two-mode posterior about `centre`,
+/// Σ = w_c Σ_c + w_o (Σ_o + δ δᵀ), each mode's Σ its Laplace covariance (Σ_o moved into the centre's chart: right
+/// perturbation in the gate frame), weights ∝ each mode's posterior mass (peak likelihood exp(−SSR / 2σ²) times its
+/// volume √det Σ) and δ the other mode's offset. Instead of Σ_c alone, which is far too confident when the wrong
+/// mode wins (measured NEES ≈ 29 on near-frontal views). Covariances in m² and rad², SSRs in px², sigma2 the pixel
+/// variance [px²]. False when it is not finite.
+bool twoModeMoment(const Eigen::Isometry3d& centre, const Matrix6d& centre_covariance, double centre_ssr,
+                   const Eigen::Isometry3d& other, const Matrix6d& other_covariance, double other_ssr, double sigma2,
+                   Matrix6d& moment);
 
 }  // namespace dualgraph::pnp_detail
