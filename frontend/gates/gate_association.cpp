@@ -68,7 +68,8 @@ Status validateInputs(const AssociationParams& params, const Eigen::Isometry3d& 
     if (detections[i].kind == ObservationKind::kPose) {
       DG_RETURN_IF_ERROR(checkRigidTransform(detections[i].body_T_gate, what + " body_T_gate"));
       if (detections[i].has_alternative) {
-        DG_RETURN_IF_ERROR(checkRigidTransform(detections[i].alternative_body_T_gate, what + " alternative_body_T_gate"));
+        DG_RETURN_IF_ERROR(
+            checkRigidTransform(detections[i].alternative_body_T_gate, what + " alternative_body_T_gate"));
       }
     } else if (!detections[i].p_body.allFinite()) {
       return Status(StatusCode::kInvalidArgument, what + " p_body is not finite");
@@ -125,7 +126,8 @@ Result<std::vector<AssociationResult>> associateToMap(const AssociationParams& p
       // gates to confirm it (InitializationFlights.AGivenFrameTheDetectionsContradictIsSearchedForInTheWholeMap).
       if (!detection.has_alternative) continue;
       const double alternative_distance = (detection.alternative_centre - world_T_gate.translation()).norm();
-      const OrientationMatch other = matchNormals(detection.alternative_rotation.col(0), world_T_gate.linear().col(0), params);
+      const OrientationMatch other =
+          matchNormals(detection.alternative_rotation.col(0), world_T_gate.linear().col(0), params);
       if (alternative_distance <= params.max_distance && other.passes && other.angle < match.angle) {
         alternative(i, j) = true;
         reversed(i, j) = other.reversed;

@@ -272,14 +272,14 @@ bool computeCovariance(GatePnpSolution& solution, bool has_alternative, const Co
   Matrix86d J_other;
   if (has_alternative && jacobian(solution.alternative_camera_T_gate, p_gate, camera, J_other)) {
     const Matrix6d other_laplace = sigma2 * (J_other.transpose() * J_other).inverse();
+    const Eigen::Isometry3d& other = solution.alternative_camera_T_gate;
     Matrix6d moment;
-    if (!integrated && pnp_detail::twoModeMoment(solution.camera_T_gate, laplace, ssr, solution.alternative_camera_T_gate,
-                                     other_laplace, other_ssr, sigma2, moment)) {
+    if (!integrated && pnp_detail::twoModeMoment(solution.camera_T_gate, laplace, ssr, other, other_laplace, other_ssr,
+                                                 sigma2, moment)) {
       solution.covariance = moment;
     }
-    solution.has_alternative_covariance =
-        pnp_detail::twoModeMoment(solution.alternative_camera_T_gate, other_laplace, other_ssr, solution.camera_T_gate, laplace,
-                      ssr, sigma2, solution.alternative_covariance);
+    solution.has_alternative_covariance = pnp_detail::twoModeMoment(
+        other, other_laplace, other_ssr, solution.camera_T_gate, laplace, ssr, sigma2, solution.alternative_covariance);
   }
   solution.covariance = 0.5 * (solution.covariance + solution.covariance.transpose()).eval();
   return true;

@@ -188,7 +188,8 @@ bool twoModeMoment(const Eigen::Isometry3d& centre, const Matrix6d& centre_covar
   const double log_ratio = -(other_ssr - centre_ssr) / (2.0 * sigma2) +
                            0.5 * std::log(std::max(1e-300, moved.determinant() / centre_covariance.determinant()));
   if (std::isnan(log_ratio)) return false;
-  const double w_other = log_ratio > 0.0 ? 1.0 / (1.0 + std::exp(-log_ratio)) : std::exp(log_ratio) / (1.0 + std::exp(log_ratio));
+  const double w_other =
+      log_ratio > 0.0 ? 1.0 / (1.0 + std::exp(-log_ratio)) : std::exp(log_ratio) / (1.0 + std::exp(log_ratio));
   moment = (1.0 - w_other) * centre_covariance + w_other * (moved + delta * delta.transpose());
   moment = 0.5 * (moment + moment.transpose()).eval();
   return moment.allFinite();

@@ -7,18 +7,15 @@
 
 #include "dualgraph/frontend/gates/gate_association.h"
 #include "dualgraph/types/se3_math.h"
+#include "test/frontend/gate_association_fixtures.h"
 
 namespace dualgraph::association_alternative {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-Eigen::Isometry3d pose(double x, double y, double z, double yaw) {
-  Eigen::Isometry3d world_T_frame = Eigen::Isometry3d::Identity();
-  world_T_frame.translation() = Eigen::Vector3d(x, y, z);
-  world_T_frame.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  return world_T_frame;
-}
+using association_testing::pose;
+using association_testing::run;
 
 Matrix6d covariance(double scale) {
   Vector6d diagonal;
@@ -39,13 +36,6 @@ GateObservation ambiguous(const Eigen::Isometry3d& world_T_body, const Eigen::Is
   return detection;
 }
 
-std::vector<AssociationResult> run(const GateAssociator& associator, const Eigen::Isometry3d& world_T_body,
-                                   std::vector<GateObservation> detections, const GateMap& map) {
-  Result<std::vector<AssociationResult>> results = associator.associate(world_T_body, std::move(detections), map);
-  EXPECT_TRUE(results.ok()) << results.status().toString();
-  return results.ok() ? *results : std::vector<AssociationResult>();
-}
-
 // The returned tilt is 0.5 rad off the gate (within max_normal_angle, 0.7), its mirror 0.05 rad: the gate is assigned
 // with the mirror as the pose and its covariance, the returned pose kept as the alternative.
 TEST(GateAssociationAlternative, TheMapGatePicksTheMirroredTiltThatAgreesWithIt) {
@@ -53,7 +43,8 @@ TEST(GateAssociationAlternative, TheMapGatePicksTheMirroredTiltThatAgreesWithIt)
   map.world_T_gate[0] = pose(10, 0, 2, 0);
   const Eigen::Isometry3d world_T_body = pose(0, 0, 2, 0);
   const Eigen::Isometry3d seen = pose(10.2, 0.1, 2, 0.5), mirror = pose(10.05, 0, 2, -0.05);
-  const std::vector<AssociationResult> results = run(GateAssociator(), world_T_body, {ambiguous(world_T_body, seen, mirror)}, map);
+  const std::vector<AssociationResult> results =
+      run(GateAssociator(), world_T_body, {ambiguous(world_T_body, seen, mirror)}, map);
   ASSERT_EQ(results.size(), 1u);
   EXPECT_EQ(results[0].outcome, AssociationOutcome::kAssigned);
   EXPECT_EQ(results[0].gate_id, 0);
@@ -77,11 +68,13 @@ TEST(GateAssociationAlternative, TheAlternativeNeverMakesAPairTheReturnedPoseFai
   map.world_T_gate[0] = pose(10, 0, 2, 0);
   const Eigen::Isometry3d world_T_body = pose(0, 0, 2, 0);
   const Eigen::Isometry3d seen = pose(10.1, 0.05, 2, 0.8), mirror = pose(10.05, 0, 2, 0.03);
-  const AssociationResult alone = run(GateAssociator(), world_T_body, {ambiguous(world_T_body, seen, mirror)}, map).at(0);
+  const AssociationResult alone =
+      run(GateAssociator(), world_T_body, {ambiguous(world_T_body, seen, mirror)}, map).at(0);
   EXPECT_EQ(alone.outcome, AssociationOutcome::kRejectedOrientation);
   EXPECT_FALSE(alone.mirrored);
   map.world_T_gate[5] = pose(10, 1.9, 2, 0.8 - kPi);  // a neighbour seen from behind, its normal the wrong tilt's
-  const AssociationResult neighbour = run(GateAssociator(), world_T_body, {ambiguous(world_T_body, seen, mirror)}, map).at(0);
+  const AssociationResult neighbour =
+      run(GateAssociator(), world_T_body, {ambiguous(world_T_body, seen, mirror)}, map).at(0);
   EXPECT_EQ(neighbour.gate_id, 5);
   EXPECT_EQ(neighbour.outcome, AssociationOutcome::kAssignedReversed);
   EXPECT_FALSE(neighbour.mirrored);
@@ -94,10 +87,12 @@ TEST(GateAssociationAlternative, OfTwoPassingPosesTheOneCloserToTheGatesOrientat
   map.world_T_gate[0] = pose(10, 0, 2, 0);
   const Eigen::Isometry3d world_T_body = pose(0, 0, 2, 0);
   const Eigen::Isometry3d near = pose(10.1, 0, 2, 0.1), far = pose(10.1, 0, 2, -0.4);
-  const AssociationResult kept_near = run(GateAssociator(), world_T_body, {ambiguous(world_T_body, near, far)}, map).at(0);
+  const AssociationResult kept_near =
+      run(GateAssociator(), world_T_body, {ambiguous(world_T_body, near, far)}, map).at(0);
   EXPECT_TRUE((world_T_body * kept_near.observation.body_T_gate).isApprox(near, 1e-12));
   EXPECT_TRUE(kept_near.observation.pose_covariance.isApprox(covariance(1.0)));
-  const AssociationResult took_near = run(GateAssociator(), world_T_body, {ambiguous(world_T_body, far, near)}, map).at(0);
+  const AssociationResult took_near =
+      run(GateAssociator(), world_T_body, {ambiguous(world_T_body, far, near)}, map).at(0);
   EXPECT_TRUE((world_T_body * took_near.observation.body_T_gate).isApprox(near, 1e-12));
   EXPECT_TRUE(took_near.observation.pose_covariance.isApprox(covariance(2.0)));
   EXPECT_FALSE(kept_near.mirrored);
@@ -111,7 +106,8 @@ TEST(GateAssociationAlternative, AMirrorSeenFromBehindIsTakenThenTurnedOntoTheMa
   map.world_T_gate[0] = pose(10, 0, 2, kPi);
   const Eigen::Isometry3d world_T_body = pose(0, 0, 2, 0);
   const Eigen::Isometry3d seen = pose(10, 0, 2, 0.5), mirror = pose(10, 0, 2, 0);
-  const AssociationResult result = run(GateAssociator(), world_T_body, {ambiguous(world_T_body, seen, mirror)}, map).at(0);
+  const AssociationResult result =
+      run(GateAssociator(), world_T_body, {ambiguous(world_T_body, seen, mirror)}, map).at(0);
   EXPECT_EQ(result.outcome, AssociationOutcome::kAssignedReversed);
   EXPECT_TRUE(result.mirrored);
   EXPECT_TRUE((world_T_body * result.observation.body_T_gate).isApprox(map.world_T_gate.at(0), 1e-12));
@@ -130,7 +126,8 @@ TEST(GateAssociationAlternative, ANonRigidAlternativeIsInvalidArgumentNamingIt) 
   const Result<std::vector<AssociationResult>> results = GateAssociator().associate(world_T_body, {detection}, map);
   ASSERT_FALSE(results.ok());
   EXPECT_EQ(results.status().code(), StatusCode::kInvalidArgument);
-  EXPECT_NE(results.status().message().find("alternative_body_T_gate"), std::string::npos) << results.status().message();
+  EXPECT_NE(results.status().message().find("alternative_body_T_gate"), std::string::npos)
+      << results.status().message();
 }
 
 }  // namespace

@@ -8,18 +8,15 @@
 #include <random>
 
 #include "dualgraph/frontend/gates/gate_association.h"
+#include "test/frontend/gate_association_fixtures.h"
 
 namespace dualgraph {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-Eigen::Isometry3d pose(double x, double y, double z, double yaw) {
-  Eigen::Isometry3d world_T_frame = Eigen::Isometry3d::Identity();
-  world_T_frame.translation() = Eigen::Vector3d(x, y, z);
-  world_T_frame.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  return world_T_frame;
-}
+using association_testing::pose;
+using association_testing::run;
 
 /// Four gates on a 10 m square, normals along the counter-clockwise flight direction.
 GateMap squareTrack() {
@@ -47,13 +44,6 @@ GateObservation detect(const Eigen::Isometry3d& world_T_body, const Eigen::Isome
 }
 
 Eigen::Isometry3d halfTurn() { return pose(0, 0, 0, kPi); }
-
-std::vector<AssociationResult> run(const GateAssociator& associator, const Eigen::Isometry3d& world_T_body,
-                                   std::vector<GateObservation> detections, const GateMap& map) {
-  Result<std::vector<AssociationResult>> results = associator.associate(world_T_body, std::move(detections), map);
-  EXPECT_TRUE(results.ok()) << results.status().toString();
-  return results.ok() ? *results : std::vector<AssociationResult>();
-}
 
 TEST(GateAssociation, NoisyDetectionsOfAFourGateTrackGetTheirIds) {
   const GateMap map = squareTrack();
