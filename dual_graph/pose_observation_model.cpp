@@ -7,6 +7,10 @@ namespace dualgraph {
 Status PoseObservationModel::validate(const GateObservation& observation, const std::string& where) const {
   DG_RETURN_IF_ERROR(checkRigidTransform(observation.body_T_gate, where + "body_T_gate"));
   DG_RETURN_IF_ERROR(checkCovariance(observation.pose_covariance, where + "pose_covariance"));
+  if (observation.has_alternative) {
+    DG_RETURN_IF_ERROR(checkRigidTransform(observation.alternative_body_T_gate, where + "alternative_body_T_gate"));
+    DG_RETURN_IF_ERROR(checkCovariance(observation.alternative_covariance, where + "alternative_covariance"));
+  }
   if (observation.corner_rays.count == 0) return Status();
   if (observation.corner_rays.count != 4) {
     return Status(StatusCode::kInvalidArgument, where + "corner_rays.count " +

@@ -110,6 +110,17 @@ TEST(LocalizerInput, EachBadObservationIsRejectedWithAClearStatus) {
   GateObservation nan_covariance = validObservation(0.6);
   nan_covariance.pose_covariance(1, 1) = kNaN;
   cases.push_back({"NaN covariance", nan_covariance, StatusCode::kInvalidArgument, "non-finite"});
+  GateObservation bad_alternative = validObservation(0.6);
+  bad_alternative.has_alternative = true;
+  bad_alternative.alternative_body_T_gate = bad_alternative.body_T_gate;
+  bad_alternative.alternative_covariance = bad_alternative.pose_covariance;
+  bad_alternative.alternative_covariance(2, 2) = kNaN;
+  cases.push_back({"NaN alternative covariance", bad_alternative, StatusCode::kInvalidArgument, "alternative_covariance"});
+  GateObservation skewed_alternative = validObservation(0.6);
+  skewed_alternative.has_alternative = true;
+  skewed_alternative.alternative_body_T_gate = skewed_alternative.body_T_gate;
+  skewed_alternative.alternative_body_T_gate.linear() *= 1.1;
+  cases.push_back({"non-rigid alternative", skewed_alternative, StatusCode::kInvalidArgument, "alternative_body_T_gate"});
   cases.push_back({"position for an SE(3) landmark",
                    GateObservation::position(0.6, 0, Eigen::Vector3d(5, 0, 0), 0.01 * Eigen::Matrix3d::Identity()),
                    StatusCode::kInvalidArgument, "landmark: point"});
