@@ -108,31 +108,38 @@ Result<std::vector<AssociationResult>> associateToMap(const AssociationParams& p
   std::vector<char> near_any(detections.size(), 0);
   for (Eigen::Index i = 0; i < n; ++i) {
     const PlacedDetection& detection = placed[static_cast<size_t>(i)];
-    for (Eigen::Index j = 0; j < m; ++j) {
+    for (Eigen::Index j = 0; j < m; ++j) {  // the pairs the returned pose makes
       const Eigen::Isometry3d& world_T_gate = map.world_T_gate.at(gate_ids[static_cast<size_t>(j)]);
       const double distance = (detection.centre - world_T_gate.translation()).norm();
       if (!(distance <= params.max_distance)) continue;
       near_any[static_cast<size_t>(i)] = 1;
-      if (!detection.has_normal) {
-        cost(i, j) = distance;
-        continue;
+      if (detection.has_normal) {
+        const OrientationMatch match = matchNormals(detection.normal(), world_T_gate.linear().col(0), params);
+        if (!match.passes) continue;
+        reversed(i, j) = match.reversed;
       }
-      const OrientationMatch match = matchNormals(detection.normal(), world_T_gate.linear().col(0), params);
-      if (!match.passes) continue;
-      reversed(i, j) = match.reversed;
       cost(i, j) = distance;
-      // The pair holds on the returned pose; the map gate's orientation then chooses between it and its mirrored
-      // tilt. The alternative never makes a pair the returned pose fails: a wrong frame must not find twice as many
-      // gates to confirm it (InitializationFlights.AGivenFrameTheDetectionsContradictIsSearchedForInTheWholeMap).
-      if (!detection.has_alternative) continue;
-      const double alternative_distance = (detection.alternative_centre - world_T_gate.translation()).norm();
+    }
+    // The mirrored tilt, for a detection the returned pose pairs somewhere: the map gate's orientation chooses
+    // between the two poses where both pair, and the alternative may also pair where the returned pose does not (a
+    // wrong tilt fails its own gate and can pass a neighbour's). A detection the returned pose pairs nowhere stays
+    // refused: under a wrong frame, twice the chances to pass would confirm the frame
+    // (InitializationFlights.AGivenFrameTheDetectionsContradictIsSearchedForInTheWholeMap).
+    if (!detection.has_alternative || m == 0 || !(cost.row(i).array() < kInf).any()) continue;
+    for (Eigen::Index j = 0; j < m; ++j) {
+      const Eigen::Isometry3d& world_T_gate = map.world_T_gate.at(gate_ids[static_cast<size_t>(j)]);
+      const double distance = (detection.alternative_centre - world_T_gate.translation()).norm();
+      if (!(distance <= params.max_distance)) continue;
       const OrientationMatch other =
           matchNormals(detection.alternative_rotation.col(0), world_T_gate.linear().col(0), params);
-      if (alternative_distance <= params.max_distance && other.passes && other.angle < match.angle) {
-        alternative(i, j) = true;
-        reversed(i, j) = other.reversed;
-        cost(i, j) = alternative_distance;
+      if (!other.passes) continue;
+      if (cost(i, j) < kInf) {
+        const OrientationMatch match = matchNormals(detection.normal(), world_T_gate.linear().col(0), params);
+        if (!(other.angle < match.angle)) continue;
       }
+      alternative(i, j) = true;
+      reversed(i, j) = other.reversed;
+      cost(i, j) = distance;
     }
   }
   const Result<Assignment> assignment = solveAssignment(cost);

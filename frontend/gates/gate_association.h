@@ -67,11 +67,12 @@ struct AssociationResult {
 /// max_normal_angle and, with allow_reversed, so does the angle to the flipped normal (π − angle).
 /// When both pass (max_normal_angle ≥ π/2) the smaller angle decides. kPosition detections carry no
 /// orientation and are gated on distance only. A kPose detection with an alternative (GateObservation::
-/// has_alternative: a PnP's mirrored tilt) is paired on its returned pose as above; where a pair holds, the map gate's
-/// orientation chooses between the two poses: when the alternative is within max_distance, passes the orientation
-/// check and its normal is nearer the gate's, the pair's cost is its distance and the result's observation takes it
-/// as its pose (withAlternativeTaken; `mirrored`). The alternative never makes a pair the returned pose fails: under
-/// a wrong frame, twice the chances to pass would confirm the frame. The Hungarian assignment (`solveAssignment`)
+/// has_alternative: a PnP's mirrored tilt) that its returned pose pairs with some gate is also paired on the
+/// alternative: where both pass, the one whose normal is nearer the gate's holds the pair; the alternative alone may
+/// pair where the returned pose fails (a wrong tilt fails its own gate and can pass a neighbour's). A pair held by
+/// the alternative costs its distance, and the result's observation takes it as its pose (withAlternativeTaken;
+/// `mirrored`). A detection the returned pose pairs nowhere stays refused: under a wrong frame, twice the chances
+/// to pass would confirm the frame. The Hungarian assignment (`solveAssignment`)
 /// then gives each gate at most one detection and each detection at most one gate, assigning as many detections
 /// as possible, then minimising the summed distance.
 ///
