@@ -105,6 +105,7 @@ Result<std::vector<AssociationResult>> associateToMap(const AssociationParams& p
   using BoolMatrix = Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>;
   BoolMatrix reversed = BoolMatrix::Constant(n, m, false);
   BoolMatrix alternative = BoolMatrix::Constant(n, m, false);  // the pair holds with the detection's alternative pose
+  Eigen::MatrixXd normal_angle = Eigen::MatrixXd::Constant(n, m, kPi);  // the returned pose's, where it pairs [rad]
   std::vector<char> near_any(detections.size(), 0);
   for (Eigen::Index i = 0; i < n; ++i) {
     const PlacedDetection& detection = placed[static_cast<size_t>(i)];
@@ -117,6 +118,7 @@ Result<std::vector<AssociationResult>> associateToMap(const AssociationParams& p
         const OrientationMatch match = matchNormals(detection.normal(), world_T_gate.linear().col(0), params);
         if (!match.passes) continue;
         reversed(i, j) = match.reversed;
+        normal_angle(i, j) = match.angle;
       }
       cost(i, j) = distance;
     }
@@ -132,11 +134,7 @@ Result<std::vector<AssociationResult>> associateToMap(const AssociationParams& p
       if (!(distance <= params.max_distance)) continue;
       const OrientationMatch other =
           matchNormals(detection.alternative_rotation.col(0), world_T_gate.linear().col(0), params);
-      if (!other.passes) continue;
-      if (cost(i, j) < kInf) {
-        const OrientationMatch match = matchNormals(detection.normal(), world_T_gate.linear().col(0), params);
-        if (!(other.angle < match.angle)) continue;
-      }
+      if (!other.passes || !(other.angle < normal_angle(i, j))) continue;  // (kPi where the returned pose fails)
       alternative(i, j) = true;
       reversed(i, j) = other.reversed;
       cost(i, j) = distance;

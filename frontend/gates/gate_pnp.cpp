@@ -269,8 +269,10 @@ bool computeCovariance(GatePnpSolution& solution, bool has_alternative, const Co
                  Eigen::LLT<Matrix6d>(0.5 * (posterior + posterior.transpose())).info() == Eigen::Success;
     if (integrated) solution.covariance = posterior;
   }
+  // The moment about the alternative is needed only where it is offered (`ambiguous`, GatePnpSolution::observation).
   Matrix86d J_other;
-  if (has_alternative && jacobian(solution.alternative_camera_T_gate, p_gate, camera, J_other)) {
+  if (has_alternative && (!integrated || solution.ambiguous) &&
+      jacobian(solution.alternative_camera_T_gate, p_gate, camera, J_other)) {
     const Matrix6d other_laplace = sigma2 * (J_other.transpose() * J_other).inverse();
     const Eigen::Isometry3d& other = solution.alternative_camera_T_gate;
     Matrix6d moment;
@@ -278,8 +280,9 @@ bool computeCovariance(GatePnpSolution& solution, bool has_alternative, const Co
                                                  sigma2, moment)) {
       solution.covariance = moment;
     }
-    solution.has_alternative_covariance = pnp_detail::twoModeMoment(
-        other, other_laplace, other_ssr, solution.camera_T_gate, laplace, ssr, sigma2, solution.alternative_covariance);
+    solution.has_alternative_covariance =
+        solution.ambiguous && pnp_detail::twoModeMoment(other, other_laplace, other_ssr, solution.camera_T_gate,
+                                                        laplace, ssr, sigma2, solution.alternative_covariance);
   }
   solution.covariance = 0.5 * (solution.covariance + solution.covariance.transpose()).eval();
   return true;

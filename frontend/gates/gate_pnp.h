@@ -99,7 +99,7 @@ struct GatePnpSolution {
   /// When `ambiguous` (and no upright prior): the two-mode covariance about the alternative, as `covariance` is about
   /// the returned pose (the Laplace mixture below, whichever covariance_model), in the alternative's gate frame.
   Matrix6d alternative_covariance = Matrix6d::Identity();
-  bool has_alternative_covariance = false;  ///< alternative_covariance was computed (an alternative, no upright prior)
+  bool has_alternative_covariance = false;  ///< alternative_covariance was computed (`ambiguous`, no upright prior)
 
   bool ok() const { return rejection == GatePnpRejection::kNone; }
   /// The kPose GateObservation of an accepted solution (body_T_gate, covariance; when `ambiguous`, the alternative
