@@ -10,30 +10,36 @@ PixelNoiseEstimator::PixelNoiseEstimator(double prior_sigma, size_t window, size
                                          double max_sigma)
     : prior_(prior_sigma), window_(std::max<size_t>(window, 1)), min_samples_(std::max<size_t>(min_samples, 1)),
       min_sigma_(min_sigma), max_sigma_(max_sigma), sigma_(prior_sigma) {
-  ssr_.reserve(window_);
+  all_.ssr.reserve(window_);
   scratch_.reserve(window_);
 }
 
-void PixelNoiseEstimator::add(double reprojection_rms) {
+void PixelNoiseEstimator::Ring::add(double value, size_t window) {
+  if (ssr.size() < window) {
+    ssr.push_back(value);
+  } else {
+    ssr[next] = value;
+  }
+  next = (next + 1) % window;
+  ++seen;
+}
+
+void PixelNoiseEstimator::add(double reprojection_rms, double gate_side_px) {
   if (!std::isfinite(reprojection_rms) || reprojection_rms < 0.0) return;
   const double ssr = 4.0 * reprojection_rms * reprojection_rms;
-  if (ssr_.size() < window_) {
-    ssr_.push_back(ssr);
-  } else {
-    ssr_[next_] = ssr;
-  }
-  next_ = (next_ + 1) % window_;
-  ++seen_;
+  all_.add(ssr, window_);
+  if (std::isfinite(gate_side_px) && gate_side_px >= kLinearSidePerSigma * sigma_) linear_.add(ssr, window_);
   update();
 }
 
 void PixelNoiseEstimator::update() {
   constexpr size_t kFirstSamples = 3;  // the median of three ignores one outlier
-  if (seen_ < std::min(kFirstSamples, min_samples_)) {
+  if (all_.seen < std::min(kFirstSamples, min_samples_)) {
     sigma_ = prior_;
     return;
   }
-  scratch_.assign(ssr_.begin(), ssr_.end());
+  const Ring& ring = linear_.seen >= std::max(kMinLinearSamples, min_samples_) ? linear_ : all_;
+  scratch_.assign(ring.ssr.begin(), ring.ssr.end());
   const auto middle = scratch_.begin() + static_cast<std::ptrdiff_t>(scratch_.size() / 2);
   std::nth_element(scratch_.begin(), middle, scratch_.end());
   const double median = *middle;
@@ -41,7 +47,7 @@ void PixelNoiseEstimator::update() {
   const double estimate = std::clamp(std::sqrt(median / kChi2TwoMedian), min_sigma_, max_sigma_);
   // Before min_samples the few fits only widen the prior: a detector noisier than assumed is not refused
   // until enough of its fits were seen (at the start of a flight, where the frame search needs them).
-  sigma_ = seen_ < min_samples_ ? std::max(prior_, estimate) : estimate;
+  sigma_ = all_.seen < min_samples_ ? std::max(prior_, estimate) : estimate;
 }
 
 }  // namespace dualgraph

@@ -14,6 +14,12 @@ namespace dualgraph {
 /// `window` solutions: the median ignores up to half of them being outliers (displaced corners, wrong
 /// solutions). Until `min_samples` solutions were seen it is the prior σ, widened (never narrowed) by the
 /// estimate from the solutions so far once there are three. Clamped to [min_sigma, max_sigma].
+/// χ²₂ holds where the fit is nearly linear. A gate small in the image (mean side under ≈ 50 σ) has a flat or
+/// two-peaked tilt likelihood, and its best fit absorbs part of the noise: σ reads 5–15 % low from sides of 10–40 σ
+/// (bench/README.md, "Far gates"). So the solutions whose gate side was at least kLinearSidePerSigma current σ are
+/// also kept apart (their newest `window`), and once kMinLinearSamples of them (at least `min_samples`) were seen
+/// the estimate comes from those: a median of n fits has a spread of ≈ 0.72/√n of σ, 7 % at 100, less than the bias
+/// it removes (13 % at 30).
 /// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
 /// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class PixelNoiseEstimator {
@@ -21,24 +27,36 @@ class PixelNoiseEstimator {
   /// `prior_sigma` [px] > 0; window ≥ min_samples ≥ 1.
   explicit PixelNoiseEstimator(double prior_sigma, size_t window = 300, size_t min_samples = 30,
                                double min_sigma = 0.1, double max_sigma = 50.0);
-  /// Adds one solution's reprojection RMS [px] (sqrt of the mean squared corner distance); non-finite or
-  /// negative values are ignored.
-  void add(double reprojection_rms);
+  /// Mean image side of a gate [px], in units of σ, from which its fit counts as linear (see above).
+  static constexpr double kLinearSidePerSigma = 50.0;
+  /// Fits of such gates needed before they alone give σ.
+  static constexpr size_t kMinLinearSamples = 100;
+  /// Adds one solution's reprojection RMS [px] (sqrt of the mean squared corner distance) and its gate's mean
+  /// side in the image [px] (0: unknown, counted as small); non-finite or negative values are ignored.
+  void add(double reprojection_rms, double gate_side_px = 0.0);
   /// The current σ [px].
   double sigma() const { return sigma_; }
   /// Solutions seen so far (all of them, not only the window's).
-  size_t samples() const { return seen_; }
+  size_t samples() const { return all_.seen; }
+  /// Of those, the solutions of gates large enough for χ²₂.
+  size_t linearSamples() const { return linear_.seen; }
 
  private:
+  /// The newest `window` SSRs [px²] of one kind of solution.
+  struct Ring {
+    std::vector<double> ssr;
+    size_t next = 0;
+    size_t seen = 0;
+    void add(double value, size_t window);
+  };
   void update();
 
   double prior_;
   size_t window_;
   size_t min_samples_;
   double min_sigma_, max_sigma_;
-  std::vector<double> ssr_;  ///< ring buffer of the newest SSRs [px²]
-  size_t next_ = 0;
-  size_t seen_ = 0;
+  Ring all_;     ///< every solution
+  Ring linear_;  ///< solutions whose gate side was at least kLinearSidePerSigma σ
   double sigma_;
   std::vector<double> scratch_;
 };

@@ -76,5 +76,24 @@ TEST(PixelNoiseEstimator, FollowsAChangeWithinItsWindow) {
   EXPECT_NEAR(estimator.sigma(), 4.0, 0.4);
 }
 
+// Fits of gates large in the image (side ≥ 50 σ) are kept apart: once 100 were seen they alone give σ, whatever the
+// small gates' fits (which read low) say, and however old they are against the window of every fit.
+TEST(PixelNoiseEstimator, FitsOfLargeGatesGiveSigmaOnceAHundredWereSeen) {
+  std::mt19937 rng(13);
+  PixelNoiseEstimator estimator(2.0, 300, 30);
+  for (int k = 0; k < 600; ++k) estimator.add(fitRms(1.6, rng), 20.0);  // small gates: 10 σ
+  EXPECT_NEAR(estimator.sigma(), 1.6, 0.15);
+  for (int k = 0; k < 99; ++k) estimator.add(fitRms(2.0, rng), 200.0);  // 99 large ones: not yet
+  EXPECT_EQ(estimator.linearSamples(), 99u);
+  EXPECT_LT(estimator.sigma(), 1.85);
+  for (int k = 0; k < 201; ++k) estimator.add(fitRms(2.0, rng), 200.0);
+  for (int k = 0; k < 600; ++k) estimator.add(fitRms(1.6, rng), 20.0);  // they fill the window of every fit again
+  EXPECT_NEAR(estimator.sigma(), 2.0, 0.15);
+  EXPECT_EQ(estimator.samples(), 1500u);
+  EXPECT_EQ(estimator.linearSamples(), 300u);
+  estimator.add(fitRms(2.0, rng), 0.99 * PixelNoiseEstimator::kLinearSidePerSigma * estimator.sigma());  // small
+  EXPECT_EQ(estimator.linearSamples(), 300u);
+}
+
 }  // namespace
 }  // namespace dualgraph

@@ -13,34 +13,12 @@
 #include "dualgraph/frontend/gates/gate_pnp.h"
 #include "dualgraph/types/se3_math.h"
 #include "test/frontend/gate_corner_projection.h"
+#include "test/frontend/gate_views.h"
 
 namespace dualgraph::pnp_nees_range {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
-
-CameraModel ratmCamera() {  // RATM's calibration (calib_ap-ellipse-lemniscate.json), radial-tangential
-  CameraModel camera = CameraModel::pinhole(289.88, 387.06, 316.58, 241.87, 640, 480, CameraModel::Distortion::kRadTan);
-  camera.distortion << -0.2814528, 0.1091225, 0.0001824, 0.0000679, -0.0232501;
-  return camera;
-}
-
-/// camera_T_gate: the gate centred at `range` along (azimuth, elevation) off the optical axis, its normal turned by
-/// `yaw` and `pitch` away from the line of sight and `roll` about it (front side, upright in the image at zero).
-Eigen::Isometry3d gateView(double range, double azimuth, double elevation, double yaw, double pitch, double roll) {
-  const Eigen::Vector3d direction(std::sin(azimuth) * std::cos(elevation), -std::sin(elevation),
-                                  std::cos(azimuth) * std::cos(elevation));
-  const Eigen::Vector3d up(0, -1, 0);  // the image's up
-  Eigen::Matrix3d facing;              // gate x along the line of sight, z towards the image's up
-  facing.col(0) = direction;
-  facing.col(2) = (up - up.dot(direction) * direction).normalized();
-  facing.col(1) = facing.col(2).cross(facing.col(0));
-  Eigen::Isometry3d camera_T_gate = Eigen::Isometry3d::Identity();
-  camera_T_gate.linear() = facing * so3Exp(Eigen::Vector3d(0, 0, yaw)) * so3Exp(Eigen::Vector3d(0, pitch, 0)) *
-                           so3Exp(Eigen::Vector3d(roll, 0, 0));
-  camera_T_gate.translation() = range * direction;
-  return camera_T_gate;
-}
 
 double nees(const Eigen::Isometry3d& estimate, const Matrix6d& covariance, const Eigen::Isometry3d& truth) {
   const Vector6d e = se3BoxMinus(estimate, truth);  // the covariance's chart
@@ -56,7 +34,7 @@ struct Cell {
 };
 
 Cell measure(PnpCovarianceModel model, double sigma, double near, double far, unsigned seed) {
-  const CameraModel camera = ratmCamera();
+  const CameraModel camera = testing::ratmRadtanCamera();
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> normal(0.0, 1.0);
@@ -68,8 +46,8 @@ Cell measure(PnpCovarianceModel model, double sigma, double near, double far, un
   while (cell.frontal_n + cell.grazing_n < 800) {
     const double yaw = (unit(rng) - 0.5) * 120 * kDeg;
     const Eigen::Isometry3d truth =
-        gateView(near + (far - near) * unit(rng), (unit(rng) - 0.5) * 40 * kDeg, (unit(rng) - 0.5) * 30 * kDeg, yaw,
-                 (unit(rng) - 0.5) * 20 * kDeg, (unit(rng) - 0.5) * 20 * kDeg);
+        testing::gateView(near + (far - near) * unit(rng), (unit(rng) - 0.5) * 40 * kDeg, (unit(rng) - 0.5) * 30 * kDeg,
+                          yaw, (unit(rng) - 0.5) * 20 * kDeg, (unit(rng) - 0.5) * 20 * kDeg);
     GateCornerPixels pixels;
     if (!testing::projectCorners(camera, truth, GateSide::kFront, pixels)) continue;
     for (int i = 0; i < 8; ++i) pixels(i % 2, i / 2) += sigma * normal(rng);
