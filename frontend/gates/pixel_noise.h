@@ -15,11 +15,11 @@ namespace dualgraph {
 /// solutions). Until `min_samples` solutions were seen it is the prior σ, widened (never narrowed) by the
 /// estimate from the solutions so far once there are three. Clamped to [min_sigma, max_sigma].
 /// χ²₂ holds where the fit is nearly linear. A gate small in the image (mean side under ≈ 50 σ) has a flat or
-/// two-peaked tilt likelihood, and its best fit absorbs part of the noise: σ reads 5–15 % low from sides of 10–40 σ
+/// two-peaked tilt likelihood, and its best fit absorbs part of the noise: σ reads 4–15 % low from sides of 10–40 σ
 /// (bench/README.md, "Far gates"). So the solutions whose gate side was at least kLinearSidePerSigma current σ are
 /// also kept apart (their newest `window`), and once kMinLinearSamples of them (at least `min_samples`) were seen
-/// the estimate comes from those: a median of n fits has a spread of ≈ 0.72/√n of σ, 7 % at 100, less than the bias
-/// it removes (13 % at 30).
+/// the estimate comes from those. A median of n fits spreads by ≈ 0.72/√n of σ: 7 % at 100, below the bias it
+/// removes; 13 % at 30 would not be.
 /// Threads: one thread at a time per instance (no locks inside); distinct instances share no mutable state and
 /// may run on different threads at once. StreamingLocalizer (frontend/pipeline/) is the class for several threads.
 class PixelNoiseEstimator {
