@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <random>
 
 #include "dualgraph/frontend/gates/camera_model.h"
 #include "dualgraph/types/se3_math.h"
@@ -34,5 +35,35 @@ inline Eigen::Isometry3d gateView(double range, double azimuth, double elevation
   camera_T_gate.translation() = range * direction;
   return camera_T_gate;
 }
+
+/// Random gate views and corner noise for the PnP statistics tests, deterministic for a seed: the gate at a range the
+/// caller draws, up to 20° sideways and 15° vertically off the optical axis, its normal up to 60° off the line of
+/// sight and tilted up to 10° either way.
+class RandomGateViews {
+ public:
+  explicit RandomGateViews(unsigned seed) : rng_(seed) {}
+  /// Uniform in [0, 1).
+  double uniform() { return unit_(rng_); }
+  /// camera_T_gate at `range` [m] (gateView above), the angles drawn in a fixed order.
+  Eigen::Isometry3d at(double range) {
+    constexpr double kDeg = M_PI / 180.0;
+    const double azimuth = (uniform() - 0.5) * 40 * kDeg;
+    const double elevation = (uniform() - 0.5) * 30 * kDeg;
+    const double yaw = (uniform() - 0.5) * 120 * kDeg;
+    const double pitch = (uniform() - 0.5) * 20 * kDeg;
+    const double roll = (uniform() - 0.5) * 20 * kDeg;
+    return gateView(range, azimuth, elevation, yaw, pitch, roll);
+  }
+  /// Gaussian noise of σ [px] on every coordinate of `pixels` (a 2×4 matrix).
+  template <typename Pixels>
+  void addNoise(double sigma, Pixels& pixels) {
+    for (int i = 0; i < 8; ++i) pixels(i % 2, i / 2) += sigma * normal_(rng_);
+  }
+
+ private:
+  std::mt19937 rng_;
+  std::uniform_real_distribution<double> unit_{0.0, 1.0};
+  std::normal_distribution<double> normal_{0.0, 1.0};
+};
 
 }  // namespace dualgraph::testing

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <random>
 
 #include "dualgraph/frontend/gates/gate_pnp.h"
 #include "dualgraph/frontend/gates/pixel_noise.h"
@@ -16,36 +15,29 @@
 namespace dualgraph::pixel_noise_range {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+struct Estimate {
+  double sigma = 0.0;  ///< [px]
+  size_t large = 0;    ///< fits of gates ≥ 50 σ
+};
 
 /// σ estimated from `views` PnP fits of gates at log-uniform range over 1.5–15 m, normals up to 60° off the line of
 /// sight, corners with noise σ; `with_sides`: each fit is added with its gate's image side (as GateFrontend does),
 /// else without (every fit alike, as before the sides were used). A window as long as the run: the median's own
 /// spread (≈ 4 % of σ over 300 fits) would hide a bias of a few per cent.
-struct Estimate {
-  double sigma = 0.0;    ///< [px]
-  size_t large = 0;      ///< fits of gates ≥ 50 σ
-};
-
 Estimate estimate(double sigma, bool with_sides, int views, unsigned seed) {
   const CameraModel camera = testing::ratmRadtanCamera();
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::normal_distribution<double> normal(0.0, 1.0);
+  testing::RandomGateViews draw(seed);
   GatePnpParams params;
   params.pixel_sigma = sigma;
   params.max_reprojection_rms = 1e9;  // every fit tells the noise
   PixelNoiseEstimator estimator(1.0, static_cast<size_t>(views));
   for (int added = 0; added < views;) {
-    const double range = 1.5 * std::pow(10.0, unit(rng));
-    const Eigen::Isometry3d truth =
-        testing::gateView(range, (unit(rng) - 0.5) * 40 * kDeg, (unit(rng) - 0.5) * 30 * kDeg,
-                          (unit(rng) - 0.5) * 120 * kDeg, (unit(rng) - 0.5) * 20 * kDeg, (unit(rng) - 0.5) * 20 * kDeg);
+    const Eigen::Isometry3d truth = draw.at(1.5 * std::pow(10.0, draw.uniform()));
     GateCornerPixels pixels;
     if (!testing::projectCorners(camera, truth, GateSide::kFront, pixels)) continue;
     double side = 0.0;
     for (int i = 0; i < 4; ++i) side += (pixels.col(i) - pixels.col((i + 1) % 4)).norm() / 4.0;
-    for (int i = 0; i < 8; ++i) pixels(i % 2, i / 2) += sigma * normal(rng);
+    draw.addNoise(sigma, pixels);
     const GatePnpSolution solution = solveGatePnp(pixels, camera, GateSide::kFront, params);
     if (!std::isfinite(solution.reprojection_rms)) continue;
     estimator.add(solution.reprojection_rms, with_sides ? side : 0.0);
@@ -64,7 +56,7 @@ TEST(PixelNoiseRange, GatesLargeInTheImageGiveSigmaWhereEveryFitReadsItLow) {
     std::printf("[ sigma ] %.0f px: every fit %.3f, large gates %.3f (%zu fits, band ±%.3f)\n", sigma, all,
                 large.sigma / sigma, large.large, band);
     EXPECT_NEAR(large.sigma / sigma, 1.0, band) << sigma << " px";
-    // The bias the sides remove: 3–4 % at 1–2 px over these ranges, ≈ 8 % from 3 px (12 % on far-seen flights).
+    // The bias the sides remove: ≈ 4 % at 1–2 px over these ranges, ≈ 10 % from 3 px (12 % on far-seen flights).
     if (sigma >= 3.0) {
       EXPECT_LT(all, 0.95) << sigma << " px";
     }
