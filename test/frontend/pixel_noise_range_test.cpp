@@ -35,9 +35,9 @@ Estimate estimate(double sigma, bool with_sides, int views, unsigned seed) {
     const Eigen::Isometry3d truth = draw.at(1.5 * std::pow(10.0, draw.uniform()));
     GateCornerPixels pixels;
     if (!testing::projectCorners(camera, truth, GateSide::kFront, pixels)) continue;
-    double side = 0.0;
-    for (int i = 0; i < 4; ++i) side += (pixels.col(i) - pixels.col((i + 1) % 4)).norm() / 4.0;
     draw.addNoise(sigma, pixels);
+    double side = 0.0;  // from the noisy corners, as GateFrontend measures it
+    for (int i = 0; i < 4; ++i) side += (pixels.col(i) - pixels.col((i + 1) % 4)).norm() / 4.0;
     const GatePnpSolution solution = solveGatePnp(pixels, camera, GateSide::kFront, params);
     if (!std::isfinite(solution.reprojection_rms)) continue;
     estimator.add(solution.reprojection_rms, with_sides ? side : 0.0);
