@@ -165,8 +165,9 @@ TEST(SequenceRun, NoObservationArrivesAfterItsIntervalClosedOverAWholeRace) {
 // A detector with 4 px corner noise under the default configuration (pixel_sigma: 1 as the prior): the
 // frontend estimates the noise from the PnP residuals and keeps its gate as many sigmas wide, so most
 // detections are used; with the noise fixed at 1 px about half are refused (measured on 4 laps: 87 % vs
-// 43 % used, sigma estimated 3.5 px; 1 px noise: 0.90 px). The estimate runs ~10 % low: the lower-RMS of
-// the PnP candidates is kept, and the chi-square model is first order.
+// 43 % used, sigma estimated 3.5 px; 1 px noise: 0.90 px). From every fit the estimate runs ~10 % low: the
+// lower-RMS of the PnP candidates is kept, and the chi-square model is first order; once 100 fits of gates large
+// in the image were seen, those alone give it (frontend/gates/pixel_noise.h).
 TEST(SequenceRun, CornerNoiseIsEstimatedAndTheGateFollowsIt) {
   const Sequence sequence = load(simulateEllipse("ellipse_4px", 5, [](RaceSimParams& p) { p.detection.pixel_sigma = 4.0; }));
   SequenceRunParams adaptive;
