@@ -12,6 +12,14 @@ namespace dualgraph {
 /// frontend/io/FORMATS.md: top-left, top-right, bottom-right, bottom-left (a clockwise cycle in the image).
 using GateCornerPixels = Eigen::Matrix<double, 2, 4>;
 
+/// The mean length [px] of a gate's four sides in the image (the cycle above): how large it appears, which
+/// decides whether its PnP fit is nearly linear (PixelNoiseEstimator).
+inline double meanSidePx(const GateCornerPixels& pixels) {
+  double sum = 0.0;
+  for (int i = 0; i < 4; ++i) sum += (pixels.col(i) - pixels.col((i + 1) % 4)).norm();
+  return sum / 4.0;
+}
+
 /// One gate seen in one image at time `t` [s]: the pixel coordinates [px] of its four inner corners
 /// as they appear in the image (frontend/io/FORMATS.md): top-left, top-right, bottom-right, bottom-left — a
 /// clockwise cycle with v pointing down. `gate_id` is the map id, or -1 when unknown (the association

@@ -63,13 +63,6 @@ bool tellsTheNoise(const GatePnpSolution& solution) {
          solution.rejection == GatePnpRejection::kRangeOutOfBounds;
 }
 
-/// A gate's mean side in the image [px]: what tells PixelNoiseEstimator whether its fit is in the linear regime.
-double meanSide(const GateCornerPixels& pixels) {
-  double sum = 0.0;
-  for (int i = 0; i < 4; ++i) sum += (pixels.col(i) - pixels.col((i + 1) % 4)).norm();
-  return sum / 4.0;
-}
-
 }  // namespace
 
 GatePnpParams GateFrontend::pnpParams() const {
@@ -108,7 +101,7 @@ Result<SolvedDetections> GateFrontend::solveImage(const std::vector<CornerDetect
                                  params_.upright_prior_sigma_deg * M_PI / 180.0};
     }
     const GatePnpSolution solution = solveGatePnp(pixels, *camera_, GateSide::kFront, pnp, upright ? &*upright : nullptr);
-    if (noise != nullptr && tellsTheNoise(solution)) noise->add(solution.reprojection_rms, meanSide(pixels));
+    if (noise != nullptr && tellsTheNoise(solution)) noise->add(solution.reprojection_rms, meanSidePx(pixels));
     if (!solution.ok()) {
       ++solved.pnp_rejected;
       ++solved.pnp_rejected_by_reason[static_cast<int>(solution.rejection)];

@@ -32,7 +32,7 @@ class PixelNoiseEstimator {
   /// Fits of such gates needed before they alone give σ.
   static constexpr size_t kMinLinearSamples = 100;
   /// Adds one solution's reprojection RMS [px] (sqrt of the mean squared corner distance) and its gate's mean
-  /// side in the image [px] (0: unknown, counted as small); non-finite or negative values are ignored.
+  /// side in the image [px] (meanSidePx; 0: unknown, counted as small); non-finite or negative values are ignored.
   void add(double reprojection_rms, double gate_side_px = 0.0);
   /// The current σ [px].
   double sigma() const { return sigma_; }

@@ -11,6 +11,7 @@
 #include "dualgraph/frontend/gates/camera_model.h"
 #include "dualgraph/frontend/gates/gate_pnp.h"
 #include "dualgraph/types/se3_math.h"
+#include "test/frontend/gate_views.h"
 #include "test/frontend/gate_corner_projection.h"
 
 namespace dualgraph {
@@ -19,11 +20,6 @@ namespace {
 using Distortion = CameraModel::Distortion;
 constexpr double kDeg = M_PI / 180.0;
 
-CameraModel radtanCamera() {  // RATM's own calibration (calib_ap-ellipse-lemniscate.json)
-  CameraModel camera = CameraModel::pinhole(289.88, 387.06, 316.58, 241.87, 640, 480, Distortion::kRadTan);
-  camera.distortion << -0.2814528, 0.1091225, 0.0001824, 0.0000679, -0.0232501;
-  return camera;
-}
 
 CameraModel equidistantCamera() {  // data/cameras/ratm_piloted.yaml
   CameraModel camera = CameraModel::pinhole(291.52, 390.011, 316.447, 240.442, 640, 480, Distortion::kEquidistant);
@@ -86,7 +82,7 @@ TEST(GatePnp, RecoversKnownPosesFromNoiseFreeCornersAcrossTheFieldOfView) {
       {3.0, -10 * kDeg, 8 * kDeg, -50 * kDeg, 0, 10 * kDeg},
   };
   int solved = 0;
-  for (const CameraModel& camera : {radtanCamera(), equidistantCamera()}) {
+  for (const CameraModel& camera : {testing::ratmRadtanCamera(), equidistantCamera()}) {
     for (const View& v : views) {
       for (GateSide side : {GateSide::kFront, GateSide::kBack}) {
         Eigen::Isometry3d camera_T_gate = gatePose(v.range, v.azimuth, v.elevation, v.yaw, v.pitch, v.roll);
@@ -208,7 +204,7 @@ TEST(GatePnp, CovarianceIsConsistentMeanNeesWithinChiSquare6Band) {
   for (int i = 0; i < 6000; ++i) chi2_sum += std::pow(normal(rng), 2);
   const double chi2_mean = chi2_sum / 1000.0;
   EXPECT_NEAR(chi2_mean, 6.0, half_band);
-  for (const CameraModel& camera : {equidistantCamera(), radtanCamera()}) {
+  for (const CameraModel& camera : {equidistantCamera(), testing::ratmRadtanCamera()}) {
     int rejected = 0;
     const double nees = meanNees(camera, 2024, &rejected);
     std::printf("[ NEES ] %s: mean NEES %.3f over 1000 views (band 6 ± %.3f; 1000 χ²(6) samples: %.3f), %d rejected\n",
@@ -225,7 +221,7 @@ TEST(GatePnp, LaplaceCovarianceMatchesTheNumericJacobian) {
   params.covariance_model = PnpCovarianceModel::kLaplace;
   params.pixel_sigma = 0.7;
   int checked = 0;
-  for (const CameraModel& camera : {equidistantCamera(), radtanCamera()}) {
+  for (const CameraModel& camera : {equidistantCamera(), testing::ratmRadtanCamera()}) {
     for (double yaw : {-40 * kDeg, 35 * kDeg}) {
       for (double azimuth : {-25 * kDeg, 0.0, 20 * kDeg}) {
         const Eigen::Isometry3d truth = gatePose(3.0, azimuth, 8 * kDeg, yaw, 10 * kDeg, 5 * kDeg);
@@ -304,7 +300,7 @@ TEST(GatePnp, TiltPosteriorIsLaplaceWhereTheLikelihoodIsGaussianAndTheSampledPos
   auto ratios = [](const Matrix6d& a, const Matrix6d& b) {
     return Eigen::GeneralizedSelfAdjointEigenSolver<Matrix6d>(a, b).eigenvalues();
   };
-  for (const CameraModel& camera : {equidistantCamera(), radtanCamera()}) {
+  for (const CameraModel& camera : {equidistantCamera(), testing::ratmRadtanCamera()}) {
     SCOPED_TRACE(distortionModelName(camera.model));
     for (double yaw : {-45 * kDeg, 40 * kDeg}) {
       GateCornerPixels pixels;

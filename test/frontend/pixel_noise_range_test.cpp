@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "dualgraph/frontend/gates/corner_detection.h"
 #include "dualgraph/frontend/gates/gate_pnp.h"
 #include "dualgraph/frontend/gates/pixel_noise.h"
 #include "test/frontend/gate_corner_projection.h"
@@ -36,11 +37,9 @@ Estimate estimate(double sigma, bool with_sides, int views, unsigned seed) {
     GateCornerPixels pixels;
     if (!testing::projectCorners(camera, truth, GateSide::kFront, pixels)) continue;
     draw.addNoise(sigma, pixels);
-    double side = 0.0;  // from the noisy corners, as GateFrontend measures it
-    for (int i = 0; i < 4; ++i) side += (pixels.col(i) - pixels.col((i + 1) % 4)).norm() / 4.0;
     const GatePnpSolution solution = solveGatePnp(pixels, camera, GateSide::kFront, params);
     if (!std::isfinite(solution.reprojection_rms)) continue;
-    estimator.add(solution.reprojection_rms, with_sides ? side : 0.0);
+    estimator.add(solution.reprojection_rms, with_sides ? meanSidePx(pixels) : 0.0);  // noisy, as GateFrontend
     ++added;
   }
   return {estimator.sigma(), estimator.linearSamples()};
