@@ -33,6 +33,10 @@ py::dict frontendCounters(const GateFrontendCounters& c) {
   out["mapping_pending"] = c.mapping_pending;
   out["partial"] = c.partial;
   out["partial_skipped"] = c.partial_skipped;
+  out["pixel_sigma_px"] = c.pixel_sigma;
+  out["pixel_sigma_source"] = pixelSigmaSourceName(c.pixel_sigma_source);
+  out["pixel_sigma_fits"] = c.pixel_sigma_fits;
+  out["pixel_sigma_large_gate_fits"] = c.pixel_sigma_large_gate_fits;
   return out;
 }
 

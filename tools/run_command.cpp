@@ -241,7 +241,13 @@ int runRunCommand(const RunOptions& o) {
             << metrics->frame_checks << " checks); final state " << trackingStateName(metrics->final_state) << "\n";
   if (metrics->has_ground_truth) {
     std::cout << "  ATE (SE(3)-aligned) " << metrics->estimate.ate_se3_m << " m (VIO " << metrics->vio.ate_se3_m
-              << " m, " << std::setprecision(3) << metrics->ate_reduction_pct << " % lower); unaligned "
+              << " m, ";
+    if (std::isfinite(metrics->ate_reduction_pct)) {
+      std::cout << std::setprecision(3) << metrics->ate_reduction_pct << " % lower";
+    } else {
+      std::cout << "an exact VIO: nothing to reduce";
+    }
+    std::cout << "); unaligned "
               << std::setprecision(4) << metrics->estimate.ate_unaligned_m << " m (VIO " << metrics->vio.ate_unaligned_m
               << " m); rotation " << metrics->estimate.ate_rot_deg << " deg (VIO " << metrics->vio.ate_rot_deg << ")\n";
   }

@@ -120,6 +120,9 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
       .add("detections_unplaced", run.pipeline_counters.detections_unplaced)
       .add("keyframes_failed", run.localizer_counters.keyframes_failed)
       .add("pixel_sigma_px", run.frontend_counters.pixel_sigma)
+      .add("pixel_sigma_source", std::string(pixelSigmaSourceName(run.frontend_counters.pixel_sigma_source)))
+      .add("pixel_sigma_fits", static_cast<long>(run.frontend_counters.pixel_sigma_fits))
+      .add("pixel_sigma_large_gate_fits", static_cast<long>(run.frontend_counters.pixel_sigma_large_gate_fits))
       .add("initialized", run.initialization ? (run.initialization->locked ? 1L : 0L) : -1L)
       .add("initialized_at_s", run.initialization && run.initialization->locked ? run.initialization->locked_at
                                                                                 : std::numeric_limits<double>::quiet_NaN())

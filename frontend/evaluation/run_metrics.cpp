@@ -143,8 +143,13 @@ Result<RunMetrics> computeRunMetrics(const Sequence& sequence, const SequenceRun
     auto vio_evaluated = evaluateTrajectory(truth, vio);
     if (!vio_evaluated.ok()) return Status(vio_evaluated.status().code(), "vio.tum vs gt.tum: " + vio_evaluated.status().message());
     m.vio = *vio_evaluated;
-    m.ate_reduction_pct = 100.0 * (1.0 - m.estimate.ate_m / m.vio.ate_m);
-    m.ate_unaligned_reduction_pct = 100.0 * (1.0 - m.estimate.ate_unaligned_m / m.vio.ate_unaligned_m);
+    // An exact odometry (the ground truth fed as the VIO: its ATE is round-off) has nothing to reduce.
+    constexpr double kExactOdometryM = 1e-9;
+    const auto reduction = [&](double ate, double vio_ate) {
+      return vio_ate > kExactOdometryM ? 100.0 * (1.0 - ate / vio_ate) : kNoValue;
+    };
+    m.ate_reduction_pct = reduction(m.estimate.ate_m, m.vio.ate_m);
+    m.ate_unaligned_reduction_pct = reduction(m.estimate.ate_unaligned_m, m.vio.ate_unaligned_m);
   }
   m.keyframes = static_cast<int>(run.keyframes.size());
   if (!run.stats.empty()) {

@@ -30,7 +30,7 @@ struct RunMetrics {
   /// The estimate's map poses (every sample not initialising), SE(3)-aligned, with 4-DoF and unaligned figures.
   TrajectoryMetrics estimate;
   TrajectoryMetrics vio;       ///< the raw odometry over the same time span, same evaluation
-  double ate_reduction_pct = 0.0;            ///< 100 (1 − estimate.ate_m / vio.ate_m), SE(3)-aligned
+  double ate_reduction_pct = 0.0;            ///< 100 (1 − estimate.ate_m / vio.ate_m), SE(3)-aligned; NaN for an exact VIO
   double ate_unaligned_reduction_pct = 0.0;  ///< the same without alignment
   int keyframes = 0;
   int nodes = 0;       ///< main-graph vertices at the end

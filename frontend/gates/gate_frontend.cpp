@@ -92,6 +92,7 @@ Result<SolvedDetections> GateFrontend::solveImage(const std::vector<CornerDetect
     }
     const GatePnpParams pnp = pnpParams();  // the noise may have learnt from the gate before
     solved.pixel_sigma = pnp.pixel_sigma;
+    solved.pixel_sigma_source = params_.adaptive_pixel_sigma ? noise_.source() : PixelSigmaSource::kConfigured;
     GateCornerPixels pixels;
     for (int i = 0; i < 4; ++i) pixels.col(i) = detection.corners[static_cast<size_t>(i)];
     std::optional<UprightGatePrior> upright;
@@ -123,6 +124,8 @@ Result<SolvedDetections> GateFrontend::solve(const std::vector<CornerDetection>&
   Result<SolvedDetections> solved =
       solveImage(image, learn_noise && params_.adaptive_pixel_sigma ? &noise_ : nullptr, odom_R_body);
   if (solved.ok()) counters_.pnp_fits += solved->detections - solved->partial;
+  counters_.pixel_sigma_fits = static_cast<int>(noise_.samples());
+  counters_.pixel_sigma_large_gate_fits = static_cast<int>(noise_.linearSamples());
   return solved;
 }
 
@@ -140,7 +143,10 @@ Result<std::vector<GateObservation>> GateFrontend::associateSolved(const SolvedD
   counters_.partial_skipped += solved.partial_skipped;
   counters_.pnp_rejected += solved.pnp_rejected;
   for (int i = 0; i < 8; ++i) counters_.pnp_rejected_by_reason[i] += solved.pnp_rejected_by_reason[i];
-  if (solved.pixel_sigma > 0.0) counters_.pixel_sigma = solved.pixel_sigma;
+  if (solved.pixel_sigma > 0.0) {
+    counters_.pixel_sigma = solved.pixel_sigma;
+    counters_.pixel_sigma_source = solved.pixel_sigma_source;
+  }
   Result<std::vector<GateObservation>> observations = associate(solved.poses, world_T_body);
   if (!observations.ok() || solved.partials.empty()) return observations;
   DG_RETURN_IF_ERROR(matchPartials(solved.partials, world_T_body, *observations));

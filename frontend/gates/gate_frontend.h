@@ -57,6 +57,10 @@ struct GateFrontendCounters {
   int partial = 0;              ///< of the detections: partial ones (2–3 corners), wherever they went
   int pnp_rejected_by_reason[8] = {0, 0, 0, 0, 0, 0, 0, 0};  ///< indexed by GatePnpRejection
   double pixel_sigma = 0.0;     ///< the corner noise σ PnP used last [px] (estimated when adaptive)
+  PixelSigmaSource pixel_sigma_source = PixelSigmaSource::kConfigured;  ///< where that σ came from
+  /// Fits the adaptive σ learnt from so far (PixelNoiseEstimator::samples), and of them the large gates' (linearSamples).
+  int pixel_sigma_fits = 0;
+  int pixel_sigma_large_gate_fits = 0;
   /// PnP fits run by `solve` (and so processCorners), whatever became of them: one per whole gate of an instant
   /// that is solved once and reused (solveCorners, a read-only helper, is not counted).
   int pnp_fits = 0;
@@ -75,6 +79,7 @@ struct SolvedDetections {
   int pnp_rejected = 0;
   int pnp_rejected_by_reason[8] = {0, 0, 0, 0, 0, 0, 0, 0};  ///< indexed by GatePnpRejection
   double pixel_sigma = 0.0;               ///< the σ PnP used last [px] (0: no whole gate solved)
+  PixelSigmaSource pixel_sigma_source = PixelSigmaSource::kConfigured;  ///< where that σ came from
 };
 
 /// Turns raw gate detections into Localizer observations: corners → PnP (camera frame → body via
@@ -135,6 +140,7 @@ class GateFrontend {
       : params_(params), map_(std::move(map)), gate_size_(gate_size), camera_(std::move(camera)),
         associator_(params.association), noise_(params.pnp.pixel_sigma) {
     counters_.pixel_sigma = params.pnp.pixel_sigma;
+    counters_.pixel_sigma_source = params.adaptive_pixel_sigma ? PixelSigmaSource::kPrior : PixelSigmaSource::kConfigured;
   }
   /// PnP on the complete detections of one image; every fitted pose's RMS goes to `noise` when not null.
   Result<SolvedDetections> solveImage(const std::vector<CornerDetection>& image, PixelNoiseEstimator* noise,

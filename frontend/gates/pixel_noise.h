@@ -7,6 +7,17 @@
 
 namespace dualgraph {
 
+/// Where the σ PnP used came from (metrics.json `pixel_sigma_source`).
+enum class PixelSigmaSource {
+  kConfigured,    ///< `pnp.pixel_sigma` as configured (adaptive_pixel_sigma off)
+  kPrior,         ///< the prior: too few fits yet, or they read below it before min_samples
+  kWidenedPrior,  ///< before min_samples, the fits so far read above the prior and widened it
+  kAllFits,       ///< the median over every fit (fewer than kMinLinearSamples large-gate fits seen)
+  kLargeGates,    ///< the median over the fits of large gates only
+};
+/// "configured", "prior", "widened_prior", "all_fits", "large_gates".
+const char* pixelSigmaSourceName(PixelSigmaSource source);
+
 /// Online estimate of σ, the standard deviation per pixel coordinate [px] of the corner detector's noise,
 /// from the reprojection residuals of solved gates. A four-corner PnP fits 6 pose parameters to 8 pixel
 /// coordinates, so under isotropic Gaussian noise its sum of squared residuals SSR = 4·rms² is σ²·χ²₂
@@ -36,6 +47,8 @@ class PixelNoiseEstimator {
   void add(double reprojection_rms, double gate_side_px = 0.0);
   /// The current σ [px].
   double sigma() const { return sigma_; }
+  /// Where it came from (never kConfigured).
+  PixelSigmaSource source() const { return source_; }
   /// Solutions seen so far (all of them, not only the window's).
   size_t samples() const { return all_.seen; }
   /// Of those, the solutions of gates large enough for χ²₂.
@@ -58,6 +71,7 @@ class PixelNoiseEstimator {
   Ring all_;     ///< every solution
   Ring linear_;  ///< solutions whose gate side was at least kLinearSidePerSigma σ
   double sigma_;
+  PixelSigmaSource source_ = PixelSigmaSource::kPrior;
   std::vector<double> scratch_;
 };
 

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: MIT
 """The Localizer from Python gives the same estimate as `dualgraph run` on the same sequence."""
+import json
 import os
 import shutil
 import tempfile
@@ -102,6 +103,13 @@ class SameAsTheCli(unittest.TestCase):
         self.assertEqual(len(result.stats), len(stats_rows) - 1)
         self.assertEqual([(r["main_vertices"], r["main_edges"]) for r in result.stats],
                          [(int(n), int(e)) for _, n, e in stats_rows[1:]])
+        # The corner noise the run used, and where it came from, as metrics.json has them.
+        with open(os.path.join(self.run_dir, "metrics.json")) as f:
+            metrics = json.load(f)
+        counters = result.frontend_counters
+        for key in ("pixel_sigma_source", "pixel_sigma_fits", "pixel_sigma_large_gate_fits"):
+            self.assertEqual(counters[key], metrics[key], key)
+        self.assertAlmostEqual(counters["pixel_sigma_px"], metrics["pixel_sigma_px"], places=12)
 
     def test_tracking_states_and_the_initialization(self):
         self.assertEqual(self.config.initialization, "given")

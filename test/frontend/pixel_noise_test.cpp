@@ -95,5 +95,24 @@ TEST(PixelNoiseEstimator, FitsOfLargeGatesGiveSigmaOnceAHundredWereSeen) {
   EXPECT_EQ(estimator.linearSamples(), 300u);
 }
 
+// Each stage of the estimate names itself: the prior, the prior widened by noisy early fits, every fit, large gates.
+TEST(PixelNoiseEstimator, SaysWhereItsSigmaCameFrom) {
+  std::mt19937 rng(17);
+  PixelNoiseEstimator estimator(1.0, 300, 30);
+  EXPECT_EQ(estimator.source(), PixelSigmaSource::kPrior);
+  for (int k = 0; k < 10; ++k) estimator.add(fitRms(0.5, rng), 20.0);  // quieter than the prior: kept
+  EXPECT_EQ(estimator.source(), PixelSigmaSource::kPrior);
+  EXPECT_DOUBLE_EQ(estimator.sigma(), 1.0);
+  for (int k = 0; k < 15; ++k) estimator.add(fitRms(3.0, rng), 20.0);  // noisier: widened
+  EXPECT_EQ(estimator.source(), PixelSigmaSource::kWidenedPrior);
+  EXPECT_GT(estimator.sigma(), 1.0);
+  for (int k = 0; k < 400; ++k) estimator.add(fitRms(2.0, rng), 20.0);
+  EXPECT_EQ(estimator.source(), PixelSigmaSource::kAllFits);
+  for (int k = 0; k < 100; ++k) estimator.add(fitRms(2.0, rng), 500.0);
+  EXPECT_EQ(estimator.source(), PixelSigmaSource::kLargeGates);
+  EXPECT_STREQ(pixelSigmaSourceName(estimator.source()), "large_gates");
+  EXPECT_STREQ(pixelSigmaSourceName(PixelSigmaSource::kConfigured), "configured");
+}
+
 }  // namespace
 }  // namespace dualgraph

@@ -180,6 +180,12 @@ TEST(SequenceRun, CornerNoiseIsEstimatedAndTheGateFollowsIt) {
   const GateFrontendCounters& f = without->frontend_counters;
   EXPECT_NEAR(a.pixel_sigma, 4.0, 0.8);
   EXPECT_EQ(f.pixel_sigma, 1.0);
+  EXPECT_EQ(f.pixel_sigma_source, PixelSigmaSource::kConfigured);
+  EXPECT_EQ(f.pixel_sigma_fits, 0);
+  EXPECT_TRUE(a.pixel_sigma_source == PixelSigmaSource::kAllFits || a.pixel_sigma_source == PixelSigmaSource::kLargeGates)
+      << pixelSigmaSourceName(a.pixel_sigma_source);
+  EXPECT_GE(a.pixel_sigma_fits, a.pixel_sigma_large_gate_fits);
+  EXPECT_GT(a.pixel_sigma_fits, 30);
   EXPECT_GT(a.used, 0.75 * a.detections);
   EXPECT_LT(f.used, 0.65 * f.detections);
   EXPECT_LT(a.pnp_rejected, 0.05 * a.detections);
@@ -191,6 +197,8 @@ TEST(SequenceRun, CornerNoiseIsEstimatedAndTheGateFollowsIt) {
   auto clean_run = runSequence(clean, adaptive);
   ASSERT_TRUE(clean_run.ok());
   EXPECT_NEAR(clean_run->frontend_counters.pixel_sigma, 1.0, 0.2);
+  // At 1 px every gate of the ellipse is at least 50 σ wide.
+  EXPECT_EQ(clean_run->frontend_counters.pixel_sigma_source, PixelSigmaSource::kLargeGates);
 }
 
 TEST(SequenceRun, PoseDetectionsFileWorksToo) {

@@ -45,6 +45,13 @@ TEST_F(RealVio, TheGroundTruthAsTheVioStaysWithinThreeCentimetresAndNothingIsCal
   EXPECT_NEAR(jsonNumber(metrics, "lost_share_pct"), 0.0, 1e-9) << metrics;
   EXPECT_EQ(jsonNumber(metrics, "self_calibration_time_offset_applied"), 0.0) << metrics;
   EXPECT_EQ(jsonNumber(metrics, "self_calibration_mount_applied"), 0.0) << metrics;
+  // An exact odometry has no error to reduce: no reduction is made up from its round-off.
+  EXPECT_NE(metrics.find("\"ate_reduction_pct\": null"), std::string::npos) << metrics;
+  // Its gates are 95-230 px wide at 2 px noise: σ comes from the large gates' fits, and says so.
+  EXPECT_NEAR(jsonNumber(metrics, "pixel_sigma_px"), 2.0, 0.2) << metrics;
+  EXPECT_NE(metrics.find("\"pixel_sigma_source\": \"large_gates\""), std::string::npos) << metrics;
+  EXPECT_GE(jsonNumber(metrics, "pixel_sigma_large_gate_fits"), 100.0) << metrics;
+  EXPECT_GE(jsonNumber(metrics, "pixel_sigma_fits"), jsonNumber(metrics, "pixel_sigma_large_gate_fits")) << metrics;
 }
 
 TEST_F(RealVio, TheViSlamsClockOffsetIsFoundAndApplied) {
