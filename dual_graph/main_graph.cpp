@@ -37,20 +37,29 @@ int MainGraph::landmarkVertex(int gate_id) const {
 
 Status MainGraph::addFirstKeyframe(double t, const Eigen::Isometry3d& odom_T_body) {
   if (!keyframes_.empty()) return Status(StatusCode::kFailedPrecondition, "main graph: first keyframe added twice");
-  const int id = next_vertex_id_++;
+  const bool fixed = params_.mapping || params_.initial_sigma_t <= 0.0;
+  // Nothing changes on an error: the prior's information is checked before the vertex goes in, and the vertex
+  // leaves again when its prior cannot join it.
+  Result<Matrix6d> information = Matrix6d(Matrix6d::Zero());
+  if (!fixed) {
+    information = poseInformationFromMetricCovariance(
+        diagonalPoseCovariance(params_.initial_sigma_t, params_.initial_sigma_r), "initial pose prior");
+    if (!information.ok()) return information.status();
+  }
+  const int id = next_vertex_id_;
   auto vertex = std::make_unique<VertexSE3>(id);
   const Eigen::Isometry3d world_T_body = params_.initial_world_T_odom * odom_T_body;
   vertex->setEstimate(world_T_body);
-  const bool fixed = params_.mapping || params_.initial_sigma_t <= 0.0;
   vertex->setFixed(fixed);
   DG_RETURN_IF_ERROR(graph_.addVertex(std::move(vertex)));
   if (!fixed) {
-    Result<Matrix6d> information = poseInformationFromMetricCovariance(
-        diagonalPoseCovariance(params_.initial_sigma_t, params_.initial_sigma_r), "initial pose prior");
-    if (!information.ok()) return information.status();
     Result<EdgeSE3Prior*> prior = addPosePriorEdge(graph_, id, world_T_body, *information);
-    if (!prior.ok()) return prior.status();
+    if (!prior.ok()) {
+      (void)graph_.removeVertex(id);
+      return prior.status();
+    }
   }
+  ++next_vertex_id_;
   keyframes_.push_back(Keyframe{id, t, odom_T_body});
   return Status();
 }
@@ -107,19 +116,31 @@ Result<int> MainGraph::findOrCreateLandmark(int gate_id, size_t keyframe_index, 
     if (in_map == map_.world_T_gate.end()) {
       return Status(StatusCode::kNotFound, "gate " + std::to_string(gate_id) + " is not in the map");
     }
-    DG_RETURN_IF_ERROR(addGateVertex(graph_, id, params_.landmark, in_map->second));
-    if (params_.fix_map_gates) {
-      DG_RETURN_IF_ERROR(graph_.setFixed(id, true));
-    } else if (params_.landmark == LandmarkModel::kPose) {
-      Result<Matrix6d> information = poseInformationFromMetricCovariance(
+    // Nothing changes on an error: the prior's information is checked first, and the gate's vertex leaves again
+    // when its prior cannot join it (a later sighting then meets the same error, not a duplicate vertex id).
+    Result<Matrix6d> pose_information = Matrix6d(Matrix6d::Zero());
+    Result<Eigen::Matrix3d> point_information = Eigen::Matrix3d(Eigen::Matrix3d::Zero());
+    if (!params_.fix_map_gates && params_.landmark == LandmarkModel::kPose) {
+      pose_information = poseInformationFromMetricCovariance(
           diagonalPoseCovariance(params_.map_sigma_t, params_.map_sigma_r), "gate map prior");
-      if (!information.ok()) return information.status();
-      Result<EdgeSE3Prior*> prior = addPosePriorEdge(graph_, id, in_map->second, *information);
-      if (!prior.ok()) return prior.status();
+      if (!pose_information.ok()) return pose_information.status();
+    } else if (!params_.fix_map_gates) {
+      point_information = pointInformationFromCovariance(
+          Eigen::Matrix3d::Identity() * (params_.map_sigma_t * params_.map_sigma_t), "gate map prior");
+      if (!point_information.ok()) return point_information.status();
+    }
+    DG_RETURN_IF_ERROR(addGateVertex(graph_, id, params_.landmark, in_map->second));
+    Status held;
+    if (params_.fix_map_gates) {
+      held = graph_.setFixed(id, true);
+    } else if (params_.landmark == LandmarkModel::kPose) {
+      held = addPosePriorEdge(graph_, id, in_map->second, *pose_information).status();
     } else {
-      const Eigen::Matrix3d information = Eigen::Matrix3d::Identity() / (params_.map_sigma_t * params_.map_sigma_t);
-      Result<EdgePointXYZPrior*> prior = addPointPriorEdge(graph_, id, in_map->second.translation(), information);
-      if (!prior.ok()) return prior.status();
+      held = addPointPriorEdge(graph_, id, in_map->second.translation(), *point_information).status();
+    }
+    if (!held.ok()) {
+      (void)graph_.removeVertex(id);
+      return held;
     }
   }
   ++next_vertex_id_;
