@@ -102,7 +102,8 @@ dualgraph.Error naming why and are counted (finish().localizer_counters / the ru
            },
            "t"_a, "odom_T_body"_a, "absolute_covariance"_a = py::none(), "relative_covariance"_a = py::none(),
            "One VIO sample: t [s], odom_T_body (7,) [x y z qx qy qz qw] or (4, 4) [m], its absolute covariance (6, 6) "
-           "metric [t; theta] (the pipeline makes the increments' from it; all zero: unknown) or the increment's own, or "
+           "metric [t; theta] (the pipeline makes the increments' from it; all or partly zero: unknown; otherwise it must be "
+           "symmetric positive definite) or the increment's own, or "
            "neither (the per-metre model). Returns {'t', 'world_T_body' (7,), 'state', 'covariance' (6, 6) or None}.")
       .def("add_corners",
            [](PyStreaming& s, double t, IdsLike gate_ids, ArrayLike pixels) {

@@ -199,11 +199,13 @@ int runLiveCommand(const LiveOptions& o) {
     }
   }
   const PipelineCounters& refused = run.pipeline_counters;
-  const int odometry_refused = refused.odometry_invalid + refused.odometry_not_after_previous;
+  const int odometry_refused =
+      refused.odometry_invalid + refused.odometry_not_after_previous + refused.odometry_held_at_clock_jump;
   if (odometry_refused > 0) {
     std::cerr << "dualgraph live: warning: " << odometry_refused << " odom records refused (" << refused.odometry_invalid
-              << " not finite or not rigid, " << refused.odometry_not_after_previous
-              << " not after the previous): no pose line for them\n";
+              << " not finite or not rigid, " << refused.odometry_not_after_previous << " not after the previous, "
+              << refused.odometry_held_at_clock_jump << " held at a clock jump beyond frontend.max_odometry_jump_s): "
+              << "no pose line for them\n";
   }
   if (!stream_error.ok()) {
     std::cerr << "dualgraph live: " << stream_error.message() << " (the stream stopped there; the outputs hold what "

@@ -148,6 +148,11 @@ int runRunCommand(const RunOptions& o) {
          "confirmed again (tracking_state.csv); " + std::to_string(refused.detections_in_gap) +
          " detections inside them were not used");
   }
+  if (refused.odometry_held_at_clock_jump > 0) {
+    warn(std::to_string(refused.odometry_held_at_clock_jump) + " odometry samples stamped more than " +
+         "frontend.max_odometry_jump_s after the newest accepted one were held as a clock jump (" +
+         std::to_string(refused.odometry_clock_jumps) + " new clocks confirmed and taken after a gap)");
+  }
   if (refused.detections_too_far_ahead + refused.detections_unplaced > 0) {
     warn(std::to_string(refused.detections_too_far_ahead) + " detections stamped more than frontend.max_detection_lead_s " +
          "beyond the newest odometry and " + std::to_string(refused.detections_unplaced) +

@@ -38,9 +38,10 @@ Result<std::unique_ptr<PipelineCore>> PipelineCore::create(const SequenceRunPara
     const Status switched = params.camera_switch->camera.validate();
     if (!switched.ok()) return Status(switched.code(), "the camera switched to: " + switched.message());
   }
-  if (!(params.max_detection_lead_s > 0.0) || !(params.max_odometry_gap_s >= 0.0)) {
-    return Status(StatusCode::kInvalidArgument,
-                  "pipeline: max_detection_lead_s must be > 0 and max_odometry_gap_s >= 0 [s]");
+  if (!(params.max_detection_lead_s > 0.0) || !(params.max_odometry_gap_s >= 0.0) ||
+      !(params.max_odometry_jump_s >= 0.0) || !std::isfinite(params.max_odometry_jump_s)) {
+    return Status(StatusCode::kInvalidArgument, "pipeline: max_detection_lead_s must be > 0, max_odometry_gap_s "
+                                                "and max_odometry_jump_s finite and >= 0 [s]");
   }
   auto known_map = map.gateMap();
   if (!known_map.ok()) return known_map.status();
@@ -184,16 +185,22 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
     (void)localizer.addOdometry(sample);  // counted there too (LocalizerCounters::odometry_rejected)
     return valid;
   }
+  if (const Status covariance = validateOdometryInput(input); !covariance.ok()) {  // the absolute covariance
+    ++counters_.odometry_invalid;
+    ++odometry_refused_before_localizer_;
+    return covariance;
+  }
   // From here on the odometry is the rescaled VIO's (odom', OdometryScale): everything downstream uses it.
   sample.odom_T_body = odometry_scale_.rescaled(input.odom_T_body);
   if (sample.relative_covariance) sample.relative_covariance = odometry_scale_.rescaled(*sample.relative_covariance);
-  const std::optional<Matrix6d> absolute_covariance =
-      input.absolute_covariance ? std::optional<Matrix6d>(odometry_scale_.rescaled(*input.absolute_covariance))
-                                : std::nullopt;
+  std::optional<Matrix6d> absolute_covariance = knownAbsoluteCovariance(input);
+  if (absolute_covariance) absolute_covariance = odometry_scale_.rescaled(*absolute_covariance);
+  if (input.absolute_covariance && !absolute_covariance) ++counters_.odometry_covariance_unknown;
   if (input.absolute_covariance || !input.relative_covariance) {
     Result<std::optional<Matrix6d>> relative = covariances_.next(sample.odom_T_body, absolute_covariance);
     if (!relative.ok()) {
       ++counters_.odometry_invalid;
+      ++odometry_refused_before_localizer_;
       return Status(relative.status().code(), "odometry sample at t=" + formatTimestamp(input.t) + ": " +
                                                   relative.status().message());
     }

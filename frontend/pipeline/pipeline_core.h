@@ -63,6 +63,9 @@ class PipelineCore {
   std::optional<double> cameraSwitchedAt() const { return camera_switched_at_; }
   /// The camera-to-odometry clock offset applied to the instants handed over now [s].
   double timeOffset() const { return time_offset_; }
+  /// Odometry samples refused before the Localizer saw them (their absolute covariance): LocalizerCounters does not
+  /// hold them.
+  int odometryRefusedBeforeLocalizer() const { return odometry_refused_before_localizer_; }
   const SequenceRunParams& params() const { return params_; }
   /// The VIO's scale as estimated and applied (SequenceRunParams::odometry_scale).
   const OdometryScale& odometryScale() const { return odometry_scale_; }
@@ -82,6 +85,7 @@ class PipelineCore {
   void refuse(int& counter, size_t detections);
 
   SequenceRunParams params_;
+  int odometry_refused_before_localizer_ = 0;  ///< refused for their absolute covariance (the Localizer never saw them)
   GateMap map_;
   std::unique_ptr<Localizer> owned_localizer_;
   std::optional<GateFrontend> owned_frontend_;

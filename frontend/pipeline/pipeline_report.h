@@ -8,6 +8,7 @@
 
 #include "dualgraph/dual_graph/localizer.h"
 #include "dualgraph/frontend/pipeline/frame_search.h"
+#include "dualgraph/frontend/pipeline/odometry_input.h"
 
 namespace dualgraph {
 
@@ -32,19 +33,6 @@ struct SelfCalibrationReport {
   std::string why_not_time_offset;   ///< why the clock offset was kept (empty when applied)
   std::string why_not_mount;         ///< why the mount was kept (empty when applied)
   std::string why_not;               ///< when nothing was applied: why (empty when applied)
-};
-
-/// One odometry sample as a VIO publishes it: time t [s] on the odometry clock, odom_T_body (body in the VIO's
-/// odometry frame, unit quaternion / rotation), and optionally the covariance of that pose itself (6×6, metric
-/// [t; θ] in m², rad², a right perturbation in the body frame, as OpenVINS reports it) — converted into the
-/// increment's covariance sample by sample (RelativeCovarianceStream). Without one, `relative_covariance` is used
-/// when set (a log converted already), else LocalizerParams' per-metre model. A plain value.
-struct OdometryInput {
-  double t = 0.0;
-  Eigen::Isometry3d odom_T_body = Eigen::Isometry3d::Identity();
-  std::optional<Matrix6d> absolute_covariance;
-  std::optional<Matrix6d> relative_covariance;
-  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
 /// What one odometry sample did inside the pipeline (the work of that call, synchronous mode; in worker mode the
@@ -79,6 +67,12 @@ struct PipelineCounters {
   int odometry_invalid = 0;            ///< non-finite or non-rigid samples
   int odometry_not_after_previous = 0; ///< time not after the newest accepted sample (backwards or repeated)
   int odometry_gaps = 0;               ///< gaps longer than max_odometry_gap_s (each marks the samples after it lost)
+  /// Samples whose absolute covariance was all or partly zero: used as without one (not refused).
+  int odometry_covariance_unknown = 0;
+  /// Samples held at a forward jump beyond max_odometry_jump_s (OdometryClockGuard): a glitch, or the first samples
+  /// of a new clock before it was confirmed.
+  int odometry_held_at_clock_jump = 0;
+  int odometry_clock_jumps = 0;        ///< new clocks confirmed (their first confirmed sample taken, after a gap)
   int detections_invalid = 0;          ///< non-finite values, or corners and poses in one instant
   int detections_backwards = 0;        ///< older than an instant given before
   int detections_too_far_ahead = 0;    ///< beyond the newest odometry by more than max_detection_lead_s

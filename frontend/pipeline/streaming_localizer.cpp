@@ -10,7 +10,7 @@ constexpr size_t kMaxQueuedEvents = 1 << 15;
 }  // namespace
 
 StreamingLocalizer::StreamingLocalizer(std::unique_ptr<PipelineCore> core, PipelineThreading threading)
-    : core_(std::move(core)), threading_(threading) {
+    : core_(std::move(core)), threading_(threading), clock_guard_(core_->params().max_odometry_jump_s) {
   snapshot_.map_T_odom = core_->localizer().mapTOdom();
   snapshot_.state = core_->localizer().trackingState();
   if (threading_ == PipelineThreading::kWorker) worker_ = std::thread([this] { workerLoop(); });
@@ -97,12 +97,18 @@ Status StreamingLocalizer::enqueue(Event event, const char* what) {
 }
 
 Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
+  const Status clock = clock_guard_.check(input.t);
+  if (!clock.ok()) {
+    countRefused();
+    return clock;
+  }
   if (threading_ == PipelineThreading::kCallerThread) {
     Result<PoseUpdate> update = [&] {
       std::lock_guard<std::mutex> lock(work_mutex_);
       return core_->addOdometry(input);
     }();
     if (update.ok()) {
+      clock_guard_.accepted(input.t);
       publish(*update);
     } else {
       countRefused();
@@ -110,8 +116,7 @@ Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
     return update;
   }
   // Worker mode: refused here what the core would refuse without its state, so the caller hears of it.
-  const OdometrySample sample{input.t, input.odom_T_body, input.relative_covariance};
-  const Status valid = validateOdometrySample(sample);
+  const Status valid = validateOdometryInput(input);
   if (!valid.ok() || !(input.t > last_submitted_t_)) {
     ++(valid.ok() ? refused_on_submit_ : invalid_on_submit_);
     countRefused();
@@ -123,6 +128,7 @@ Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
   event.odometry = input;
   DG_RETURN_IF_ERROR(enqueue(std::move(event), "odometry sample"));
   last_submitted_t_ = input.t;
+  clock_guard_.accepted(input.t);
   PoseUpdate update;
   std::lock_guard<std::mutex> lock(snapshot_mutex_);
   update.pose = CorrectedPose{input.t, snapshot_.map_T_odom * input.odom_T_body, snapshot_.state, std::nullopt};
@@ -176,7 +182,12 @@ Result<PipelineResults> StreamingLocalizer::finish() {
   results.pipeline_counters = core_->counters();
   results.pipeline_counters.odometry_invalid += invalid_on_submit_;
   results.pipeline_counters.odometry_not_after_previous += refused_on_submit_;
-  results.localizer_counters.odometry_rejected += invalid_on_submit_ + refused_on_submit_;
+  results.pipeline_counters.odometry_held_at_clock_jump = clock_guard_.held();
+  results.pipeline_counters.odometry_clock_jumps = clock_guard_.jumps();
+  // Every sample the pipeline did not take, as in both modes: refused on submission, held at a clock jump, or refused
+  // by the core before the Localizer saw it.
+  results.localizer_counters.odometry_rejected +=
+      invalid_on_submit_ + refused_on_submit_ + clock_guard_.held() + core_->odometryRefusedBeforeLocalizer();
   results.initialization = core_->initialization();
   results.camera_switched_at = core_->cameraSwitchedAt();
   results.self_calibration = core_->selfCalibration();

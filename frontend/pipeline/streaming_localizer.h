@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "dualgraph/core/status.h"
+#include "dualgraph/frontend/pipeline/odometry_clock_guard.h"
 #include "dualgraph/frontend/pipeline/pipeline_core.h"
 
 namespace dualgraph {
@@ -85,8 +86,9 @@ class StreamingLocalizer {
   /// mode: the checks that need no pipeline state (finite values, one detector per instant) answered here; the
   /// others (order, lead over the odometry) counted when the worker takes it.
   Status addDetections(const DetectionInstant& instant);
-  /// One odometry sample; kInvalidArgument (counted) for a non-finite or non-rigid sample or one not after the
-  /// previous. Caller-thread mode: this sample's work, its pose with the covariance where known, and its report.
+  /// One odometry sample; kInvalidArgument (counted) for a non-finite or non-rigid sample, one not after the
+  /// previous, or one held at a clock jump (more than `frontend.max_odometry_jump_s` after the newest accepted sample;
+  /// OdometryClockGuard: taken once 3 samples in a row continue from it). Caller-thread mode: this sample's work, its pose with the covariance where known, and its report.
   /// Worker mode: the pose through the last finished result's map_T_odom, its state, no covariance (the snapshot
   /// has the one at its own sample), and the report of the sample the worker finished last.
   Result<PoseUpdate> addOdometry(const OdometryInput& input);
@@ -125,6 +127,7 @@ class StreamingLocalizer {
   std::deque<Event, Eigen::aligned_allocator<Event>> queue_;
   bool stopping_ = false;
   double last_submitted_t_ = -std::numeric_limits<double>::infinity();  ///< odometry thread only
+  OdometryClockGuard clock_guard_;  ///< odometry thread only: both modes hold a clock jump here, before the core
   int refused_on_submit_ = 0;  ///< worker mode: odometry refused before queueing (odometry thread only)
   int invalid_on_submit_ = 0;
   std::thread worker_;

@@ -122,11 +122,112 @@ TEST_F(StreamingInput, BadOdometryIsRefusedAndCountedAndTheRunGoesOn) {
     OdometryInput bad_covariance = flighttest::odometryInput(*flight_, k);
     bad_covariance.absolute_covariance = Matrix6d::Constant(NAN);
     EXPECT_FALSE(pipeline.addOdometry(bad_covariance).ok());
+    // Not a covariance: a negative variance, an asymmetric matrix. Each refused, naming the field.
+    Matrix6d negative = Matrix6d::Identity() * 1e-4;
+    negative(1, 1) = -1.0;
+    Matrix6d asymmetric = Matrix6d::Identity() * 1e-4;
+    asymmetric(0, 5) = 1e-5;
+    for (const Matrix6d& not_a_covariance : {negative, asymmetric}) {
+      OdometryInput refused = flighttest::odometryInput(*flight_, k);
+      refused.absolute_covariance = not_a_covariance;
+      const Status answer = pipeline.addOdometry(refused).status();
+      EXPECT_FALSE(answer.ok());
+      EXPECT_NE(answer.message().find("absolute_covariance"), std::string::npos) << answer.message();
+    }
   });
   const PipelineCounters& c = run.results.pipeline_counters;
-  EXPECT_EQ(c.odometry_invalid, 2);
+  EXPECT_EQ(c.odometry_invalid, 4);
   EXPECT_EQ(c.odometry_not_after_previous, 1);
+  EXPECT_EQ(run.results.localizer_counters.odometry_rejected, 5);  // every sample not taken, whoever refused it
   EXPECT_EQ(run.updates.size(), clean_->updates.size());
+}
+
+// One sample stamped 10^6 s ahead (a glitched clock) in the middle of the flight. Before the guard it was taken, and
+// every later sample was refused as not after it: the rest of the flight lost, loudly.
+TEST_F(StreamingInput, AGlitchedOdometryStampIsHeldAndTheFlightGoesOn) {
+  Status answer;
+  const auto glitch = [&](size_t k, StreamingLocalizer& pipeline) {
+    if (k != 700) return;
+    OdometryInput ahead = flighttest::odometryInput(*flight_, k);
+    ahead.t += 1e6;
+    answer = pipeline.addOdometry(ahead).status();
+  };
+  const SerialRun run = streamSerially(*flight_, SequenceRunParams{}, glitch);
+  EXPECT_EQ(answer.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(answer.message().find("clock jump"), std::string::npos) << answer.message();
+  const PipelineCounters& c = run.results.pipeline_counters;
+  EXPECT_EQ(c.odometry_held_at_clock_jump, 1);
+  EXPECT_EQ(c.odometry_clock_jumps, 0);
+  EXPECT_EQ(c.odometry_not_after_previous, 0);
+  EXPECT_TRUE(sameKeyframes(run, *clean_));  // the glitch changed nothing else
+
+  SequenceRunParams unguarded;
+  unguarded.max_odometry_jump_s = 0.0;  // off: the control, the flight as it went before the guard
+  const SerialRun lost = streamSerially(*flight_, unguarded, glitch);
+  EXPECT_TRUE(answer.ok()) << answer.message();  // taken
+  EXPECT_GT(lost.results.pipeline_counters.odometry_not_after_previous,
+            static_cast<int>(flight_->odometry.samples.size()) - 710);
+  EXPECT_LT(lost.results.keyframes.size(), run.results.keyframes.size());
+}
+
+// The VIO's clock really jumps (a restart on another time base, 1000 s later) and stays there: the first two samples
+// on the new clock are held, the third is taken as a gap, and the run locks again.
+TEST_F(StreamingInput, AClockThatReallyJumpsIsTakenAfterThreeSamples) {
+  Sequence jumped = *flight_;
+  const double from = 9.0, shift = 1000.0;
+  for (OdometrySample& sample : jumped.odometry.samples) {
+    if (sample.t > from) sample.t += shift;
+  }
+  std::vector<DetectionInstant> instants = flighttest::detectionInstants(jumped);
+  const double offset = jumped.camera ? jumped.camera->time_offset : 0.0;
+  for (DetectionInstant& instant : instants) {
+    if (instant.t - offset <= from) continue;
+    instant.t += shift;
+    for (CornerDetection& corners : instant.corners) corners.t += shift;
+    for (GateObservation& pose : instant.poses) pose.t += shift;
+  }
+  auto pipeline = StreamingLocalizer::create(SequenceRunParams{}, jumped.map, jumped.camera);
+  ASSERT_TRUE(pipeline.ok()) << pipeline.status().message();
+  size_t next = 0;
+  int held = 0;
+  TrackingState last = TrackingState::kInitialising;
+  for (size_t k = 0; k < jumped.odometry.samples.size(); ++k) {
+    const double t = jumped.odometry.samples[k].t;
+    while (next < instants.size() && instants[next].t - offset <= t) (void)(*pipeline)->addDetections(instants[next++]);
+    Result<PoseUpdate> update = (*pipeline)->addOdometry(flighttest::odometryInput(jumped, k));
+    if (!update.ok()) {
+      ++held;
+      continue;
+    }
+    last = update->pose.state;
+  }
+  Result<PipelineResults> results = (*pipeline)->finish();
+  ASSERT_TRUE(results.ok()) << results.status().message();
+  const PipelineCounters& c = results->pipeline_counters;
+  EXPECT_EQ(held, 2);
+  EXPECT_EQ(c.odometry_held_at_clock_jump, 2);
+  EXPECT_EQ(c.odometry_clock_jumps, 1);
+  EXPECT_EQ(c.odometry_gaps, 1);
+  EXPECT_EQ(c.odometry_not_after_previous, 0);
+  EXPECT_EQ(last, TrackingState::kTracking);  // confirmed again on the new clock
+}
+
+// A VIO's covariance partly zero while it starts (OpenVINS's first rows) means "unknown": the sample is taken with
+// the per-metre model for its increment, as a file row is (frontend/io/odometry_io.h, isUnknownCovariance).
+TEST_F(StreamingInput, APartlyZeroAbsoluteCovarianceIsUnknownNotRefused) {
+  auto pipeline = StreamingLocalizer::create(SequenceRunParams{}, flight_->map, flight_->camera);
+  ASSERT_TRUE(pipeline.ok());
+  Matrix6d partly_zero = Matrix6d::Zero();
+  partly_zero(0, 0) = 1e-4;
+  for (size_t k = 0; k < 20; ++k) {
+    OdometryInput input = flighttest::odometryInput(*flight_, k);
+    if (k < 5) input.absolute_covariance = partly_zero;
+    ASSERT_TRUE((*pipeline)->addOdometry(input).ok()) << k;
+  }
+  Result<PipelineResults> results = (*pipeline)->finish();
+  ASSERT_TRUE(results.ok());
+  EXPECT_EQ(results->pipeline_counters.odometry_covariance_unknown, 5);
+  EXPECT_EQ(results->pipeline_counters.odometry_invalid, 0);
 }
 
 TEST_F(StreamingInput, AnOdometryGapMarksTheSamplesAfterItUntilTheFrameIsConfirmed) {

@@ -145,14 +145,38 @@ TEST(StreamingThreads, WorkerModeRefusesBadOdometryAtOnceAndCountsIt) {
   bad.odom_T_body.translation().x() = NAN;
   EXPECT_EQ((*pipeline)->addOdometry(bad).status().code(), StatusCode::kInvalidArgument);
   EXPECT_EQ((*pipeline)->addOdometry(flighttest::odometryInput(sequence, 0)).status().code(), StatusCode::kInvalidArgument);
+  OdometryInput not_a_covariance = flighttest::odometryInput(sequence, 1);
+  not_a_covariance.absolute_covariance = -Matrix6d::Identity();
+  EXPECT_FALSE((*pipeline)->addOdometry(not_a_covariance).ok());  // at submission, not later in the worker
   ASSERT_TRUE((*pipeline)->addOdometry(flighttest::odometryInput(sequence, 1)).ok());
   auto results = (*pipeline)->finish();
   ASSERT_TRUE(results.ok()) << results.status().message();
-  EXPECT_EQ(results->pipeline_counters.odometry_invalid, 1);
+  EXPECT_EQ(results->pipeline_counters.odometry_invalid, 2);
   EXPECT_EQ(results->pipeline_counters.odometry_not_after_previous, 1);
   EXPECT_EQ(results->localizer_counters.odometry_accepted, 2);
-  EXPECT_EQ((*pipeline)->snapshot().samples, 4);  // refused ones count as taken: a feeder waiting on it never stalls
+  EXPECT_EQ((*pipeline)->snapshot().samples, 5);  // refused ones count as taken: a feeder waiting on it never stalls
   EXPECT_EQ((*pipeline)->finish().status().code(), StatusCode::kFailedPrecondition);
+}
+
+// A glitched stamp far ahead is held at submission too: the samples after it are not refused as older than it.
+TEST(StreamingThreads, WorkerModeHoldsAGlitchedStampAndTakesWhatFollows) {
+  const Sequence sequence = flighttest::simulatedFlight("ratm_ellipse.yaml", "clean", 2, 1);
+  auto pipeline = StreamingLocalizer::create(SequenceRunParams{}, sequence.map, sequence.camera, PipelineThreading::kWorker);
+  ASSERT_TRUE(pipeline.ok());
+  const size_t samples = std::min<size_t>(300, sequence.odometry.samples.size());
+  for (size_t k = 0; k < samples; ++k) {
+    if (k == 100) {
+      OdometryInput ahead = flighttest::odometryInput(sequence, k);
+      ahead.t = 1.7e9;  // an epoch stamp among boot-time ones
+      EXPECT_EQ((*pipeline)->addOdometry(ahead).status().code(), StatusCode::kInvalidArgument);
+    }
+    ASSERT_TRUE((*pipeline)->addOdometry(flighttest::odometryInput(sequence, k)).ok()) << k;
+  }
+  auto results = (*pipeline)->finish();
+  ASSERT_TRUE(results.ok()) << results.status().message();
+  EXPECT_EQ(results->pipeline_counters.odometry_held_at_clock_jump, 1);
+  EXPECT_EQ(results->pipeline_counters.odometry_not_after_previous, 0);
+  EXPECT_EQ(results->localizer_counters.odometry_accepted, static_cast<int>(samples));
 }
 
 }  // namespace

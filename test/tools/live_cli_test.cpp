@@ -122,7 +122,8 @@ TEST(LiveCli, PacingAndPoseDetectionsChangeNothing) {
 
 TEST(LiveCli, RecordsThePipelineRefusesAreCountedAndLeftOutOfTheRecording) {
   const std::string sequence = flight("live_refused_lap", "--laps 1 --profile clean");
-  // The flight's stream with one odom record repeated (not after the previous one): refused, warned, not recorded.
+  // The flight's stream with one odom record repeated (not after the previous one) and one stamped 10^6 s ahead (a
+  // glitched clock, held): refused, warned, not recorded; the records after the glitch are taken as before.
   const std::string stream = tempDir() + "/live_refused_stream.txt";
   ASSERT_EQ(std::system((feeder() + " " + sequence + " --speed 0 > " + stream).c_str()), 0);
   std::string text = readFile(stream);
@@ -130,12 +131,19 @@ TEST(LiveCli, RecordsThePipelineRefusesAreCountedAndLeftOutOfTheRecording) {
   const size_t second = text.find("odom ", first + 5);
   const size_t end = text.find('\n', second);
   text.insert(end + 1, text.substr(second, end + 1 - second));  // the second odom record twice
+  const size_t third = text.find("odom ", text.find("odom ", end + 1) + 5);
+  const size_t stamp_end = text.find(' ', third + 5);
+  std::string glitched = text.substr(third, text.find('\n', third) + 1 - third);
+  glitched.replace(5, stamp_end - third - 5, std::to_string(std::stod(text.substr(third + 5, stamp_end - third - 5)) + 1e6));
+  text.insert(third, glitched);  // before the (third) record whose stamp it took, 10^6 s ahead
   const std::string doubled = testing::writeFile("live_refused_doubled.txt", text);
   const std::string out = tempDir() + "/live_refused_run";
   fs::remove_all(out);
   const CommandRun run = runDualgraph("live" + mapAndCamera(sequence) + " --out " + out + " --poses " + out + "_poses.txt < " + doubled);
   EXPECT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_NE(run.err.find("1 odom records refused (0 not finite or not rigid, 1 not after the previous)"), std::string::npos)
+  EXPECT_NE(run.err.find("2 odom records refused (0 not finite or not rigid, 1 not after the previous, 1 held at a clock "
+                         "jump beyond frontend.max_odometry_jump_s)"),
+            std::string::npos)
       << run.err;
   EXPECT_EQ(words(readFile(out + "_poses.txt")).size(), words(readFile(sequence + "/vio.tum")).size());
   ASSERT_EQ(runDualgraph("run --quiet --sequence " + out + "/sequence --out " + out + "_replayed").exit_code, 0);

@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: MIT
+#include "dualgraph/frontend/pipeline/odometry_clock_guard.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "dualgraph/core/stamp_tolerance.h"
+
+namespace dualgraph {
+namespace {
+
+std::string seconds(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", value);
+  return text;
+}
+
+}  // namespace
+
+Status OdometryClockGuard::check(double t) {
+  if (!std::isfinite(t)) return Status();  // the sample check's business: refused as not finite
+  if (!(max_jump_s_ > 0.0) || !newest_ || !elapsedMoreThan(t, *newest_, max_jump_s_)) {
+    candidate_.reset();  // on the accepted clock (or before it: the order check's business)
+    return Status();
+  }
+  if (candidate_ && t > candidate_->last_t && !elapsedMoreThan(t, candidate_->last_t, max_jump_s_)) {
+    candidate_->last_t = t;
+    ++candidate_->samples;
+  } else {
+    candidate_ = Candidate{t, 1};
+  }
+  if (candidate_->samples >= kConfirmations) {
+    candidate_.reset();
+    ++jumps_;
+    return Status();
+  }
+  ++held_;
+  return Status(StatusCode::kInvalidArgument,
+                "odometry sample at t=" + formatTimestamp(t) + " is " + seconds(t - *newest_) +
+                    " s after the newest accepted one at t=" + formatTimestamp(*newest_) +
+                    " (more than frontend.max_odometry_jump_s = " + seconds(max_jump_s_) +
+                    " s): a clock jump, held until " + std::to_string(kConfirmations) +
+                    " samples in a row continue from it (" + std::to_string(candidate_->samples) + " so far)");
+}
+
+}  // namespace dualgraph
