@@ -86,12 +86,17 @@ dualgraph.Error naming why and are counted (finish().localizer_counters / the ru
       .def("add_odometry",
            [](PyStreaming& s, double t, ArrayLike odom_T_body, OptionalArrayLike absolute_covariance,
               OptionalArrayLike relative_covariance) {
+             StreamingLocalizer& pipeline = s.live();
              OdometryInput input;
              input.t = t;
-             input.odom_T_body = toPose(odom_T_body, "odom_T_body");
-             if (!absolute_covariance.is_none()) input.absolute_covariance = toMatrix(absolute_covariance, "absolute_covariance", 6, 6);
-             if (!relative_covariance.is_none()) input.relative_covariance = toMatrix(relative_covariance, "relative_covariance", 6, 6);
-             StreamingLocalizer& pipeline = s.live();
+             try {  // a message that is not even a sample still counts as one taken (a feeder paces on the count)
+               input.odom_T_body = toPose(odom_T_body, "odom_T_body");
+               if (!absolute_covariance.is_none()) input.absolute_covariance = toMatrix(absolute_covariance, "absolute_covariance", 6, 6);
+               if (!relative_covariance.is_none()) input.relative_covariance = toMatrix(relative_covariance, "relative_covariance", 6, 6);
+             } catch (...) {
+               pipeline.countMalformedOdometry();
+               throw;
+             }
              Result<PoseUpdate> update = [&] {
                py::gil_scoped_release release;
                return pipeline.addOdometry(input);
@@ -107,11 +112,19 @@ dualgraph.Error naming why and are counted (finish().localizer_counters / the ru
            "neither (the per-metre model). Returns {'t', 'world_T_body' (7,), 'state', 'covariance' (6, 6) or None}.")
       .def("add_corners",
            [](PyStreaming& s, double t, IdsLike gate_ids, ArrayLike pixels) {
-             const std::vector<int> ids = toIds(gate_ids, "gate_ids", -1, -1);
-             DoubleArray corners = toDoubles(pixels, "pixels");
-             if (corners.ndim() != 3 || corners.shape(0) != static_cast<py::ssize_t>(ids.size()) || corners.shape(1) != 4 ||
-                 corners.shape(2) != 2) {
-               raiseInvalid("pixels: expected shape (" + std::to_string(ids.size()) + ", 4, 2), got " + shapeString(corners));
+             StreamingLocalizer& pipeline = s.live();
+             std::vector<int> ids;
+             DoubleArray corners;
+             try {  // counted as invalid detections, as many as it names (at least one)
+               ids = toIds(gate_ids, "gate_ids", -1, -1);
+               corners = toDoubles(pixels, "pixels");
+               if (corners.ndim() != 3 || corners.shape(0) != static_cast<py::ssize_t>(ids.size()) ||
+                   corners.shape(1) != 4 || corners.shape(2) != 2) {
+                 raiseInvalid("pixels: expected shape (" + std::to_string(ids.size()) + ", 4, 2), got " + shapeString(corners));
+               }
+             } catch (...) {
+               pipeline.countMalformedDetections(py::hasattr(gate_ids, "__len__") ? std::max<int>(1, static_cast<int>(py::len(gate_ids))) : 1);
+               throw;
              }
              DetectionInstant instant;
              instant.t = t;
@@ -124,7 +137,6 @@ dualgraph.Error naming why and are counted (finish().localizer_counters / the ru
                }
                instant.corners.push_back(detection);
              }
-             StreamingLocalizer& pipeline = s.live();
              const Status taken = [&] {
                py::gil_scoped_release release;
                return pipeline.addDetections(instant);

@@ -65,6 +65,15 @@ void StreamingLocalizer::countRefused() {
   ++snapshot_.samples;
 }
 
+void StreamingLocalizer::countMalformedOdometry() {
+  ++invalid_on_submit_;
+  countRefused();
+}
+
+void StreamingLocalizer::countMalformedDetections(int detections) {
+  if (detections > 0) detections_invalid_on_submit_ += detections;
+}
+
 PipelineSnapshot StreamingLocalizer::snapshot() const {
   std::lock_guard<std::mutex> lock(snapshot_mutex_);
   return snapshot_;
@@ -76,7 +85,11 @@ Status StreamingLocalizer::addDetections(const DetectionInstant& instant) {
     return core_->addDetections(instant);
   }
   if (instant.size() == 0) return Status();
-  DG_RETURN_IF_ERROR(PipelineCore::checkInstant(instant));
+  const Status valid = PipelineCore::checkInstant(instant);
+  if (!valid.ok()) {  // counted as the core counts it in caller-thread mode
+    detections_invalid_on_submit_ += static_cast<int>(instant.size());
+    return valid;
+  }
   Event event;
   event.detections = instant;
   return enqueue(std::move(event), "detection instant");
@@ -182,6 +195,7 @@ Result<PipelineResults> StreamingLocalizer::finish() {
   results.pipeline_counters = core_->counters();
   results.pipeline_counters.odometry_invalid += invalid_on_submit_;
   results.pipeline_counters.odometry_not_after_previous += refused_on_submit_;
+  results.pipeline_counters.detections_invalid += detections_invalid_on_submit_.load();
   results.pipeline_counters.odometry_held_at_clock_jump = clock_guard_.held();
   results.pipeline_counters.odometry_clock_jumps = clock_guard_.jumps();
   // Every sample the pipeline did not take, as in both modes: refused on submission, held at a clock jump, or refused

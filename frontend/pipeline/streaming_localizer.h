@@ -2,6 +2,7 @@
 // StreamingLocalizer: the tested field pipeline as a drone runs it — odometry and detections as they arrive, threads.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <deque>
 #include <memory>
@@ -92,6 +93,13 @@ class StreamingLocalizer {
   /// Worker mode: the pose through the last finished result's map_T_odom, its state, no covariance (the snapshot
   /// has the one at its own sample), and the report of the sample the worker finished last.
   Result<PoseUpdate> addOdometry(const OdometryInput& input);
+  /// An odometry message its adapter could not even turn into an OdometryInput (a Python array of the wrong shape, a
+  /// 4×4 whose last row is not 0 0 0 1): counted as taken (PipelineSnapshot::samples, so a feeder pacing itself on it
+  /// never waits for it) and as invalid (PipelineCounters::odometry_invalid). The odometry thread.
+  void countMalformedOdometry();
+  /// Likewise `detections` detections an adapter could not turn into a DetectionInstant (counted in
+  /// PipelineCounters::detections_invalid). The detector thread.
+  void countMalformedDetections(int detections);
   /// The last published view (any thread).
   PipelineSnapshot snapshot() const;
   /// End of input: the worker drains its queue and stops; the detections within the odometry's span are used;
@@ -129,7 +137,9 @@ class StreamingLocalizer {
   double last_submitted_t_ = -std::numeric_limits<double>::infinity();  ///< odometry thread only
   OdometryClockGuard clock_guard_;  ///< odometry thread only: both modes hold a clock jump here, before the core
   int refused_on_submit_ = 0;  ///< worker mode: odometry refused before queueing (odometry thread only)
-  int invalid_on_submit_ = 0;
+  int invalid_on_submit_ = 0;  ///< worker mode: odometry invalid before queueing, and malformed (odometry thread only)
+  /// Detections refused before they reached the core: worker mode's checks, and malformed ones (detector thread).
+  std::atomic<int> detections_invalid_on_submit_{0};
   std::thread worker_;
   bool finished_ = false;
 };

@@ -59,10 +59,53 @@ class Streaming(unittest.TestCase):
         bad[0, 3] = np.nan
         with self.assertRaises(dualgraph.InvalidArgumentError):
             pipeline.add_odometry(times[1], bad)
+        # Each refused sample counts as taken, those the binding refuses before the pipeline (the NaN) included: a
+        # feeder pacing itself on the count never waits for them.
+        self.assertEqual(pipeline.snapshot()["samples"], 3)
         result = pipeline.finish()
         self.assertEqual(len(result.estimate[0]), 1)
         with self.assertRaisesRegex(dualgraph.FailedPreconditionError, "finish"):
             pipeline.add_odometry(times[2], poses[2])
+
+    def test_a_stream_with_corrupted_samples_refuses_each_and_keeps_tracking(self):
+        # About 2 % of the odometry corrupted the ways a driver can (non-finite, not rigid, a stamp far ahead or far
+        # back, a matrix that is not a covariance): each raises naming why, and the flight is localised as if they
+        # were not there. Before the clock guard, the one stamp 10^6 s ahead made every later sample "not after" it.
+        rng = np.random.default_rng(5)
+        pipeline = dualgraph.StreamingLocalizer(self.sequence, dualgraph.RunConfig())
+        times, _ = self.sequence.odometry
+        poses = self.sequence.odometry_matrices
+        corner_times, corner_ids, corner_pixels = self._corners()
+        not_a_covariance = np.eye(6) * 1e-4
+        not_a_covariance[0, 5] = 1e-3
+        corruptions = [lambda t, P: (np.nan, P, None), lambda t, P: (t + 1e6, P, None), lambda t, P: (t - 1e3, P, None),
+                       lambda t, P: (t, P * np.diag([1, 1, 2, 1]), None), lambda t, P: (t, P, not_a_covariance)]
+        refused = 0
+        next_corner = 0
+        for k in range(len(times)):
+            while next_corner < len(corner_times) and corner_times[next_corner] <= times[k]:
+                pipeline.add_corners(corner_times[next_corner], corner_ids[next_corner], corner_pixels[next_corner])
+                next_corner += 1
+            if k > 0 and rng.random() < 0.02:
+                t, P, covariance = corruptions[rng.integers(len(corruptions))](times[k], poses[k])
+                with self.assertRaises(dualgraph.InvalidArgumentError):
+                    pipeline.add_odometry(t, P, absolute_covariance=covariance)
+                refused += 1
+            out = pipeline.add_odometry(times[k], poses[k])
+            self.assertTrue(np.all(np.isfinite(out["world_T_body"])))
+        self.assertGreater(refused, 10)
+        self.assertEqual(pipeline.snapshot()["samples"], len(times) + refused)
+        self.assertEqual(pipeline.snapshot()["state"], "tracking")
+        result = pipeline.finish()
+        self.assertEqual(len(result.estimate[0]), len(times))
+
+    def _corners(self):
+        """The sequence's corner detections grouped by image: stamps (camera clock, as add_corners takes them), ids,
+        (m, 4, 2) pixels."""
+        rows = np.loadtxt(os.path.join(self.sequence_dir, "corners.csv"), delimiter=",", skiprows=1, ndmin=2)
+        stamps = np.unique(rows[:, 0])
+        return (list(stamps), [rows[rows[:, 0] == t, 1].astype(int) for t in stamps],
+                [rows[rows[:, 0] == t, 2:10].reshape(-1, 4, 2) for t in stamps])
 
     def test_worker_threading_and_the_file_constructor(self):
         pipeline = dualgraph.StreamingLocalizer.from_files(

@@ -158,6 +158,32 @@ TEST(StreamingThreads, WorkerModeRefusesBadOdometryAtOnceAndCountsIt) {
   EXPECT_EQ((*pipeline)->finish().status().code(), StatusCode::kFailedPrecondition);
 }
 
+// Worker mode checks an instant at submission; what it refuses is counted as the core counts it in caller-thread
+// mode, and so is what an adapter could not turn into an input at all.
+TEST(StreamingThreads, RefusedDetectionsAreCountedInBothModes) {
+  const Sequence sequence = flighttest::simulatedFlight("ratm_ellipse.yaml", "clean", 2, 1);
+  for (PipelineThreading threading : {PipelineThreading::kCallerThread, PipelineThreading::kWorker}) {
+    auto pipeline = StreamingLocalizer::create(SequenceRunParams{}, sequence.map, sequence.camera, threading);
+    ASSERT_TRUE(pipeline.ok());
+    ASSERT_TRUE((*pipeline)->addOdometry(flighttest::odometryInput(sequence, 0)).ok());
+    DetectionInstant infinite;
+    infinite.t = sequence.odometry.samples[0].t;
+    CornerDetection corners;
+    corners.t = infinite.t;
+    corners.corners.fill(Eigen::Vector2d(INFINITY, 1.0));
+    infinite.corners = {corners, corners};
+    EXPECT_EQ((*pipeline)->addDetections(infinite).code(), StatusCode::kInvalidArgument);
+    (*pipeline)->countMalformedDetections(3);
+    (*pipeline)->countMalformedOdometry();
+    auto results = (*pipeline)->finish();
+    ASSERT_TRUE(results.ok()) << results.status().message();
+    EXPECT_EQ(results->pipeline_counters.detections_invalid, 5);
+    EXPECT_EQ(results->pipeline_counters.odometry_invalid, 1);
+    EXPECT_EQ(results->localizer_counters.odometry_rejected, 1);
+    EXPECT_EQ((*pipeline)->snapshot().samples, 2);
+  }
+}
+
 // A glitched stamp far ahead is held at submission too: the samples after it are not refused as older than it.
 TEST(StreamingThreads, WorkerModeHoldsAGlitchedStampAndTakesWhatFollows) {
   const Sequence sequence = flighttest::simulatedFlight("ratm_ellipse.yaml", "clean", 2, 1);
