@@ -15,7 +15,8 @@ namespace dualgraph {
 /// clock only when kConfirmations samples in a row continue from it (each after the one before, by at most
 /// `max_jump_s`); the third is then accepted (the pipeline sees a gap, frontend/pipeline/README.md), the two before it
 /// stay refused. A sample on the accepted clock in between drops what was held. `max_jump_s` 0: off. Order (a sample
-/// not after the newest) is not judged here. Plain value; one thread at a time.
+/// not after the newest) is not judged here, nor validity: give it valid samples only (StreamingLocalizer checks them
+/// first), so garbage cannot confirm a new clock. Plain value; one thread at a time.
 class OdometryClockGuard {
  public:
   static constexpr int kConfirmations = 3;

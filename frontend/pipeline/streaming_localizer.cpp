@@ -110,6 +110,13 @@ Status StreamingLocalizer::enqueue(Event event, const char* what) {
 }
 
 Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
+  // What needs no pipeline state first (both modes), so an invalid sample never counts towards a new clock.
+  const Status valid = validateOdometryInput(input);
+  if (!valid.ok()) {
+    ++invalid_on_submit_;
+    countRefused();
+    return valid;
+  }
   const Status clock = clock_guard_.check(input.t);
   if (!clock.ok()) {
     countRefused();
@@ -129,11 +136,9 @@ Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
     return update;
   }
   // Worker mode: refused here what the core would refuse without its state, so the caller hears of it.
-  const Status valid = validateOdometryInput(input);
-  if (!valid.ok() || !(input.t > last_submitted_t_)) {
-    ++(valid.ok() ? refused_on_submit_ : invalid_on_submit_);
+  if (!(input.t > last_submitted_t_)) {
+    ++refused_on_submit_;
     countRefused();
-    if (!valid.ok()) return valid;
     return Status(StatusCode::kInvalidArgument, "odometry sample at t=" + formatTimestamp(input.t) +
                                                     " is not after the previous one at t=" + formatTimestamp(last_submitted_t_));
   }

@@ -137,7 +137,7 @@ class StreamingLocalizer {
   double last_submitted_t_ = -std::numeric_limits<double>::infinity();  ///< odometry thread only
   OdometryClockGuard clock_guard_;  ///< odometry thread only: both modes hold a clock jump here, before the core
   int refused_on_submit_ = 0;  ///< worker mode: odometry refused before queueing (odometry thread only)
-  int invalid_on_submit_ = 0;  ///< worker mode: odometry invalid before queueing, and malformed (odometry thread only)
+  int invalid_on_submit_ = 0;  ///< odometry invalid before the core or the queue, and malformed (odometry thread only)
   /// Detections refused before they reached the core: worker mode's checks, and malformed ones (detector thread).
   std::atomic<int> detections_invalid_on_submit_{0};
   std::thread worker_;

@@ -184,6 +184,33 @@ TEST(StreamingThreads, RefusedDetectionsAreCountedInBothModes) {
   }
 }
 
+// Invalid samples never count towards a new clock: three far-ahead stamps with a NaN in the pose are refused as
+// invalid, not held, and the clock stays the one in use, in both modes.
+TEST(StreamingThreads, InvalidSamplesFarAheadCannotConfirmANewClock) {
+  const Sequence sequence = flighttest::simulatedFlight("ratm_ellipse.yaml", "clean", 2, 1);
+  for (PipelineThreading threading : {PipelineThreading::kCallerThread, PipelineThreading::kWorker}) {
+    auto pipeline = StreamingLocalizer::create(SequenceRunParams{}, sequence.map, sequence.camera, threading);
+    ASSERT_TRUE(pipeline.ok());
+    for (size_t k = 0; k < 60; ++k) {
+      if (k == 30) {
+        for (int j = 0; j < 3; ++j) {
+          OdometryInput garbage = flighttest::odometryInput(sequence, k);
+          garbage.t = 1e6 + j;
+          garbage.odom_T_body.translation().y() = NAN;
+          EXPECT_EQ((*pipeline)->addOdometry(garbage).status().code(), StatusCode::kInvalidArgument);
+        }
+      }
+      ASSERT_TRUE((*pipeline)->addOdometry(flighttest::odometryInput(sequence, k)).ok()) << k;
+    }
+    auto results = (*pipeline)->finish();
+    ASSERT_TRUE(results.ok()) << results.status().message();
+    EXPECT_EQ(results->pipeline_counters.odometry_invalid, 3);
+    EXPECT_EQ(results->pipeline_counters.odometry_held_at_clock_jump, 0);
+    EXPECT_EQ(results->pipeline_counters.odometry_clock_jumps, 0);
+    EXPECT_EQ(results->localizer_counters.odometry_rejected, 3);
+  }
+}
+
 // A glitched stamp far ahead is held at submission too: the samples after it are not refused as older than it.
 TEST(StreamingThreads, WorkerModeHoldsAGlitchedStampAndTakesWhatFollows) {
   const Sequence sequence = flighttest::simulatedFlight("ratm_ellipse.yaml", "clean", 2, 1);
