@@ -125,6 +125,14 @@ void bindRun(py::module_& m) {
                      "position sigma of detections.csv rows without a covariance [m]")
       .def_readwrite("pose_detection_sigma_r", &SequenceRunParams::pose_detection_sigma_r,
                      "orientation sigma of detections.csv rows without a covariance [rad]")
+      .def_readwrite("max_detection_lead_s", &SequenceRunParams::max_detection_lead_s,
+                     "[s] > 0: a detection stamped further beyond the newest odometry is refused (another clock)")
+      .def_readwrite("max_odometry_gap_s", &SequenceRunParams::max_odometry_gap_s,
+                     "[s] >= 0: odometry samples further apart are a gap, the samples after it lost until the frame is "
+                     "confirmed (0: off)")
+      .def_readwrite("max_odometry_jump_s", &SequenceRunParams::max_odometry_jump_s,
+                     "[s] >= 0: an odometry sample further after the newest is a clock jump, held until 3 samples in a "
+                     "row continue from it (0: off)")
       .def_readwrite("self_calibration_after_s", &SequenceRunParams::self_calibration_after_s,
                      "[s]: after this much of the flight, the camera's clock offset and mount are calibrated on the "
                      "flight so far and the rest of the run uses that camera (0: off; data/config/default.yaml: 15)")

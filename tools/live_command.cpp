@@ -203,7 +203,8 @@ int runLiveCommand(const LiveOptions& o) {
       refused.odometry_invalid + refused.odometry_not_after_previous + refused.odometry_held_at_clock_jump;
   if (odometry_refused > 0) {
     std::cerr << "dualgraph live: warning: " << odometry_refused << " odom records refused (" << refused.odometry_invalid
-              << " not finite or not rigid, " << refused.odometry_not_after_previous << " not after the previous, "
+              << " invalid (not finite, not rigid, or a covariance that is not one), "
+              << refused.odometry_not_after_previous << " not after the previous, "
               << refused.odometry_held_at_clock_jump << " held at a clock jump beyond frontend.max_odometry_jump_s): "
               << "no pose line for them\n";
   }

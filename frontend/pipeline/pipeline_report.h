@@ -64,7 +64,7 @@ struct PoseUpdate {
 /// Inputs the pipeline did not use, by reason, on top of LocalizerCounters and GateFrontendCounters (never
 /// silently: every refused input lands in one counter).
 struct PipelineCounters {
-  int odometry_invalid = 0;            ///< non-finite or non-rigid samples
+  int odometry_invalid = 0;            ///< non-finite or non-rigid samples, or a covariance that is not one
   int odometry_not_after_previous = 0; ///< time not after the newest accepted sample (backwards or repeated)
   int odometry_gaps = 0;               ///< gaps longer than max_odometry_gap_s (each marks the samples after it lost)
   /// Samples whose absolute covariance was all or partly zero: used as without one (not refused).

@@ -99,6 +99,22 @@ class Streaming(unittest.TestCase):
         result = pipeline.finish()
         self.assertEqual(len(result.estimate[0]), len(times))
 
+    def test_the_time_checks_are_configurable_and_checked(self):
+        config = dualgraph.RunConfig()
+        self.assertEqual((config.max_detection_lead_s, config.max_odometry_gap_s, config.max_odometry_jump_s),
+                         (1.0, 0.5, 10.0))
+        config.max_odometry_jump_s = 0.0  # off: a stamp far ahead is taken at once, as before the guard
+        pipeline = dualgraph.StreamingLocalizer(self.sequence, config)
+        times, _ = self.sequence.odometry
+        poses = self.sequence.odometry_matrices
+        pipeline.add_odometry(times[0], poses[0])
+        pipeline.add_odometry(times[1] + 1e6, poses[1])
+        with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "not after"):
+            pipeline.add_odometry(times[2], poses[2])
+        config.max_odometry_jump_s = -1.0
+        with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "max_odometry_jump_s"):
+            dualgraph.StreamingLocalizer(self.sequence, config)
+
     def _corners(self):
         """The sequence's corner detections grouped by image: stamps (camera clock, as add_corners takes them), ids,
         (m, 4, 2) pixels."""

@@ -141,8 +141,8 @@ TEST(LiveCli, RecordsThePipelineRefusesAreCountedAndLeftOutOfTheRecording) {
   fs::remove_all(out);
   const CommandRun run = runDualgraph("live" + mapAndCamera(sequence) + " --out " + out + " --poses " + out + "_poses.txt < " + doubled);
   EXPECT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_NE(run.err.find("2 odom records refused (0 not finite or not rigid, 1 not after the previous, 1 held at a clock "
-                         "jump beyond frontend.max_odometry_jump_s)"),
+  EXPECT_NE(run.err.find("2 odom records refused (0 invalid (not finite, not rigid, or a covariance that is not one), 1 not "
+                         "after the previous, 1 held at a clock jump beyond frontend.max_odometry_jump_s)"),
             std::string::npos)
       << run.err;
   EXPECT_EQ(words(readFile(out + "_poses.txt")).size(), words(readFile(sequence + "/vio.tum")).size());
