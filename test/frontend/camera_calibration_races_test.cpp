@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // calibrateCamera over whole realistic races (12 laps of the ellipse, 16 of the lemniscate; label slow, ≈ 1 min):
-// both tracks, seeds 1-3, clock offsets 0, ±15, ±30 ms, the profile's 1.5° mount error — every case within the
-// issue's 2 ms and 0.3°. Prints the table frontend/README.md quotes.
+// both tracks, seeds 1-3, clock offsets 0 and ±30 ms, the profile's 1.5° mount error — every case within the
+// issue's 2 ms and 0.3°. ±15 ms were flown too until 2026-11-29: a flight's error was the same to 0.01 ms at every
+// offset (the estimate follows a shift of the stamps exactly), so the extremes and zero stand for them. Prints the
+// table frontend/calibration/README.md quotes.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -19,7 +21,7 @@ TEST(CameraCalibrationRaces, EveryRealisticRaceGivesTheOffsetWithin2MsAndTheMoun
       "|---|---|---|---|---|---|---|---|\n");
   for (const char* track : {"ratm_ellipse.yaml", "ratm_lemniscate.yaml"}) {
     for (std::uint64_t seed : {1, 2, 3}) {
-      for (double offset : {0.0, 0.015, -0.015, 0.030, -0.030}) {
+      for (double offset : {0.0, 0.030, -0.030}) {
         const Sequence sequence = caltest::realisticFlight(track, seed, 0, offset);
         auto calibration = calibrateCamera(sequence, SequenceRunParams{}, CalibrationParams{});
         ASSERT_TRUE(calibration.ok()) << track << " seed " << seed << ": " << calibration.status().toString();
