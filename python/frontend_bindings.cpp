@@ -40,6 +40,34 @@ py::dict frontendCounters(const GateFrontendCounters& c) {
   return out;
 }
 
+py::dict pipelineCounters(const PipelineCounters& c) {
+  py::dict out;
+  out["odometry_invalid"] = c.odometry_invalid;
+  out["odometry_not_after_previous"] = c.odometry_not_after_previous;
+  out["odometry_gaps"] = c.odometry_gaps;
+  out["odometry_covariance_unknown"] = c.odometry_covariance_unknown;
+  out["odometry_held_at_clock_jump"] = c.odometry_held_at_clock_jump;
+  out["odometry_clock_jumps"] = c.odometry_clock_jumps;
+  out["detections_invalid"] = c.detections_invalid;
+  out["detections_backwards"] = c.detections_backwards;
+  out["detections_too_far_ahead"] = c.detections_too_far_ahead;
+  out["detections_queue_full"] = c.detections_queue_full;
+  out["detections_before_odometry"] = c.detections_before_odometry;
+  out["detections_after_odometry"] = c.detections_after_odometry;
+  out["detections_in_gap"] = c.detections_in_gap;
+  out["detections_unplaced"] = c.detections_unplaced;
+  out["detections_frame_search_only"] = c.detections_frame_search_only;
+  out["observations_rejected"] = c.observations_rejected;
+  out["instants_failed"] = c.instants_failed;
+  out["last_error"] = c.last_error;
+  out["frame_checks"] = c.frame_checks;
+  out["frame_checks_replaced"] = c.frame_checks_replaced;
+  out["unconfirmed_frame_searches"] = c.unconfirmed_frame_searches;
+  out["covariance_clamped"] = c.covariance_clamped;
+  out["covariance_shrinks"] = c.covariance_shrinks;
+  return out;
+}
+
 py::tuple odometryArrays(const OdometryLog& log) {
   std::vector<double> times;
   IsometryList poses;
@@ -212,6 +240,9 @@ void bindRun(py::module_& m) {
                              "the Localizer's counters [count], as Localizer.counters()")
       .def_property_readonly("frontend_counters", [](const SequenceRunResult& r) { return frontendCounters(r.frontend_counters); },
                              "where the detections went [count], as GateFrontend.counters()")
+      .def_property_readonly("pipeline_counters", [](const SequenceRunResult& r) { return pipelineCounters(r.pipeline_counters); },
+                             "every input the pipeline refused, by reason [count] (PipelineCounters, "
+                             "frontend/pipeline/README.md), and the last error")
       .def_readonly("detections_before_odometry", &SequenceRunResult::detections_before_odometry,
                     "detections earlier than the first odometry sample, not used [count]")
       .def_readonly("detections_after_odometry", &SequenceRunResult::detections_after_odometry,

@@ -98,6 +98,10 @@ class Streaming(unittest.TestCase):
         self.assertEqual(pipeline.snapshot()["state"], "tracking")
         result = pipeline.finish()
         self.assertEqual(len(result.estimate[0]), len(times))
+        counted = result.pipeline_counters
+        self.assertEqual(counted["odometry_invalid"] + counted["odometry_not_after_previous"] +
+                         counted["odometry_held_at_clock_jump"], refused)  # every refusal under one reason
+        self.assertEqual(counted["odometry_clock_jumps"], 0)
 
     def test_the_time_checks_are_configurable_and_checked(self):
         config = dualgraph.RunConfig()
