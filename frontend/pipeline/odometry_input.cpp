@@ -10,21 +10,24 @@ namespace dualgraph {
 
 Status validateOdometryInput(const OdometryInput& input) {
   DG_RETURN_IF_ERROR(validateOdometrySample(OdometrySample{input.t, input.odom_T_body, input.relative_covariance}));
-  const std::optional<Matrix6d> known = knownAbsoluteCovariance(input);
-  if (!known) return Status();
-  // Every sample of a VIO passes here: first the check without heap or message (finite, symmetric as checkCovariance
-  // judges it, well conditioned), then checkCovariance for its verdict and message.
-  Matrix6d inverse;
-  const double scale = known->cwiseAbs().maxCoeff();
-  if (known->allFinite() && (*known - known->transpose()).cwiseAbs().maxCoeff() <= 1e-9 * std::max(scale, 1e-300) &&
-      inverseOfWellConditionedCovariance<6>(*known, inverse)) {
-    return Status();
-  }
-  return checkCovariance(*known, "odometry sample at t=" + formatTimestamp(input.t) + ": absolute_covariance");
+  return knownAbsoluteCovariance(input).status();
 }
 
-std::optional<Matrix6d> knownAbsoluteCovariance(const OdometryInput& input) {
-  if (!input.absolute_covariance || isUnknownCovariance(*input.absolute_covariance)) return std::nullopt;
+Result<std::optional<Matrix6d>> knownAbsoluteCovariance(const OdometryInput& input) {
+  if (!input.absolute_covariance || isUnknownCovariance(*input.absolute_covariance)) {
+    return std::optional<Matrix6d>();
+  }
+  const Matrix6d& covariance = *input.absolute_covariance;
+  // First the check without heap or message (finite, symmetric as checkCovariance judges it, well conditioned), then
+  // checkCovariance for its verdict and message.
+  Matrix6d inverse;
+  const double scale = covariance.cwiseAbs().maxCoeff();
+  if (covariance.allFinite() &&
+      (covariance - covariance.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * std::max(scale, 1e-300) &&
+      inverseOfWellConditionedCovariance<6>(covariance, inverse)) {
+    return input.absolute_covariance;
+  }
+  DG_RETURN_IF_ERROR(checkCovariance(covariance, "odometry sample at t=" + formatTimestamp(input.t) + ": absolute_covariance"));
   return input.absolute_covariance;
 }
 

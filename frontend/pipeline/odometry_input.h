@@ -27,7 +27,9 @@ struct OdometryInput {
 /// validateOdometrySample for the sample's t, pose and relative covariance, and its absolute covariance: none, or
 /// unknown (isUnknownCovariance), or a covariance (checkCovariance); kInvalidArgument / kNotPositiveDefinite naming it.
 Status validateOdometryInput(const OdometryInput& input);
-/// The input's absolute covariance when it has a known one (none when absent, all or partly zero).
-std::optional<Matrix6d> knownAbsoluteCovariance(const OdometryInput& input);
+/// The input's absolute covariance when it has a known one: none when absent or all or partly zero
+/// (isUnknownCovariance); kInvalidArgument / kNotPositiveDefinite naming it when it is not a covariance. Checked
+/// without heap or message first (every sample of a VIO passes here).
+Result<std::optional<Matrix6d>> knownAbsoluteCovariance(const OdometryInput& input);
 
 }  // namespace dualgraph

@@ -185,24 +185,20 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
     (void)localizer.addOdometry(sample);  // counted there too (LocalizerCounters::odometry_rejected)
     return valid;
   }
-  if (const Status covariance = validateOdometryInput(input); !covariance.ok()) {  // the absolute covariance
-    ++counters_.odometry_invalid;
-    ++odometry_refused_before_localizer_;
-    return covariance;
-  }
+  Result<std::optional<Matrix6d>> known = knownAbsoluteCovariance(input);  // the Localizer never sees it
+  if (!known.ok()) return refuseBeforeLocalizer(known.status());
   // From here on the odometry is the rescaled VIO's (odom', OdometryScale): everything downstream uses it.
   sample.odom_T_body = odometry_scale_.rescaled(input.odom_T_body);
   if (sample.relative_covariance) sample.relative_covariance = odometry_scale_.rescaled(*sample.relative_covariance);
-  std::optional<Matrix6d> absolute_covariance = knownAbsoluteCovariance(input);
+  std::optional<Matrix6d> absolute_covariance = *known;
   if (absolute_covariance) absolute_covariance = odometry_scale_.rescaled(*absolute_covariance);
   if (input.absolute_covariance && !absolute_covariance) ++counters_.odometry_covariance_unknown;
   if (input.absolute_covariance || !input.relative_covariance) {
     Result<std::optional<Matrix6d>> relative = covariances_.next(sample.odom_T_body, absolute_covariance);
     if (!relative.ok()) {
-      ++counters_.odometry_invalid;
-      ++odometry_refused_before_localizer_;
-      return Status(relative.status().code(), "odometry sample at t=" + formatTimestamp(input.t) + ": " +
-                                                  relative.status().message());
+      return refuseBeforeLocalizer(Status(relative.status().code(), "odometry sample at t=" +
+                                                                        formatTimestamp(input.t) + ": " +
+                                                                        relative.status().message()));
     }
     sample.relative_covariance = *relative;
     counters_.covariance_clamped = covariances_.clamped();

@@ -83,6 +83,12 @@ class PipelineCore {
   Status searchWith(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body,
                     const SolvedDetections& solved);
   void refuse(int& counter, size_t detections);
+  /// An odometry sample refused after the Localizer's own checks passed (it never sees it): counted as invalid here.
+  Status refuseBeforeLocalizer(Status why) {
+    ++counters_.odometry_invalid;
+    ++odometry_refused_before_localizer_;
+    return why;
+  }
 
   SequenceRunParams params_;
   int odometry_refused_before_localizer_ = 0;  ///< refused for their absolute covariance (the Localizer never saw them)
