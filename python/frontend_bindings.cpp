@@ -48,6 +48,7 @@ py::dict pipelineCounters(const PipelineCounters& c) {
   out["odometry_covariance_unknown"] = c.odometry_covariance_unknown;
   out["odometry_held_at_clock_jump"] = c.odometry_held_at_clock_jump;
   out["odometry_clock_jumps"] = c.odometry_clock_jumps;
+  out["odometry_clock_restarts"] = c.odometry_clock_restarts;
   out["detections_invalid"] = c.detections_invalid;
   out["detections_backwards"] = c.detections_backwards;
   out["detections_too_far_ahead"] = c.detections_too_far_ahead;
@@ -159,8 +160,8 @@ void bindRun(py::module_& m) {
                      "[s] >= 0: odometry samples further apart are a gap, the samples after it lost until the frame is "
                      "confirmed (0: off)")
       .def_readwrite("max_odometry_jump_s", &SequenceRunParams::max_odometry_jump_s,
-                     "[s] >= 0: an odometry sample further after the newest is a clock jump, held until 3 samples in a "
-                     "row continue from it (0: off)")
+                     "[s] >= 0: an odometry sample further after or before the newest is a clock jump, held until 3 "
+                     "samples in a row continue from it; a confirmed jump back restarts the pipeline (0: off)")
       .def_readwrite("self_calibration_after_s", &SequenceRunParams::self_calibration_after_s,
                      "[s]: after this much of the flight, the camera's clock offset and mount are calibrated on the "
                      "flight so far and the rest of the run uses that camera (0: off; data/config/default.yaml: 15)")

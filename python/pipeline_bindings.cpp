@@ -102,14 +102,20 @@ dualgraph.Error naming why and are counted (finish().localizer_counters / the ru
                return pipeline.addOdometry(input);
              }();
              const PoseUpdate& done = unwrap(std::move(update));
+             if (done.report.clock_restarted) s.estimate.clear();  // finish() describes the flight since
              s.estimate.push_back(done.pose);
-             return poseDict(done.pose);
+             py::dict out = poseDict(done.pose);
+             out["clock_restarted"] = done.report.clock_restarted;
+             return out;
            },
            "t"_a, "odom_T_body"_a, "absolute_covariance"_a = py::none(), "relative_covariance"_a = py::none(),
            "One VIO sample: t [s], odom_T_body (7,) [x y z qx qy qz qw] or (4, 4) [m], its absolute covariance (6, 6) "
            "metric [t; theta] (the pipeline makes the increments' from it; all or partly zero: unknown; otherwise it must be "
            "symmetric positive definite) or the increment's own, or "
-           "neither (the per-metre model). Returns {'t', 'world_T_body' (7,), 'state', 'covariance' (6, 6) or None}.")
+           "neither (the per-metre model). Returns {'t', 'world_T_body' (7,), 'state', 'covariance' (6, 6) or None, "
+           "'clock_restarted'}: True when the odometry clock went back more than max_odometry_jump_s, stayed there for 3 "
+           "samples, and the pipeline restarted as new before this one (a looped bag; finish() then describes the "
+           "flight since).")
       .def("add_corners",
            [](PyStreaming& s, double t, IdsLike gate_ids, ArrayLike pixels) {
              StreamingLocalizer& pipeline = s.live();

@@ -149,6 +149,15 @@ int runLiveCommand(const LiveOptions& o) {
       sample.absolute_covariance = record.covariance;
       Result<PoseUpdate> update = pipeline.addOdometry(sample);
       if (!update.ok()) continue;  // refused and counted (PipelineCounters): no pose for it, not recorded
+      if (update->report.clock_restarted) {  // one sequence holds one clock: the outputs keep the flight since
+        std::cerr << "dualgraph live: warning: " << where << ": the odometry clock went back (t=" << formatTimestamp(record.odometry.t)
+                  << ") and stayed there for 3 records (a looped bag or a restarted VIO): the "
+                  << "pipeline restarted as new" << (o.out.empty() ? "" : "; " + o.out + " will hold the flight from here")
+                  << "\n";
+        recording = Recording(*map, camera);
+        (void)recording.check(record, where);
+        estimate.clear();
+      }
       recording.keepOdometry(record);
       estimate.push_back(update->pose);
       poses << "pose ";
@@ -201,6 +210,10 @@ int runLiveCommand(const LiveOptions& o) {
   const PipelineCounters& refused = run.pipeline_counters;
   const int odometry_refused =
       refused.odometry_invalid + refused.odometry_not_after_previous + refused.odometry_held_at_clock_jump;
+  if (refused.odometry_clock_restarts > 0) {
+    std::cerr << "dualgraph live: warning: the odometry clock went back " << refused.odometry_clock_restarts
+              << " time(s); the pipeline restarted each time, and the outputs hold the flight since the last\n";
+  }
   if (odometry_refused > 0) {
     std::cerr << "dualgraph live: warning: " << odometry_refused << " odom records refused (" << refused.odometry_invalid
               << " invalid (not finite, not rigid, or a covariance that is not one), "

@@ -55,10 +55,11 @@ struct SequenceRunParams {
   /// detections inside it are refused (no pose to place them at), the samples after it are lost until gates fit
   /// again or a search finds the frame (counted, PipelineCounters::odometry_gaps) [s], >= 0.
   double max_odometry_gap_s = 0.5;
-  /// An odometry sample stamped more than this after the newest accepted one is a clock jump
+  /// An odometry sample stamped more than this after or before the newest accepted one is a clock jump
   /// (`frontend.max_odometry_jump_s`, 0: off): held until OdometryClockGuard::kConfirmations samples in a row
-  /// continue from it, so one glitched stamp cannot make the rest of the flight "not after" it
-  /// (frontend/pipeline/odometry_clock_guard.h; counted, PipelineCounters::odometry_held_at_clock_jump) [s], >= 0.
+  /// continue from it, so one glitched stamp cannot make the rest of the flight "not after" it; a confirmed jump back
+  /// restarts the pipeline (frontend/pipeline/odometry_clock_guard.h; counted,
+  /// PipelineCounters::odometry_held_at_clock_jump, odometry_clock_restarts) [s], >= 0.
   double max_odometry_jump_s = 10.0;
   /// The VIO's translation scale estimated in flight and taken out of the odometry (`frontend.estimate_odometry_scale`,
   /// `frontend.odometry_scale_min_error`; dual_graph/odometry_scale.h).

@@ -17,11 +17,13 @@ std::string seconds(double value) {
 
 }  // namespace
 
-Status OdometryClockGuard::check(double t) {
-  if (!std::isfinite(t)) return Status();  // the sample check's business: refused as not finite
-  if (!(max_jump_s_ > 0.0) || !newest_ || !elapsedMoreThan(t, *newest_, max_jump_s_)) {
-    candidate_.reset();  // on the accepted clock (or before it: the order check's business)
-    return Status();
+ClockCheck OdometryClockGuard::check(double t) {
+  if (!std::isfinite(t)) return ClockCheck::kOn;  // the sample check's business: refused as not finite
+  const bool far = max_jump_s_ > 0.0 && newest_ &&
+                   (elapsedMoreThan(t, *newest_, max_jump_s_) || elapsedMoreThan(*newest_, t, max_jump_s_));
+  if (!far) {
+    candidate_.reset();  // on the accepted clock (or just behind it: the order check's business)
+    return ClockCheck::kOn;
   }
   if (candidate_ && t > candidate_->last_t && !elapsedMoreThan(t, candidate_->last_t, max_jump_s_)) {
     candidate_->last_t = t;
@@ -29,17 +31,28 @@ Status OdometryClockGuard::check(double t) {
   } else {
     candidate_ = Candidate{t, 1};
   }
-  if (candidate_->samples >= kConfirmations) {
-    candidate_.reset();
-    ++jumps_;
-    return Status();
+  if (candidate_->samples < kConfirmations) {
+    ++held_;
+    return ClockCheck::kHeld;
   }
-  ++held_;
+  candidate_.reset();
+  if (t > *newest_) {
+    ++jumps_;
+    return ClockCheck::kJump;
+  }
+  ++restarts_;
+  return ClockCheck::kRestart;
+}
+
+Status OdometryClockGuard::heldStatus() const {
+  if (!candidate_ || !newest_) return Status();
+  const double t = candidate_->last_t;
+  const bool ahead = t > *newest_;
   return Status(StatusCode::kInvalidArgument,
-                "odometry sample at t=" + formatTimestamp(t) + " is " + seconds(t - *newest_) +
-                    " s after the newest accepted one at t=" + formatTimestamp(*newest_) +
-                    " (more than frontend.max_odometry_jump_s = " + seconds(max_jump_s_) +
-                    " s): a clock jump, held until " + std::to_string(kConfirmations) +
+                "odometry sample at t=" + formatTimestamp(t) + " is " + seconds(std::abs(t - *newest_)) + " s " +
+                    (ahead ? "after" : "before") + " the newest accepted one at t=" + formatTimestamp(*newest_) +
+                    " (more than frontend.max_odometry_jump_s = " + seconds(max_jump_s_) + " s): a clock " +
+                    (ahead ? "jump" : "restart") + ", held until " + std::to_string(kConfirmations) +
                     " samples in a row continue from it (" + std::to_string(candidate_->samples) + " so far)");
 }
 

@@ -52,6 +52,9 @@ struct UpdateReport {
   bool search_started = false;  ///< a relocalisation search or a frame check began
   bool odometry_gap = false;    ///< this sample came after a gap longer than max_odometry_gap_s
   bool camera_switched = false; ///< the camera switched (self-calibration) before this sample's detections
+  /// The odometry clock went back and the pipeline restarted before this sample (StreamingLocalizer): what came
+  /// before belongs to another flight.
+  bool clock_restarted = false;
 };
 
 /// The corrected pose at one odometry sample: world_T_body = map_T_odom · odom_T_body(t) through the newest
@@ -69,10 +72,12 @@ struct PipelineCounters {
   int odometry_gaps = 0;               ///< gaps longer than max_odometry_gap_s (each marks the samples after it lost)
   /// Samples whose absolute covariance was all or partly zero: used as without one (not refused).
   int odometry_covariance_unknown = 0;
-  /// Samples held at a forward jump beyond max_odometry_jump_s (OdometryClockGuard): a glitch, or the first samples
-  /// of a new clock before it was confirmed.
+  /// Samples held at a jump beyond max_odometry_jump_s, either way (OdometryClockGuard): a glitch, or the first
+  /// samples of a new clock before it was confirmed.
   int odometry_held_at_clock_jump = 0;
-  int odometry_clock_jumps = 0;        ///< new clocks confirmed (their first confirmed sample taken, after a gap)
+  int odometry_clock_jumps = 0;        ///< new clocks ahead confirmed (their first confirmed sample taken, after a gap)
+  /// New clocks behind confirmed (a looped bag, a restarted VIO): the pipeline restarted there (StreamingLocalizer).
+  int odometry_clock_restarts = 0;
   int detections_invalid = 0;          ///< non-finite values, or corners and poses in one instant
   int detections_backwards = 0;        ///< older than an instant given before
   int detections_too_far_ahead = 0;    ///< beyond the newest odometry by more than max_detection_lead_s

@@ -7,12 +7,32 @@ namespace {
 /// Events the worker may fall behind by before inputs are refused (≈ 80 s of 200 Hz odometry with detections).
 constexpr size_t kMaxQueuedEvents = 1 << 15;
 
+/// `part`'s counts added to `total` (a core finished at a clock restart); its last error kept when it has one.
+void addCounts(PipelineCounters& total, const PipelineCounters& part) {
+  for (auto field : {&PipelineCounters::odometry_invalid, &PipelineCounters::odometry_not_after_previous,
+                     &PipelineCounters::odometry_gaps, &PipelineCounters::odometry_covariance_unknown,
+                     &PipelineCounters::odometry_held_at_clock_jump, &PipelineCounters::odometry_clock_jumps,
+                     &PipelineCounters::odometry_clock_restarts, &PipelineCounters::detections_invalid,
+                     &PipelineCounters::detections_backwards, &PipelineCounters::detections_too_far_ahead,
+                     &PipelineCounters::detections_queue_full, &PipelineCounters::detections_before_odometry,
+                     &PipelineCounters::detections_after_odometry, &PipelineCounters::detections_in_gap,
+                     &PipelineCounters::detections_unplaced, &PipelineCounters::detections_frame_search_only,
+                     &PipelineCounters::observations_rejected, &PipelineCounters::instants_failed,
+                     &PipelineCounters::frame_checks, &PipelineCounters::frame_checks_replaced,
+                     &PipelineCounters::unconfirmed_frame_searches, &PipelineCounters::covariance_clamped,
+                     &PipelineCounters::covariance_shrinks}) {
+    total.*field += part.*field;
+  }
+  if (!part.last_error.empty()) total.last_error = part.last_error;
+}
+
 }  // namespace
 
 StreamingLocalizer::StreamingLocalizer(std::unique_ptr<PipelineCore> core, PipelineThreading threading)
     : core_(std::move(core)), threading_(threading), clock_guard_(core_->params().max_odometry_jump_s) {
   snapshot_.map_T_odom = core_->localizer().mapTOdom();
   snapshot_.state = core_->localizer().trackingState();
+  initial_snapshot_ = snapshot_;
   if (threading_ == PipelineThreading::kWorker) worker_ = std::thread([this] { workerLoop(); });
 }
 
@@ -32,9 +52,11 @@ Result<std::unique_ptr<StreamingLocalizer>> StreamingLocalizer::create(const Seq
                                                                        const Track& map,
                                                                        std::optional<CameraModel> camera,
                                                                        PipelineThreading threading) {
-  auto core = PipelineCore::create(params, map, std::move(camera));
+  auto core = PipelineCore::create(params, map, camera);
   if (!core.ok()) return core.status();
-  return std::unique_ptr<StreamingLocalizer>(new StreamingLocalizer(std::move(core).value(), threading));
+  std::unique_ptr<StreamingLocalizer> pipeline(new StreamingLocalizer(std::move(core).value(), threading));
+  pipeline->origin_ = Origin{map, std::move(camera)};
+  return pipeline;
 }
 
 Result<std::unique_ptr<StreamingLocalizer>> StreamingLocalizer::borrow(Localizer& localizer, GateFrontend& frontend,
@@ -55,9 +77,22 @@ void StreamingLocalizer::publish(const PoseUpdate& update) {
   next.covariance = update.pose.covariance;
   next.updates = static_cast<long>(localizer.keyframeStats().size());
   std::lock_guard<std::mutex> lock(snapshot_mutex_);
+  if (core_generation_ < announced_generation_) {  // the worker's flight before a restart already announced
+    ++snapshot_.samples;
+    return;
+  }
   next.samples = snapshot_.samples + 1;
   snapshot_ = next;
   if (threading_ == PipelineThreading::kWorker) last_report_ = update.report;
+}
+
+void StreamingLocalizer::announceRestart() {
+  std::lock_guard<std::mutex> lock(snapshot_mutex_);
+  ++announced_generation_;
+  const long samples = snapshot_.samples;
+  snapshot_ = initial_snapshot_;
+  snapshot_.samples = samples;
+  last_report_ = UpdateReport{};
 }
 
 void StreamingLocalizer::countRefused() {
@@ -117,15 +152,26 @@ Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
     countRefused();
     return valid;
   }
-  const Status clock = clock_guard_.check(input.t);
-  if (!clock.ok()) {
+  const ClockCheck clock = clock_guard_.check(input.t);
+  if (clock == ClockCheck::kHeld || (clock == ClockCheck::kRestart && !origin_)) {
     countRefused();
-    return clock;
+    if (clock == ClockCheck::kHeld) return clock_guard_.heldStatus();
+    ++refused_on_submit_;  // not after the newest accepted sample, as the core would have said
+    return Status(StatusCode::kFailedPrecondition,
+                  "odometry sample at t=" + formatTimestamp(input.t) + ": the odometry clock went back and stayed " +
+                      "there, and a pipeline around a borrowed Localizer cannot restart");
   }
+  const bool restart = clock == ClockCheck::kRestart;
   if (threading_ == PipelineThreading::kCallerThread) {
-    Result<PoseUpdate> update = [&] {
+    Result<PoseUpdate> update = [&]() -> Result<PoseUpdate> {
       std::lock_guard<std::mutex> lock(work_mutex_);
-      return core_->addOdometry(input);
+      if (restart) {
+        DG_RETURN_IF_ERROR(restartCore());
+        announceRestart();
+      }
+      Result<PoseUpdate> done = core_->addOdometry(input);
+      if (done.ok()) done->report.clock_restarted = restart;
+      return done;
     }();
     if (update.ok()) {
       clock_guard_.accepted(input.t);
@@ -136,6 +182,7 @@ Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
     return update;
   }
   // Worker mode: refused here what the core would refuse without its state, so the caller hears of it.
+  if (restart) last_submitted_t_ = -std::numeric_limits<double>::infinity();
   if (!(input.t > last_submitted_t_)) {
     ++refused_on_submit_;
     countRefused();
@@ -143,14 +190,17 @@ Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
                                                     " is not after the previous one at t=" + formatTimestamp(last_submitted_t_));
   }
   Event event;
+  event.restart = restart;
   event.odometry = input;
   DG_RETURN_IF_ERROR(enqueue(std::move(event), "odometry sample"));
+  if (restart) announceRestart();  // once queued (a full queue refuses the sample, and the next three restart again)
   last_submitted_t_ = input.t;
   clock_guard_.accepted(input.t);
   PoseUpdate update;
   std::lock_guard<std::mutex> lock(snapshot_mutex_);
   update.pose = CorrectedPose{input.t, snapshot_.map_T_odom * input.odom_T_body, snapshot_.state, std::nullopt};
   update.report = last_report_;
+  update.report.clock_restarted = restart;  // this sample's, not the worker's last
   return update;
 }
 
@@ -165,7 +215,12 @@ void StreamingLocalizer::workerLoop() {
     }
     for (const Event& event : batch) {
       if (event.odometry) {
-        Result<PoseUpdate> update = core_->addOdometry(*event.odometry);  // refusals are counted by the core
+        Result<PoseUpdate> update = [&]() -> Result<PoseUpdate> {
+          if (event.restart) DG_RETURN_IF_ERROR(restartCore());
+          Result<PoseUpdate> done = core_->addOdometry(*event.odometry);  // refusals are counted by the core
+          if (done.ok()) done->report.clock_restarted = false;  // told to the caller when it submitted the sample
+          return done;
+        }();
         if (update.ok()) {
           publish(*update);
         } else {
@@ -176,6 +231,18 @@ void StreamingLocalizer::workerLoop() {
       }
     }
   }
+}
+
+Status StreamingLocalizer::restartCore() {
+  auto fresh = PipelineCore::create(core_->params(), origin_->map, origin_->camera);
+  if (!fresh.ok()) return fresh.status();  // made once with the same inputs: not expected
+  (void)core_->finish();  // its waiting detections counted; fails only when it never took a sample
+  addCounts(carried_, core_->counters());
+  ++carried_.odometry_clock_restarts;
+  carried_odometry_rejected_ += core_->localizer().counters().odometry_rejected + core_->odometryRefusedBeforeLocalizer();
+  core_ = std::move(fresh).value();
+  ++core_generation_;
+  return Status();
 }
 
 Result<PipelineResults> StreamingLocalizer::finish() {
@@ -197,7 +264,8 @@ Result<PipelineResults> StreamingLocalizer::finish() {
   results.stats = localizer.keyframeStats();
   results.localizer_counters = localizer.counters();
   results.frontend_counters = core_->frontend().counters();
-  results.pipeline_counters = core_->counters();
+  results.pipeline_counters = carried_;
+  addCounts(results.pipeline_counters, core_->counters());  // the newest core's last error wins
   results.pipeline_counters.odometry_invalid += invalid_on_submit_;
   results.pipeline_counters.odometry_not_after_previous += refused_on_submit_;
   results.pipeline_counters.detections_invalid += detections_invalid_on_submit_.load();
@@ -205,8 +273,8 @@ Result<PipelineResults> StreamingLocalizer::finish() {
   results.pipeline_counters.odometry_clock_jumps = clock_guard_.jumps();
   // Every sample the pipeline did not take, as in both modes: refused on submission, held at a clock jump, or refused
   // by the core before the Localizer saw it.
-  results.localizer_counters.odometry_rejected +=
-      invalid_on_submit_ + refused_on_submit_ + clock_guard_.held() + core_->odometryRefusedBeforeLocalizer();
+  results.localizer_counters.odometry_rejected += invalid_on_submit_ + refused_on_submit_ + clock_guard_.held() +
+                                                  core_->odometryRefusedBeforeLocalizer() + carried_odometry_rejected_;
   results.initialization = core_->initialization();
   results.camera_switched_at = core_->cameraSwitchedAt();
   results.self_calibration = core_->selfCalibration();

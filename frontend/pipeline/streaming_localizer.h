@@ -31,7 +31,8 @@ enum class PipelineThreading {
 
 /// A consistent view of the pipeline for any thread: the frame map_T_odom (world_T_odom) of the newest optimised
 /// keyframe, the tracking state and the corrected pose world_T_body at the newest processed odometry sample t [s].
-/// Frames: world = the gate map's, odom = the VIO's. Before any sample: t = −∞, state initialising.
+/// Frames: world = the gate map's, odom = the VIO's. Before any sample, and after a clock restart until the new
+/// pipeline's first result: t = −∞, the configured initial frame and state (initialising when the frame is searched).
 struct PipelineSnapshot {
   double t = -std::numeric_limits<double>::infinity();
   Eigen::Isometry3d map_T_odom = Eigen::Isometry3d::Identity();
@@ -44,7 +45,9 @@ struct PipelineSnapshot {
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
-/// What a finished run holds.
+/// What a finished run holds. After a clock restart (PipelineCounters::odometry_clock_restarts) everything but the
+/// pipeline counters and the Localizer's odometry_rejected describes the flight since the last restart; those two
+/// count the whole stream.
 struct PipelineResults {
   std::vector<CorrectedPose> keyframes;   ///< the keyframes' final estimates (those of graphs given up first)
   std::vector<KeyframeStats> stats;       ///< one row per main-graph update
@@ -88,8 +91,11 @@ class StreamingLocalizer {
   /// others (order, lead over the odometry) counted when the worker takes it.
   Status addDetections(const DetectionInstant& instant);
   /// One odometry sample; kInvalidArgument (counted) for a non-finite or non-rigid sample, one not after the
-  /// previous, or one held at a clock jump (more than `frontend.max_odometry_jump_s` after the newest accepted sample;
-  /// OdometryClockGuard: taken once 3 samples in a row continue from it). Caller-thread mode: this sample's work, its pose with the covariance where known, and its report.
+  /// previous, or one held at a clock jump (more than `frontend.max_odometry_jump_s` from the newest accepted sample,
+  /// either way; OdometryClockGuard: taken once 3 samples in a row continue from it). A confirmed jump ahead is a gap;
+  /// a confirmed jump back restarts the pipeline as newly created (UpdateReport::clock_restarted; a borrowed one
+  /// cannot, and refuses such samples with kFailedPrecondition). Caller-thread mode: this sample's work, its pose
+  /// with the covariance where known, and its report.
   /// Worker mode: the pose through the last finished result's map_T_odom, its state, no covariance (the snapshot
   /// has the one at its own sample), and the report of the sample the worker finished last.
   Result<PoseUpdate> addOdometry(const OdometryInput& input);
@@ -111,12 +117,19 @@ class StreamingLocalizer {
 
  private:
   struct Event {
+    bool restart = false;  ///< the clock went back: a new core before this event's odometry
     std::optional<OdometryInput> odometry;
     DetectionInstant detections;
     EIGEN_MAKE_ALIGNED_OPERATOR_NEW
   };
   StreamingLocalizer(std::unique_ptr<PipelineCore> core, PipelineThreading threading);
+  /// The clock went back: the core so far is finished (its waiting detections counted), its counters carried, and a
+  /// new one made from the creation's parameters, map and camera. The thread that owns core_.
+  Status restartCore();
   void publish(const PoseUpdate& update);
+  /// The clock went back (odometry thread): the snapshot is a new pipeline's until the new core publishes, and what
+  /// the worker still finishes of the flight before is not published.
+  void announceRestart();
   /// A sample the core refused still counts as taken (PipelineSnapshot::samples).
   void countRefused();
   /// Worker mode: `event` queued for the worker (refused after finish or with the queue full).
@@ -125,9 +138,20 @@ class StreamingLocalizer {
 
   std::unique_ptr<PipelineCore> core_;
   const PipelineThreading threading_;
+  /// What create() was given, for a restart (absent for a borrowed core, which cannot restart).
+  struct Origin {
+    Track map;
+    std::optional<CameraModel> camera;
+  };
+  std::optional<Origin> origin_;
+  PipelineCounters carried_;          ///< the counters of the cores before the last restart (summed)
+  int carried_odometry_rejected_ = 0; ///< odometry those cores' Localizers (or the cores before them) refused
   std::mutex work_mutex_;  ///< guards core_ (caller-thread mode; the worker owns it otherwise)
   mutable std::mutex snapshot_mutex_;
   PipelineSnapshot snapshot_;
+  PipelineSnapshot initial_snapshot_;  ///< a new pipeline's (a restart publishes it)
+  int announced_generation_ = 0;       ///< restarts the odometry thread decided (under snapshot_mutex_)
+  int core_generation_ = 0;            ///< restarts core_ went through (core_'s owner thread only)
   UpdateReport last_report_;  ///< worker mode: the report of the sample finished last (under snapshot_mutex_)
   // Worker mode.
   std::mutex queue_mutex_;
@@ -136,7 +160,7 @@ class StreamingLocalizer {
   bool stopping_ = false;
   double last_submitted_t_ = -std::numeric_limits<double>::infinity();  ///< odometry thread only
   OdometryClockGuard clock_guard_;  ///< odometry thread only: both modes hold a clock jump here, before the core
-  int refused_on_submit_ = 0;  ///< worker mode: odometry refused before queueing (odometry thread only)
+  int refused_on_submit_ = 0;  ///< odometry refused as not after the newest before the core (odometry thread only)
   int invalid_on_submit_ = 0;  ///< odometry invalid before the core or the queue, and malformed (odometry thread only)
   /// Detections refused before they reached the core: worker mode's checks, and malformed ones (detector thread).
   std::atomic<int> detections_invalid_on_submit_{0};
