@@ -76,8 +76,14 @@ Eigen::Matrix3d GateObservation::centreCovarianceInBody() const {
 }
 
 Status validateOdometrySample(const OdometrySample& sample) {
-  const std::string where = "odometry sample at t=" + std::to_string(sample.t) + ": ";
   if (!std::isfinite(sample.t)) return Status(StatusCode::kInvalidArgument, "odometry sample: time stamp is not finite");
+  // Every sample passes here (twice in the pipeline): the verdict first, without heap or message; the message only
+  // for a sample that fails.
+  if (isRigidTransform(sample.odom_T_body) &&
+      (!sample.relative_covariance || surelyValidCovariance<6>(*sample.relative_covariance))) {
+    return Status();
+  }
+  const std::string where = "odometry sample at t=" + formatTimestamp(sample.t) + ": ";
   DG_RETURN_IF_ERROR(checkRigidTransform(sample.odom_T_body, where + "odom_T_body"));
   if (sample.relative_covariance) {
     DG_RETURN_IF_ERROR(checkCovariance(*sample.relative_covariance, where + "relative_covariance"));

@@ -114,15 +114,34 @@ Status checkCovariance(const Eigen::MatrixXd& m, const std::string& what, Eigen:
   return Status();
 }
 
-Status checkRigidTransform(const Eigen::Isometry3d& pose, const std::string& what) {
-  if (!pose.matrix().allFinite()) return Status(StatusCode::kInvalidArgument, what + " has a non-finite entry");
+namespace {
+
+bool orthonormalRotation(const Eigen::Isometry3d& pose) {
   const Eigen::Matrix3d rotation = pose.linear();
   const double orthogonality = (rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-  if (orthogonality > 1e-6 || rotation.determinant() <= 0.0) {
-    return Status(StatusCode::kInvalidArgument, what + " has a rotation that is not orthonormal");
-  }
+  return orthogonality <= 1e-6 && rotation.determinant() > 0.0;
+}
+
+}  // namespace
+
+Status checkRigidTransform(const Eigen::Isometry3d& pose, const std::string& what) {
+  if (!pose.matrix().allFinite()) return Status(StatusCode::kInvalidArgument, what + " has a non-finite entry");
+  if (!orthonormalRotation(pose)) return Status(StatusCode::kInvalidArgument, what + " has a rotation that is not orthonormal");
   return Status();
 }
+
+bool isRigidTransform(const Eigen::Isometry3d& pose) { return pose.matrix().allFinite() && orthonormalRotation(pose); }
+
+template <int N>
+bool surelyValidCovariance(const Eigen::Matrix<double, N, N>& m) {
+  if (!m.allFinite()) return false;
+  const double scale = m.cwiseAbs().maxCoeff();  // checkCovariance's symmetry test
+  if ((m - m.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(scale, 1e-300)) return false;
+  Eigen::Matrix<double, N, N> inverse;
+  return inverseOfWellConditionedCovariance<N>(m, inverse);
+}
+template bool surelyValidCovariance<6>(const Matrix6d&);
+template bool surelyValidCovariance<3>(const Eigen::Matrix3d&);
 
 namespace {
 

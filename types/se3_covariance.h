@@ -40,8 +40,15 @@ Status checkCovariance(const Eigen::MatrixXd& m, const std::string& what, Eigen:
 /// NaN, an indefinite or ill-conditioned S): checkCovariance then gives the verdict and its message.
 template <int N>
 bool inverseOfWellConditionedCovariance(const Eigen::Matrix<double, N, N>& m, Eigen::Matrix<double, N, N>& inverse);
+/// checkCovariance's OK for a 6×6 or 3×3 without heap or message: true when `m` is finite, symmetric as
+/// checkCovariance judges it and well conditioned by the norm bound (then checkCovariance is OK); false when this
+/// does not decide — ask checkCovariance for the verdict and its message. For per-sample checks.
+template <int N>
+bool surelyValidCovariance(const Eigen::Matrix<double, N, N>& m);
 /// kInvalidArgument when the pose has a non-finite entry or a rotation that is not a rotation.
 Status checkRigidTransform(const Eigen::Isometry3d& pose, const std::string& what);
+/// checkRigidTransform's OK, without a message to build.
+bool isRigidTransform(const Eigen::Isometry3d& pose);
 
 
 /// Ω = Σ⁻¹, symmetrised; kNotPositiveDefinite when Σ (or Ω) is not usable.

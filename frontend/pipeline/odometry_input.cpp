@@ -18,15 +18,8 @@ Result<std::optional<Matrix6d>> knownAbsoluteCovariance(const OdometryInput& inp
     return std::optional<Matrix6d>();
   }
   const Matrix6d& covariance = *input.absolute_covariance;
-  // First the check without heap or message (finite, symmetric as checkCovariance judges it, well conditioned), then
-  // checkCovariance for its verdict and message.
-  Matrix6d inverse;
-  const double scale = covariance.cwiseAbs().maxCoeff();
-  if (covariance.allFinite() &&
-      (covariance - covariance.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * std::max(scale, 1e-300) &&
-      inverseOfWellConditionedCovariance<6>(covariance, inverse)) {
-    return input.absolute_covariance;
-  }
+  // First the check without heap or message, then checkCovariance for its verdict and message.
+  if (surelyValidCovariance<6>(covariance)) return input.absolute_covariance;
   DG_RETURN_IF_ERROR(checkCovariance(covariance, "odometry sample at t=" + formatTimestamp(input.t) + ": absolute_covariance"));
   return input.absolute_covariance;
 }

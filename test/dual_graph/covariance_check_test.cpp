@@ -116,5 +116,66 @@ TEST(InformationFromWellConditionedCovariance, EqualsTheCheckedPathOrLeavesTheMa
   expectFastPathAgrees<6>(withEigenvalues(6, -1e-3, rng), false, "indefinite");
 }
 
+// The per-sample checks without a message: true only where the checked path says OK, for every kind of matrix and
+// pose the checked path refuses; and validateOdometrySample's verdict is the checked path's.
+TEST(SurelyValidCovariance, TrueOnlyWhereCheckCovarianceIsOk) {
+  std::mt19937 rng(17);
+  int decided = 0;
+  for (double log_condition : {0.0, 4.0, 8.0, 11.7, 13.0}) {
+    for (double smallest_sign : {1.0, -1.0}) {
+      for (int trial = 0; trial < 10; ++trial) {
+        Eigen::MatrixXd m = 1e-4 * withEigenvalues(6, smallest_sign * std::pow(10.0, -log_condition), rng);
+        if (trial == 1) m(0, 5) += 1e-9;         // not symmetric
+        if (trial == 2) m(3, 3) = std::nan("");  // not finite
+        const bool fast = surelyValidCovariance<6>(Matrix6d(m));
+        const Status checked = checkCovariance(m, "m");
+        if (fast) {
+          EXPECT_TRUE(checked.ok()) << "log κ " << log_condition << ": " << checked.message();
+          ++decided;
+        }
+        if (trial >= 3 && smallest_sign > 0 && log_condition <= 8.0) {
+          EXPECT_TRUE(fast) << log_condition;
+        }
+        if (surelyValidCovariance<3>(Eigen::Matrix3d(m.topLeftCorner<3, 3>()))) {
+          EXPECT_TRUE(checkCovariance(Eigen::MatrixXd(m.topLeftCorner<3, 3>()), "m3").ok());
+        }
+      }
+    }
+  }
+  EXPECT_GE(decided, 3 * 7);
+  EXPECT_FALSE(surelyValidCovariance<6>(Matrix6d::Zero()));
+}
+
+TEST(IsRigidTransform, AgreesWithTheCheckedPathAndValidateOdometrySampleKeepsItsMessages) {
+  Eigen::Isometry3d rigid = Eigen::Isometry3d::Identity();
+  rigid.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  rigid.translation() << 1, -2, 3;
+  Eigen::Isometry3d scaled = rigid;
+  scaled.linear() *= 1.01;
+  Eigen::Isometry3d mirrored = rigid;
+  mirrored.linear().col(0) *= -1.0;
+  Eigen::Isometry3d nan = rigid;
+  nan.translation().y() = std::nan("");
+  for (const Eigen::Isometry3d& pose : {rigid, scaled, mirrored, nan}) {
+    EXPECT_EQ(isRigidTransform(pose), checkRigidTransform(pose, "pose").ok());
+  }
+  EXPECT_TRUE(isRigidTransform(rigid));
+  OdometrySample sample{1.7e9 + 0.25, rigid, std::nullopt};
+  EXPECT_TRUE(validateOdometrySample(sample).ok());
+  sample.relative_covariance = Matrix6d::Identity() * 1e-4;
+  EXPECT_TRUE(validateOdometrySample(sample).ok());
+  sample.relative_covariance->coeffRef(2, 2) = -1e-4;
+  Status refused = validateOdometrySample(sample);
+  EXPECT_EQ(refused.code(), StatusCode::kNotPositiveDefinite);
+  EXPECT_NE(refused.message().find("odometry sample at t=1700000000.25: relative_covariance"), std::string::npos)
+      << refused.message();
+  sample.relative_covariance.reset();
+  sample.odom_T_body = mirrored;
+  refused = validateOdometrySample(sample);
+  EXPECT_EQ(refused.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(refused.message().find("odom_T_body has a rotation that is not orthonormal"), std::string::npos)
+      << refused.message();
+}
+
 }  // namespace
 }  // namespace dualgraph
