@@ -44,6 +44,7 @@ py::dict pipelineCounters(const PipelineCounters& c) {
   py::dict out;
   out["odometry_invalid"] = c.odometry_invalid;
   out["odometry_not_after_previous"] = c.odometry_not_after_previous;
+  out["odometry_queue_full"] = c.odometry_queue_full;
   out["odometry_gaps"] = c.odometry_gaps;
   out["odometry_covariance_unknown"] = c.odometry_covariance_unknown;
   out["odometry_held_at_clock_jump"] = c.odometry_held_at_clock_jump;

@@ -69,6 +69,7 @@ struct PoseUpdate {
 struct PipelineCounters {
   int odometry_invalid = 0;            ///< non-finite or non-rigid samples, or a covariance that is not one
   int odometry_not_after_previous = 0; ///< time not after the newest accepted sample (backwards or repeated)
+  int odometry_queue_full = 0;         ///< worker mode: refused with the worker's queue full (a worker far behind)
   int odometry_gaps = 0;               ///< gaps longer than max_odometry_gap_s (each marks the samples after it lost)
   /// Samples whose absolute covariance was all or partly zero: used as without one (not refused).
   int odometry_covariance_unknown = 0;
@@ -81,7 +82,8 @@ struct PipelineCounters {
   int detections_invalid = 0;          ///< non-finite values, or corners and poses in one instant
   int detections_backwards = 0;        ///< older than an instant given before
   int detections_too_far_ahead = 0;    ///< beyond the newest odometry by more than max_detection_lead_s
-  int detections_queue_full = 0;       ///< more instants waiting than the queue holds (no odometry arriving)
+  /// More instants waiting than the queue holds (no odometry arriving), or the worker's queue full (worker mode).
+  int detections_queue_full = 0;
   int detections_before_odometry = 0;  ///< earlier than the first odometry sample: not usable
   int detections_after_odometry = 0;   ///< later than the last odometry sample at `finish`
   int detections_in_gap = 0;           ///< inside an odometry gap: no pose to place them at

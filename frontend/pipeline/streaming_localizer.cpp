@@ -4,12 +4,10 @@
 namespace dualgraph {
 namespace {
 
-/// Events the worker may fall behind by before inputs are refused (≈ 80 s of 200 Hz odometry with detections).
-constexpr size_t kMaxQueuedEvents = 1 << 15;
-
 /// `part`'s counts added to `total` (a core finished at a clock restart); its last error kept when it has one.
 void addCounts(PipelineCounters& total, const PipelineCounters& part) {
   for (auto field : {&PipelineCounters::odometry_invalid, &PipelineCounters::odometry_not_after_previous,
+                     &PipelineCounters::odometry_queue_full,
                      &PipelineCounters::odometry_gaps, &PipelineCounters::odometry_covariance_unknown,
                      &PipelineCounters::odometry_held_at_clock_jump, &PipelineCounters::odometry_clock_jumps,
                      &PipelineCounters::odometry_clock_restarts, &PipelineCounters::detections_invalid,
@@ -28,8 +26,12 @@ void addCounts(PipelineCounters& total, const PipelineCounters& part) {
 
 }  // namespace
 
-StreamingLocalizer::StreamingLocalizer(std::unique_ptr<PipelineCore> core, PipelineThreading threading)
-    : core_(std::move(core)), threading_(threading), clock_guard_(core_->params().max_odometry_jump_s) {
+StreamingLocalizer::StreamingLocalizer(std::unique_ptr<PipelineCore> core, PipelineThreading threading,
+                                       size_t max_queued_inputs)
+    : core_(std::move(core)),
+      threading_(threading),
+      max_queued_inputs_(max_queued_inputs),
+      clock_guard_(core_->params().max_odometry_jump_s) {
   snapshot_.map_T_odom = core_->localizer().mapTOdom();
   snapshot_.state = core_->localizer().trackingState();
   initial_snapshot_ = snapshot_;
@@ -51,10 +53,13 @@ StreamingLocalizer::~StreamingLocalizer() {
 Result<std::unique_ptr<StreamingLocalizer>> StreamingLocalizer::create(const SequenceRunParams& params,
                                                                        const Track& map,
                                                                        std::optional<CameraModel> camera,
-                                                                       PipelineThreading threading) {
+                                                                       PipelineThreading threading,
+                                                                       size_t max_queued_inputs) {
+  if (max_queued_inputs == 0) return Status(StatusCode::kInvalidArgument, "pipeline: max_queued_inputs must be > 0");
   auto core = PipelineCore::create(params, map, camera);
   if (!core.ok()) return core.status();
-  std::unique_ptr<StreamingLocalizer> pipeline(new StreamingLocalizer(std::move(core).value(), threading));
+  std::unique_ptr<StreamingLocalizer> pipeline(
+      new StreamingLocalizer(std::move(core).value(), threading, max_queued_inputs));
   pipeline->origin_ = Origin{map, std::move(camera)};
   return pipeline;
 }
@@ -64,7 +69,7 @@ Result<std::unique_ptr<StreamingLocalizer>> StreamingLocalizer::borrow(Localizer
   auto core = PipelineCore::borrow(localizer, frontend, time_offset);
   if (!core.ok()) return core.status();
   return std::unique_ptr<StreamingLocalizer>(
-      new StreamingLocalizer(std::move(core).value(), PipelineThreading::kCallerThread));
+      new StreamingLocalizer(std::move(core).value(), PipelineThreading::kCallerThread, kDefaultMaxQueuedInputs));
 }
 
 void StreamingLocalizer::publish(const PoseUpdate& update) {
@@ -127,14 +132,19 @@ Status StreamingLocalizer::addDetections(const DetectionInstant& instant) {
   }
   Event event;
   event.detections = instant;
-  return enqueue(std::move(event), "detection instant");
+  bool full = false;
+  const Status queued = enqueue(std::move(event), "detection instant", full);
+  if (full) detections_queue_full_on_submit_ += static_cast<int>(instant.size());
+  return queued;
 }
 
-Status StreamingLocalizer::enqueue(Event event, const char* what) {
+Status StreamingLocalizer::enqueue(Event event, const char* what, bool& full) {
+  full = false;
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
     if (stopping_) return Status(StatusCode::kFailedPrecondition, std::string("pipeline: ") + what + " after finish");
-    if (queue_.size() >= kMaxQueuedEvents) {
+    if (queue_.size() >= max_queued_inputs_) {
+      full = true;
       return Status(StatusCode::kFailedPrecondition, "pipeline: the worker is " + std::to_string(queue_.size()) +
                                                          " inputs behind; " + what + " refused");
     }
@@ -192,7 +202,15 @@ Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
   Event event;
   event.restart = restart;
   event.odometry = input;
-  DG_RETURN_IF_ERROR(enqueue(std::move(event), "odometry sample"));
+  bool full = false;
+  const Status queued = enqueue(std::move(event), "odometry sample", full);
+  if (!queued.ok()) {
+    if (full) {
+      ++odometry_queue_full_;
+      countRefused();
+    }
+    return queued;
+  }
   if (restart) announceRestart();  // once queued (a full queue refuses the sample, and the next three restart again)
   last_submitted_t_ = input.t;
   clock_guard_.accepted(input.t);
@@ -269,11 +287,14 @@ Result<PipelineResults> StreamingLocalizer::finish() {
   results.pipeline_counters.odometry_invalid += invalid_on_submit_;
   results.pipeline_counters.odometry_not_after_previous += refused_on_submit_;
   results.pipeline_counters.detections_invalid += detections_invalid_on_submit_.load();
+  results.pipeline_counters.detections_queue_full += detections_queue_full_on_submit_.load();
+  results.pipeline_counters.odometry_queue_full += odometry_queue_full_;
   results.pipeline_counters.odometry_held_at_clock_jump = clock_guard_.held();
   results.pipeline_counters.odometry_clock_jumps = clock_guard_.jumps();
   // Every sample the pipeline did not take, as in both modes: refused on submission, held at a clock jump, or refused
   // by the core before the Localizer saw it.
-  results.localizer_counters.odometry_rejected += invalid_on_submit_ + refused_on_submit_ + clock_guard_.held() +
+  results.localizer_counters.odometry_rejected += invalid_on_submit_ + refused_on_submit_ + odometry_queue_full_ +
+                                                  clock_guard_.held() +
                                                   core_->odometryRefusedBeforeLocalizer() + carried_odometry_rejected_;
   results.initialization = core_->initialization();
   results.camera_switched_at = core_->cameraSwitchedAt();

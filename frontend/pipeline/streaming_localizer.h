@@ -75,10 +75,15 @@ struct PipelineResults {
 /// odometry thread, after the inputs stopped; results after it.
 class StreamingLocalizer {
  public:
-  /// kInvalidArgument for invalid parameters, map or camera (PipelineCore::create).
+  /// Inputs the worker may fall behind by before new ones are refused (≈ 80 s of 200 Hz odometry with detections).
+  static constexpr size_t kDefaultMaxQueuedInputs = size_t{1} << 15;
+  /// kInvalidArgument for invalid parameters, map or camera (PipelineCore::create), or max_queued_inputs 0.
+  /// `max_queued_inputs`: kWorker's queue bound (odometry samples and detection instants); an input beyond it is
+  /// refused with kFailedPrecondition and counted (odometry_queue_full, detections_queue_full).
   static Result<std::unique_ptr<StreamingLocalizer>> create(const SequenceRunParams& params, const Track& map,
                                                             std::optional<CameraModel> camera,
-                                                            PipelineThreading threading = PipelineThreading::kCallerThread);
+                                                            PipelineThreading threading = PipelineThreading::kCallerThread,
+                                                            size_t max_queued_inputs = kDefaultMaxQueuedInputs);
   /// Around a Localizer and a GateFrontend the caller keeps (no frame search); caller-thread mode.
   static Result<std::unique_ptr<StreamingLocalizer>> borrow(Localizer& localizer, GateFrontend& frontend,
                                                             double time_offset);
@@ -122,7 +127,7 @@ class StreamingLocalizer {
     DetectionInstant detections;
     EIGEN_MAKE_ALIGNED_OPERATOR_NEW
   };
-  StreamingLocalizer(std::unique_ptr<PipelineCore> core, PipelineThreading threading);
+  StreamingLocalizer(std::unique_ptr<PipelineCore> core, PipelineThreading threading, size_t max_queued_inputs);
   /// The clock went back: the core so far is finished (its waiting detections counted), its counters carried, and a
   /// new one made from the creation's parameters, map and camera. The thread that owns core_.
   Status restartCore();
@@ -132,12 +137,13 @@ class StreamingLocalizer {
   void announceRestart();
   /// A sample the core refused still counts as taken (PipelineSnapshot::samples).
   void countRefused();
-  /// Worker mode: `event` queued for the worker (refused after finish or with the queue full).
-  Status enqueue(Event event, const char* what);
+  /// Worker mode: `event` queued for the worker (refused after finish, or with the queue full: `full` set).
+  Status enqueue(Event event, const char* what, bool& full);
   void workerLoop();
 
   std::unique_ptr<PipelineCore> core_;
   const PipelineThreading threading_;
+  const size_t max_queued_inputs_;
   /// What create() was given, for a restart (absent for a borrowed core, which cannot restart).
   struct Origin {
     Track map;
@@ -164,6 +170,8 @@ class StreamingLocalizer {
   int invalid_on_submit_ = 0;  ///< odometry invalid before the core or the queue, and malformed (odometry thread only)
   /// Detections refused before they reached the core: worker mode's checks, and malformed ones (detector thread).
   std::atomic<int> detections_invalid_on_submit_{0};
+  std::atomic<int> detections_queue_full_on_submit_{0};  ///< worker mode: refused with the queue full (detector thread)
+  int odometry_queue_full_ = 0;  ///< worker mode: refused with the queue full (odometry thread only)
   std::thread worker_;
   bool finished_ = false;
 };

@@ -45,6 +45,18 @@ Fed run(const std::vector<const Sequence*>& parts, PipelineThreading threading) 
   return out;
 }
 
+// `detections` up to `end` [s], `shift` seconds later.
+template <typename Detection>
+std::vector<Detection> shiftedUpTo(const std::vector<Detection>& detections, double end, double shift) {
+  std::vector<Detection> out;
+  for (Detection detection : detections) {
+    if (detection.t > end) continue;
+    detection.t += shift;
+    out.push_back(detection);
+  }
+  return out;
+}
+
 // The first `samples` odometry samples of `flight` and the detections up to the last of them, `shift` seconds later.
 Sequence shiftedPrefix(const Sequence& flight, size_t samples, double shift) {
   Sequence out = flight;
@@ -52,20 +64,8 @@ Sequence shiftedPrefix(const Sequence& flight, size_t samples, double shift) {
   if (!out.odometry.absolute_covariances.empty()) out.odometry.absolute_covariances.resize(samples);
   for (OdometrySample& sample : out.odometry.samples) sample.t += shift;
   const double end = flight.odometry.samples[samples - 1].t;
-  std::vector<CornerDetection> corners;
-  for (CornerDetection detection : flight.corners) {
-    if (detection.t > end) continue;
-    detection.t += shift;
-    corners.push_back(detection);
-  }
-  out.corners = corners;
-  std::vector<GateObservation> poses;
-  for (GateObservation detection : flight.pose_detections) {
-    if (detection.t > end) continue;
-    detection.t += shift;
-    poses.push_back(detection);
-  }
-  out.pose_detections = poses;
+  out.corners = shiftedUpTo(flight.corners, end, shift);
+  out.pose_detections = shiftedUpTo(flight.pose_detections, end, shift);
   return out;
 }
 

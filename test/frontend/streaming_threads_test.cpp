@@ -232,5 +232,49 @@ TEST(StreamingThreads, WorkerModeHoldsAGlitchedStampAndTakesWhatFollows) {
   EXPECT_EQ(results->localizer_counters.odometry_accepted, static_cast<int>(samples));
 }
 
+// A worker that falls behind its queue's bound: each input refused there is counted, none lost without a trace.
+// Before, a refused odometry sample was in no counter (nor in the snapshot's count) and a refused instant's
+// detections likewise. A queue of one input makes refusals certain without stalling the worker by hand.
+TEST(StreamingThreads, InputsRefusedAtAFullWorkerQueueAreCounted) {
+  const Sequence sequence = flighttest::simulatedFlight("ratm_ellipse.yaml", "clean", 2, 1);
+  EXPECT_EQ(StreamingLocalizer::create(SequenceRunParams{}, sequence.map, sequence.camera, PipelineThreading::kWorker, 0)
+                .status()
+                .code(),
+            StatusCode::kInvalidArgument);
+  auto pipeline =
+      StreamingLocalizer::create(SequenceRunParams{}, sequence.map, sequence.camera, PipelineThreading::kWorker, 1);
+  ASSERT_TRUE(pipeline.ok()) << pipeline.status().message();
+  const std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
+  const double offset = sequence.camera ? sequence.camera->time_offset : 0.0;
+  int odometry_full = 0, detections_full = 0;
+  size_t next = 0;
+  const size_t samples = sequence.odometry.samples.size();
+  for (size_t k = 0; k < samples; ++k) {
+    while (next < instants.size() && instants[next].t - offset <= sequence.odometry.samples[k].t) {
+      const Status answer = (*pipeline)->addDetections(instants[next]);
+      if (!answer.ok()) {
+        EXPECT_NE(answer.message().find("inputs behind"), std::string::npos) << answer.message();
+        detections_full += static_cast<int>(instants[next].size());
+      }
+      ++next;
+    }
+    const Status answer = (*pipeline)->addOdometry(flighttest::odometryInput(sequence, k)).status();
+    if (!answer.ok()) {
+      EXPECT_NE(answer.message().find("inputs behind"), std::string::npos) << answer.message();
+      ++odometry_full;
+    }
+  }
+  auto results = (*pipeline)->finish();
+  ASSERT_TRUE(results.ok()) << results.status().message();
+  RecordProperty("odometry_refused", odometry_full);
+  RecordProperty("detections_refused", detections_full);
+  EXPECT_GT(odometry_full + detections_full, 0);
+  EXPECT_EQ(results->pipeline_counters.odometry_queue_full, odometry_full);
+  EXPECT_EQ(results->pipeline_counters.detections_queue_full, detections_full);
+  EXPECT_EQ((*pipeline)->snapshot().samples, static_cast<long>(samples));
+  EXPECT_EQ(results->localizer_counters.odometry_accepted + results->localizer_counters.odometry_rejected,
+            static_cast<int>(samples));
+}
+
 }  // namespace
 }  // namespace dualgraph

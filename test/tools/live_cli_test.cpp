@@ -146,6 +146,10 @@ TEST(LiveCli, RecordsThePipelineRefusesAreCountedAndLeftOutOfTheRecording) {
             std::string::npos)
       << run.err;
   EXPECT_EQ(words(readFile(out + "_poses.txt")).size(), words(readFile(sequence + "/vio.tum")).size());
+  const std::string metrics = readFile(out + "/metrics.json");  // each refusal under its reason there too
+  EXPECT_NE(metrics.find("\"odometry_not_after_previous\": 1,"), std::string::npos) << metrics;
+  EXPECT_NE(metrics.find("\"odometry_held_at_clock_jump\": 1,"), std::string::npos) << metrics;
+  EXPECT_NE(metrics.find("\"odometry_invalid\": 0,"), std::string::npos) << metrics;
   ASSERT_EQ(runDualgraph("run --quiet --sequence " + out + "/sequence --out " + out + "_replayed").exit_code, 0);
   EXPECT_EQ(words(readFile(out + "_replayed/estimate.tum")).size(), words(readFile(out + "/estimate.tum")).size());
 }
