@@ -177,10 +177,12 @@ dualgraph.Error naming why and are counted (finish().localizer_counters / the ru
              out["covariance"] = now.covariance ? py::object(matrixArray(*now.covariance)) : py::object(py::none());
              out["samples"] = now.samples;
              out["updates"] = now.updates;
+             out["last_gate_update_t"] = now.last_gate_update_t;
              return out;
            },
            "The last published view (any thread): {'t', 'map_T_odom' (7,), 'world_T_body' (7,), 'state', 'covariance', "
-           "'samples', 'updates'}.")
+           "'samples', 'updates', 'last_gate_update_t'} (the newest keyframe whose update took a gate edge, -inf before "
+           "any: t minus it is how long the pose has gone on the odometry alone).")
       .def_property_readonly("time_offset",
                              [](PyStreaming& s) {
                                if (s.worker) {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/frontend/pipeline/streaming_localizer.h"
 
+#include <algorithm>
+
 namespace dualgraph {
 namespace {
 
@@ -87,6 +89,10 @@ void StreamingLocalizer::publish(const PoseUpdate& update) {
     return;
   }
   next.samples = snapshot_.samples + 1;
+  next.last_gate_update_t = snapshot_.last_gate_update_t;
+  for (const KeyframeStats& done : update.report.updates) {
+    if (done.gate_edges_added > 0) next.last_gate_update_t = std::max(next.last_gate_update_t, done.t);
+  }
   snapshot_ = next;
   if (threading_ == PipelineThreading::kWorker) last_report_ = update.report;
 }

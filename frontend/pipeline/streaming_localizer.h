@@ -42,6 +42,9 @@ struct PipelineSnapshot {
   std::optional<Matrix6d> covariance;
   long samples = 0;   ///< odometry samples the pipeline has taken so far, refused ones included (a feeder's progress)
   long updates = 0;   ///< main-graph updates so far
+  /// The newest keyframe time [s] whose main-graph update took at least one gate edge: t − this is how long the pose
+  /// has gone on the odometry alone (a detector that stopped, a camera clock the pipeline refuses). −∞ before any.
+  double last_gate_update_t = -std::numeric_limits<double>::infinity();
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 

@@ -49,6 +49,7 @@ class Streaming(unittest.TestCase):
         self.assertIsNone(out["covariance"])
         snapshot = pipeline.snapshot()
         self.assertEqual(snapshot["samples"], 1)
+        self.assertEqual(snapshot["last_gate_update_t"], float("-inf"))  # no gate update yet
         self.assertEqual(snapshot["map_T_odom"].shape, (7,))
         # Refused: a sample not after the previous one, a wrong pixel array, a NaN pose; each names why.
         with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "not after"):
@@ -96,6 +97,8 @@ class Streaming(unittest.TestCase):
         self.assertGreater(refused, 10)
         self.assertEqual(pipeline.snapshot()["samples"], len(times) + refused)
         self.assertEqual(pipeline.snapshot()["state"], "tracking")
+        snapshot = pipeline.snapshot()
+        self.assertLess(snapshot["t"] - snapshot["last_gate_update_t"], 3.0)  # gates in view to the end
         result = pipeline.finish()
         self.assertEqual(len(result.estimate[0]), len(times))
         counted = result.pipeline_counters

@@ -232,6 +232,49 @@ TEST(StreamingThreads, WorkerModeHoldsAGlitchedStampAndTakesWhatFollows) {
   EXPECT_EQ(results->localizer_counters.odometry_accepted, static_cast<int>(samples));
 }
 
+// The snapshot says how long the pose has gone on the odometry alone: the detector stops halfway through the flight
+// and the last gate update stays there while the pose goes on, in both modes.
+TEST(StreamingThreads, TheSnapshotSaysWhenTheLastGateUpdateWas) {
+  const Sequence sequence = flighttest::simulatedFlight("ratm_ellipse.yaml", "realistic", 2, 2);
+  const std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
+  const double offset = sequence.camera ? sequence.camera->time_offset : 0.0;
+  const double end = sequence.odometry.samples.back().t;
+  const double stop = 0.5 * (sequence.odometry.samples.front().t + end);
+  for (PipelineThreading threading : {PipelineThreading::kCallerThread, PipelineThreading::kWorker}) {
+    SCOPED_TRACE(threading == PipelineThreading::kWorker ? "worker" : "caller thread");
+    auto pipeline = StreamingLocalizer::create(SequenceRunParams{}, sequence.map, sequence.camera, threading);
+    ASSERT_TRUE(pipeline.ok());
+    EXPECT_EQ((*pipeline)->snapshot().last_gate_update_t, -std::numeric_limits<double>::infinity());
+    double at_stop = -std::numeric_limits<double>::infinity();
+    size_t next = 0;
+    for (size_t k = 0; k < sequence.odometry.samples.size(); ++k) {
+      const double t = sequence.odometry.samples[k].t;
+      while (next < instants.size() && instants[next].t - offset <= t) {
+        if (instants[next].t - offset <= stop) {
+          ASSERT_TRUE((*pipeline)->addDetections(instants[next]).ok());
+        }
+        ++next;
+      }
+      ASSERT_TRUE((*pipeline)->addOdometry(flighttest::odometryInput(sequence, k)).ok());
+      while (static_cast<long>(k) + 1 - (*pipeline)->snapshot().samples > 10) std::this_thread::yield();  // worker
+      const PipelineSnapshot now = (*pipeline)->snapshot();
+      EXPECT_LE(now.last_gate_update_t, now.t);
+      if (now.t <= stop + 2.0) at_stop = std::max(at_stop, now.last_gate_update_t);
+    }
+    auto results = (*pipeline)->finish();
+    ASSERT_TRUE(results.ok());
+    double newest_with_gates = -std::numeric_limits<double>::infinity();
+    for (const KeyframeStats& row : results->stats) {
+      if (row.gate_edges_added > 0) newest_with_gates = row.t;
+    }
+    const PipelineSnapshot last = (*pipeline)->snapshot();
+    EXPECT_EQ(last.last_gate_update_t, newest_with_gates);
+    EXPECT_GT(last.last_gate_update_t, sequence.odometry.samples.front().t);  // gates were used
+    EXPECT_EQ(last.last_gate_update_t, at_stop);  // none after the detector stopped
+    EXPECT_GT(last.t - last.last_gate_update_t, end - stop - 2.0);
+  }
+}
+
 // A worker that falls behind its queue's bound: each input refused there is counted, none lost without a trace.
 // Before, a refused odometry sample was in no counter (nor in the snapshot's count) and a refused instant's
 // detections likewise. A queue of one input makes refusals certain without stalling the worker by hand.
