@@ -113,9 +113,9 @@ dualgraph.Error naming why and are counted (finish().localizer_counters / the ru
            "metric [t; theta] (the pipeline makes the increments' from it; all or partly zero: unknown; otherwise it must be "
            "symmetric positive definite) or the increment's own, or "
            "neither (the per-metre model). Returns {'t', 'world_T_body' (7,), 'state', 'covariance' (6, 6) or None, "
-           "'clock_restarted'}: True when the odometry clock went back more than max_odometry_jump_s, stayed there for 3 "
-           "samples, and the pipeline restarted as new before this one (a looped bag; finish() then describes the "
-           "flight since).")
+           "'clock_restarted'}: True when the odometry clock went back more than max_odometry_jump_s, stayed there for 1 s "
+           "(3 samples at least), and the pipeline restarted as new before this one (a looped bag; finish() then "
+           "describes the flight since).")
       .def("add_corners",
            [](PyStreaming& s, double t, IdsLike gate_ids, ArrayLike pixels) {
              StreamingLocalizer& pipeline = s.live();

@@ -151,7 +151,7 @@ int runLiveCommand(const LiveOptions& o) {
       if (!update.ok()) continue;  // refused and counted (PipelineCounters): no pose for it, not recorded
       if (update->report.clock_restarted) {  // one sequence holds one clock: the outputs keep the flight since
         std::cerr << "dualgraph live: warning: " << where << ": the odometry clock went back (t=" << formatTimestamp(record.odometry.t)
-                  << ") and stayed there for 3 records (a looped bag or a restarted VIO): the "
+                  << ") and stayed there (3 records in a row over 1 s: a looped bag or a restarted VIO): the "
                   << "pipeline restarted as new" << (o.out.empty() ? "" : "; " + o.out + " will hold the flight from here")
                   << "\n";
         recording = Recording(*map, camera);

@@ -29,14 +29,16 @@ ClockCheck OdometryClockGuard::check(double t) {
     candidate_->last_t = t;
     ++candidate_->samples;
   } else {
-    candidate_ = Candidate{t, 1};
+    candidate_ = Candidate{t, t, 1};
   }
-  if (candidate_->samples < kConfirmations) {
+  const bool ahead = t > *newest_;
+  if (candidate_->samples < kConfirmations ||
+      (!ahead && !elapsedAtLeast(candidate_->last_t, candidate_->first_t, kRestartSpanS))) {
     ++held_;
     return ClockCheck::kHeld;
   }
   candidate_.reset();
-  if (t > *newest_) {
+  if (ahead) {
     ++jumps_;
     return ClockCheck::kJump;
   }
@@ -53,7 +55,8 @@ Status OdometryClockGuard::heldStatus() const {
                     (ahead ? "after" : "before") + " the newest accepted one at t=" + formatTimestamp(*newest_) +
                     " (more than frontend.max_odometry_jump_s = " + seconds(max_jump_s_) + " s): a clock " +
                     (ahead ? "jump" : "restart") + ", held until " + std::to_string(kConfirmations) +
-                    " samples in a row continue from it (" + std::to_string(candidate_->samples) + " so far)");
+                    " samples in a row continue from it" + (ahead ? "" : " over " + seconds(kRestartSpanS) + " s") +
+                    " (" + std::to_string(candidate_->samples) + " so far)");
 }
 
 }  // namespace dualgraph

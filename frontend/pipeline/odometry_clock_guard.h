@@ -14,7 +14,7 @@ enum class ClockCheck {
   kOn,       ///< on the accepted clock, or not the guard's business (within the limit, not finite, off): go on
   kHeld,     ///< more than the limit from the newest accepted sample, not (yet) confirmed: refuse it (heldStatus())
   kJump,     ///< the third sample in a row on a clock ahead: take it (the pipeline sees a gap)
-  kRestart,  ///< the third sample in a row on a clock behind: the clock restarted; take it in a new pipeline
+  kRestart,  ///< a clock behind confirmed (3 samples in a row over kRestartSpanS): take it in a new pipeline
 };
 
 /// Watches the odometry's time stamps [s] for jumps longer than `max_jump_s`, either way. Without it one sample
@@ -22,14 +22,18 @@ enum class ClockCheck {
 /// refused as not after it; and a clock that really restarts (a looped bag, a VIO restarted on a clock from 0, a
 /// glitched first sample) is refused for ever. With it such a sample is held: refused, and taken as the start of a
 /// new clock only when kConfirmations samples in a row continue from it (each after the one before, by at most
-/// `max_jump_s`); the third is then taken — ahead of the newest a jump (kJump), behind it a restart (kRestart) —
-/// the two before it stay refused. A sample on the accepted clock in between drops what was held. A sample behind
+/// `max_jump_s`); the third is then taken ahead of the newest (a jump, kJump: the pipeline sees a gap). Behind it, a
+/// restart (kRestart) throws the flight's state away, so the clock behind must also have run kRestartSpanS: a burst
+/// of a few stale samples (a driver's buffer replayed) is held and dropped, not a reset. What is held stays
+/// refused. A sample on the accepted clock in between drops what was held. A sample behind
 /// the newest by at most `max_jump_s` is not judged here (the order check refuses it), nor validity: give it valid
 /// samples only (StreamingLocalizer checks them first), so garbage cannot confirm a new clock. `max_jump_s` 0: off.
 /// Plain value; one thread at a time.
 class OdometryClockGuard {
  public:
   static constexpr int kConfirmations = 3;
+  /// The stamps a clock behind must span, first held sample to the one taken, before it restarts the pipeline [s].
+  static constexpr double kRestartSpanS = 1.0;
 
   explicit OdometryClockGuard(double max_jump_s) : max_jump_s_(max_jump_s) {}
 
@@ -46,8 +50,9 @@ class OdometryClockGuard {
 
  private:
   struct Candidate {
-    double last_t = 0.0;  ///< the newest sample on the held clock [s]
-    int samples = 0;      ///< samples in a row on it
+    double first_t = 0.0;  ///< the first sample held on that clock [s]
+    double last_t = 0.0;   ///< the newest [s]
+    int samples = 0;       ///< samples in a row on it
   };
   double max_jump_s_;
   std::optional<double> newest_;

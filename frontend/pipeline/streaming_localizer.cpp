@@ -217,7 +217,7 @@ Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
     }
     return queued;
   }
-  if (restart) announceRestart();  // once queued (a full queue refuses the sample, and the next three restart again)
+  if (restart) announceRestart();  // once queued (a full queue refuses the sample; the guard then starts again)
   last_submitted_t_ = input.t;
   clock_guard_.accepted(input.t);
   PoseUpdate update;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // OdometryClockGuard: a stamp far ahead or behind is held; the accepted clock going on drops it; three samples in a
-// row on a new clock make it the clock (the third taken: a jump ahead, a restart behind); off, within the limit, or
-// not finite: not its business.
+// row on a new clock make it the clock (ahead: the third taken, a jump; behind: once it ran 1 s, a restart); off,
+// within the limit, or not finite: not its business.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -59,35 +59,40 @@ TEST(OdometryClockGuard, ThreeSamplesInARowMakeANewClock) {
   EXPECT_EQ(guard.restarts(), 0);
 }
 
-// A looped bag: the clock goes back 100 s and stays there. A single stamp far behind is a glitch and is dropped.
+// A looped bag: the clock goes back 100 s and stays there. A single stamp far behind is a glitch and is dropped; so is
+// a burst of stale samples spanning less than kRestartSpanS; the clock behind restarts once it ran that long.
 TEST(OdometryClockGuard, AClockThatGoesBackAndStaysIsARestart) {
   OdometryClockGuard guard(10.0);
   feedSecond(guard, 100.0);
   EXPECT_EQ(guard.check(3.0), ClockCheck::kHeld);  // one stamp far behind, then the clock goes on: a glitch
   EXPECT_NE(guard.heldStatus().message().find("before the newest"), std::string::npos) << guard.heldStatus().message();
   EXPECT_NE(guard.heldStatus().message().find("clock restart"), std::string::npos) << guard.heldStatus().message();
+  EXPECT_NE(guard.heldStatus().message().find("over 1 s"), std::string::npos) << guard.heldStatus().message();
   EXPECT_EQ(guard.check(101.1), ClockCheck::kOn);
   guard.accepted(101.1);
   EXPECT_EQ(guard.check(95.0), ClockCheck::kOn);  // behind by less than the limit: the order check's business
+  for (int k = 0; k < 50; ++k) EXPECT_EQ(guard.check(20.0 + 0.01 * k), ClockCheck::kHeld) << k;  // 0.49 s stale
+  EXPECT_EQ(guard.check(101.2), ClockCheck::kOn);  // the clock goes on: the burst is dropped
+  guard.accepted(101.2);
+  EXPECT_EQ(guard.restarts(), 0);
   EXPECT_EQ(guard.check(0.0), ClockCheck::kHeld);
   EXPECT_EQ(guard.check(0.0), ClockCheck::kHeld);  // not after the one before: a new candidate
-  EXPECT_EQ(guard.check(0.1), ClockCheck::kHeld);
-  EXPECT_EQ(guard.check(0.2), ClockCheck::kRestart);
-  guard.accepted(0.2);
-  EXPECT_EQ(guard.check(0.3), ClockCheck::kOn);
-  EXPECT_EQ(guard.held(), 4);
+  for (int k = 1; k < 100; ++k) EXPECT_EQ(guard.check(0.01 * k), ClockCheck::kHeld) << k;
+  EXPECT_EQ(guard.check(1.0), ClockCheck::kRestart);  // 1 s of the clock behind
+  guard.accepted(1.0);
+  EXPECT_EQ(guard.check(1.01), ClockCheck::kOn);
+  EXPECT_EQ(guard.held(), 1 + 50 + 2 + 99);
   EXPECT_EQ(guard.restarts(), 1);
   EXPECT_EQ(guard.jumps(), 0);
 }
 
-// The very first sample glitched far ahead of the real clock: the real clock behind it restarts after three samples.
+// The very first sample glitched far ahead of the real clock: the real clock behind it restarts after 1 s of it.
 TEST(OdometryClockGuard, AGlitchedFirstSampleIsLeftBehind) {
   OdometryClockGuard guard(10.0);
   ASSERT_EQ(guard.check(4e9), ClockCheck::kOn);  // nothing to compare it with: taken
   guard.accepted(4e9);
-  EXPECT_EQ(guard.check(1.7e9), ClockCheck::kHeld);
-  EXPECT_EQ(guard.check(1.7e9 + 0.005), ClockCheck::kHeld);
-  EXPECT_EQ(guard.check(1.7e9 + 0.010), ClockCheck::kRestart);
+  for (int k = 0; k < 200; ++k) EXPECT_EQ(guard.check(1.7e9 + 0.005 * k), ClockCheck::kHeld) << k;
+  EXPECT_EQ(guard.check(1.7e9 + 1.0), ClockCheck::kRestart);
 }
 
 TEST(OdometryClockGuard, WithinTheLimitOffOrNotFiniteIsNotItsBusiness) {
