@@ -100,9 +100,10 @@ class StreamingLocalizer {
   Status addDetections(const DetectionInstant& instant);
   /// One odometry sample; kInvalidArgument (counted) for a non-finite or non-rigid sample, one not after the
   /// previous, or one held at a clock jump (more than `frontend.max_odometry_jump_s` from the newest accepted sample,
-  /// either way; OdometryClockGuard: taken once 3 samples in a row continue from it). A confirmed jump ahead is a gap;
-  /// a confirmed jump back restarts the pipeline as newly created (UpdateReport::clock_restarted; a borrowed one
-  /// cannot, and refuses such samples with kFailedPrecondition). Caller-thread mode: this sample's work, its pose
+  /// either way; OdometryClockGuard: taken once 3 samples in a row continue from it, and behind once they span 1 s).
+  /// A confirmed jump ahead is a gap; a confirmed jump back restarts the pipeline as newly created
+  /// (UpdateReport::clock_restarted, in both modes; a borrowed one cannot, and refuses the confirming sample with
+  /// kFailedPrecondition). Caller-thread mode: this sample's work, its pose
   /// with the covariance where known, and its report.
   /// Worker mode: the pose through the last finished result's map_T_odom, its state, no covariance (the snapshot
   /// has the one at its own sample), and the report of the sample the worker finished last.
