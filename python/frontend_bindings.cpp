@@ -42,31 +42,8 @@ py::dict frontendCounters(const GateFrontendCounters& c) {
 
 py::dict pipelineCounters(const PipelineCounters& c) {
   py::dict out;
-  out["odometry_invalid"] = c.odometry_invalid;
-  out["odometry_not_after_previous"] = c.odometry_not_after_previous;
-  out["odometry_queue_full"] = c.odometry_queue_full;
-  out["odometry_gaps"] = c.odometry_gaps;
-  out["odometry_covariance_unknown"] = c.odometry_covariance_unknown;
-  out["odometry_held_at_clock_jump"] = c.odometry_held_at_clock_jump;
-  out["odometry_clock_jumps"] = c.odometry_clock_jumps;
-  out["odometry_clock_restarts"] = c.odometry_clock_restarts;
-  out["detections_invalid"] = c.detections_invalid;
-  out["detections_backwards"] = c.detections_backwards;
-  out["detections_too_far_ahead"] = c.detections_too_far_ahead;
-  out["detections_queue_full"] = c.detections_queue_full;
-  out["detections_before_odometry"] = c.detections_before_odometry;
-  out["detections_after_odometry"] = c.detections_after_odometry;
-  out["detections_in_gap"] = c.detections_in_gap;
-  out["detections_unplaced"] = c.detections_unplaced;
-  out["detections_frame_search_only"] = c.detections_frame_search_only;
-  out["observations_rejected"] = c.observations_rejected;
-  out["instants_failed"] = c.instants_failed;
+  forEachPipelineCount([&](const char* name, int PipelineCounters::*field) { out[name] = c.*field; });
   out["last_error"] = c.last_error;
-  out["frame_checks"] = c.frame_checks;
-  out["frame_checks_replaced"] = c.frame_checks_replaced;
-  out["unconfirmed_frame_searches"] = c.unconfirmed_frame_searches;
-  out["covariance_clamped"] = c.covariance_clamped;
-  out["covariance_shrinks"] = c.covariance_shrinks;
   return out;
 }
 

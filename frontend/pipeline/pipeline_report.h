@@ -103,4 +103,35 @@ struct PipelineCounters {
   int covariance_shrinks = 0;          ///< samples whose absolute covariance really shrank (RelativeCovarianceStream)
 };
 
+/// Calls visit(name, &PipelineCounters::field) for every count of PipelineCounters (all but last_error), in
+/// declaration order: the one list for code that handles them all (a restart's sums, Python's dict). A new count
+/// goes here too.
+template <typename Visit>
+void forEachPipelineCount(Visit&& visit) {
+  visit("odometry_invalid", &PipelineCounters::odometry_invalid);
+  visit("odometry_not_after_previous", &PipelineCounters::odometry_not_after_previous);
+  visit("odometry_queue_full", &PipelineCounters::odometry_queue_full);
+  visit("odometry_gaps", &PipelineCounters::odometry_gaps);
+  visit("odometry_covariance_unknown", &PipelineCounters::odometry_covariance_unknown);
+  visit("odometry_held_at_clock_jump", &PipelineCounters::odometry_held_at_clock_jump);
+  visit("odometry_clock_jumps", &PipelineCounters::odometry_clock_jumps);
+  visit("odometry_clock_restarts", &PipelineCounters::odometry_clock_restarts);
+  visit("detections_invalid", &PipelineCounters::detections_invalid);
+  visit("detections_backwards", &PipelineCounters::detections_backwards);
+  visit("detections_too_far_ahead", &PipelineCounters::detections_too_far_ahead);
+  visit("detections_queue_full", &PipelineCounters::detections_queue_full);
+  visit("detections_before_odometry", &PipelineCounters::detections_before_odometry);
+  visit("detections_after_odometry", &PipelineCounters::detections_after_odometry);
+  visit("detections_in_gap", &PipelineCounters::detections_in_gap);
+  visit("detections_unplaced", &PipelineCounters::detections_unplaced);
+  visit("detections_frame_search_only", &PipelineCounters::detections_frame_search_only);
+  visit("observations_rejected", &PipelineCounters::observations_rejected);
+  visit("instants_failed", &PipelineCounters::instants_failed);
+  visit("frame_checks", &PipelineCounters::frame_checks);
+  visit("frame_checks_replaced", &PipelineCounters::frame_checks_replaced);
+  visit("unconfirmed_frame_searches", &PipelineCounters::unconfirmed_frame_searches);
+  visit("covariance_clamped", &PipelineCounters::covariance_clamped);
+  visit("covariance_shrinks", &PipelineCounters::covariance_shrinks);
+}
+
 }  // namespace dualgraph

@@ -8,21 +8,7 @@ namespace {
 
 /// `part`'s counts added to `total` (a core finished at a clock restart); its last error kept when it has one.
 void addCounts(PipelineCounters& total, const PipelineCounters& part) {
-  for (auto field : {&PipelineCounters::odometry_invalid, &PipelineCounters::odometry_not_after_previous,
-                     &PipelineCounters::odometry_queue_full,
-                     &PipelineCounters::odometry_gaps, &PipelineCounters::odometry_covariance_unknown,
-                     &PipelineCounters::odometry_held_at_clock_jump, &PipelineCounters::odometry_clock_jumps,
-                     &PipelineCounters::odometry_clock_restarts, &PipelineCounters::detections_invalid,
-                     &PipelineCounters::detections_backwards, &PipelineCounters::detections_too_far_ahead,
-                     &PipelineCounters::detections_queue_full, &PipelineCounters::detections_before_odometry,
-                     &PipelineCounters::detections_after_odometry, &PipelineCounters::detections_in_gap,
-                     &PipelineCounters::detections_unplaced, &PipelineCounters::detections_frame_search_only,
-                     &PipelineCounters::observations_rejected, &PipelineCounters::instants_failed,
-                     &PipelineCounters::frame_checks, &PipelineCounters::frame_checks_replaced,
-                     &PipelineCounters::unconfirmed_frame_searches, &PipelineCounters::covariance_clamped,
-                     &PipelineCounters::covariance_shrinks}) {
-    total.*field += part.*field;
-  }
+  forEachPipelineCount([&](const char*, int PipelineCounters::*field) { total.*field += part.*field; });
   if (!part.last_error.empty()) total.last_error = part.last_error;
 }
 
