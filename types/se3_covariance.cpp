@@ -30,6 +30,13 @@ double rotationAngleOf(const Eigen::Isometry3d& increment) { return so3Log(incre
 
 namespace {
 
+/// checkCovariance's symmetry test: |m − mᵀ| ≤ 1e-9 of m's largest entry, everywhere.
+template <typename Matrix>
+bool symmetricToRoundOff(const Matrix& m) {
+  const double scale = m.cwiseAbs().maxCoeff();
+  return (m - m.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * std::max(scale, 1e-300);
+}
+
 /// Smallest and largest eigenvalue of the symmetric part of `m` (N rows, or Eigen::Dynamic).
 template <int N>
 void eigenvalueRange(const Eigen::MatrixXd& m, double& smallest, double& largest) {
@@ -88,10 +95,7 @@ Status checkCovariance(const Eigen::MatrixXd& m, const std::string& what, Eigen:
   if (inverse != nullptr) inverse->resize(0, 0);
   if (m.rows() != m.cols() || m.rows() == 0) return Status(StatusCode::kInvalidArgument, what + " is not square");
   if (!m.allFinite()) return Status(StatusCode::kInvalidArgument, what + " has a non-finite entry");
-  const double scale = m.cwiseAbs().maxCoeff();
-  if ((m - m.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(scale, 1e-300)) {
-    return Status(StatusCode::kInvalidArgument, what + " is not symmetric");
-  }
+  if (!symmetricToRoundOff(m)) return Status(StatusCode::kInvalidArgument, what + " is not symmetric");
   if ((m.rows() == 6 && wellConditionedByNormBound<6>(m, inverse)) ||
       (m.rows() == 3 && wellConditionedByNormBound<3>(m, inverse))) {
     return Status();
@@ -134,9 +138,7 @@ bool isRigidTransform(const Eigen::Isometry3d& pose) { return pose.matrix().allF
 
 template <int N>
 bool surelyValidCovariance(const Eigen::Matrix<double, N, N>& m) {
-  if (!m.allFinite()) return false;
-  const double scale = m.cwiseAbs().maxCoeff();  // checkCovariance's symmetry test
-  if ((m - m.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(scale, 1e-300)) return false;
+  if (!m.allFinite() || !symmetricToRoundOff(m)) return false;  // checkCovariance's own tests
   Eigen::Matrix<double, N, N> inverse;
   return inverseOfWellConditionedCovariance<N>(m, inverse);
 }
