@@ -140,6 +140,11 @@ void bindRun(py::module_& m) {
       .def_readwrite("max_odometry_jump_s", &SequenceRunParams::max_odometry_jump_s,
                      "[s] >= 0: an odometry sample further after or before the newest is a clock jump, held until 3 "
                      "samples in a row continue from it; a confirmed jump back restarts the pipeline (0: off)")
+      .def_readwrite("max_odometry_speed_mps", &SequenceRunParams::max_odometry_speed_mps,
+                     "[m/s] >= 0: an odometry pose further from the newest than this speed (+ 0.1 m) allows is a pose "
+                     "jump, held until 3 samples in a row continue from it (0: off)")
+      .def_readwrite("max_odometry_turn_rate_radps", &SequenceRunParams::max_odometry_turn_rate_radps,
+                     "[rad/s] >= 0: likewise for the turn between them (+ 0.1 rad; 0: off)")
       .def_readwrite("self_calibration_after_s", &SequenceRunParams::self_calibration_after_s,
                      "[s]: after this much of the flight, the camera's clock offset and mount are calibrated on the "
                      "flight so far and the rest of the run uses that camera (0: off; data/config/default.yaml: 15)")

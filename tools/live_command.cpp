@@ -209,7 +209,8 @@ int runLiveCommand(const LiveOptions& o) {
   }
   const PipelineCounters& refused = run.pipeline_counters;
   const int odometry_refused =
-      refused.odometry_invalid + refused.odometry_not_after_previous + refused.odometry_held_at_clock_jump;
+      refused.odometry_invalid + refused.odometry_not_after_previous + refused.odometry_held_at_clock_jump +
+      refused.odometry_held_at_pose_jump;
   if (refused.odometry_clock_restarts > 0) {
     std::cerr << "dualgraph live: warning: the odometry clock went back " << refused.odometry_clock_restarts
               << " time(s); the pipeline restarted each time, and the outputs hold the flight since the last\n";
@@ -218,7 +219,9 @@ int runLiveCommand(const LiveOptions& o) {
     std::cerr << "dualgraph live: warning: " << odometry_refused << " odom records refused (" << refused.odometry_invalid
               << " invalid (not finite, not rigid, or a covariance that is not one), "
               << refused.odometry_not_after_previous << " not after the previous, "
-              << refused.odometry_held_at_clock_jump << " held at a clock jump beyond frontend.max_odometry_jump_s): "
+              << refused.odometry_held_at_clock_jump << " held at a clock jump beyond frontend.max_odometry_jump_s, "
+              << refused.odometry_held_at_pose_jump << " held at a pose jump faster than frontend.max_odometry_speed_mps"
+              << " / _turn_rate_radps): "
               << "no pose line for them\n";
   }
   if (!stream_error.ok()) {

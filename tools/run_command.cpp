@@ -153,6 +153,11 @@ int runRunCommand(const RunOptions& o) {
          "frontend.max_odometry_jump_s after the newest accepted one were held as a clock jump (" +
          std::to_string(refused.odometry_clock_jumps) + " new clocks confirmed and taken after a gap)");
   }
+  if (refused.odometry_held_at_pose_jump > 0) {
+    warn(std::to_string(refused.odometry_held_at_pose_jump) + " odometry poses further from the newest accepted one " +
+         "than frontend.max_odometry_speed_mps / _turn_rate_radps allow were held as a pose jump (" +
+         std::to_string(refused.odometry_pose_jumps) + " jumps confirmed by 3 samples in a row and taken)");
+  }
   if (refused.detections_too_far_ahead + refused.detections_unplaced > 0) {
     warn(std::to_string(refused.detections_too_far_ahead) + " detections stamped more than frontend.max_detection_lead_s " +
          "beyond the newest odometry and " + std::to_string(refused.detections_unplaced) +

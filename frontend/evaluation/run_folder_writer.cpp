@@ -118,6 +118,8 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
       .add("odometry_clock_jumps", run.pipeline_counters.odometry_clock_jumps)
       .add("odometry_held_at_clock_jump", run.pipeline_counters.odometry_held_at_clock_jump)
       .add("odometry_clock_restarts", run.pipeline_counters.odometry_clock_restarts)
+      .add("odometry_pose_jumps", run.pipeline_counters.odometry_pose_jumps)
+      .add("odometry_held_at_pose_jump", run.pipeline_counters.odometry_held_at_pose_jump)
       .add("detections_in_gap", run.pipeline_counters.detections_in_gap)
       .add("detections_too_far_ahead", run.pipeline_counters.detections_too_far_ahead)
       .add("detections_unplaced", run.pipeline_counters.detections_unplaced)

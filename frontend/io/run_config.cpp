@@ -143,6 +143,10 @@ const FrontendField kFrontendFields[] = {
      [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_gap_s); }},
     {"max_odometry_jump_s",
      [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_jump_s); }},
+    {"max_odometry_speed_mps",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_speed_mps); }},
+    {"max_odometry_turn_rate_radps",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_turn_rate_radps); }},
     {"estimate_odometry_scale",
      [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.odometry_scale.enabled); }},
     {"odometry_scale_min_error",
@@ -191,6 +195,14 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
   }
   if (!(params.max_odometry_jump_s >= 0.0) || !std::isfinite(params.max_odometry_jump_s)) {
     return fieldError(source, markOf("max_odometry_jump_s"), "frontend.max_odometry_jump_s", "must be >= 0 [s] (0: off)");
+  }
+  if (!(params.max_odometry_speed_mps >= 0.0) || !std::isfinite(params.max_odometry_speed_mps)) {
+    return fieldError(source, markOf("max_odometry_speed_mps"), "frontend.max_odometry_speed_mps",
+                      "must be >= 0 [m/s] (0: off)");
+  }
+  if (!(params.max_odometry_turn_rate_radps >= 0.0) || !std::isfinite(params.max_odometry_turn_rate_radps)) {
+    return fieldError(source, markOf("max_odometry_turn_rate_radps"), "frontend.max_odometry_turn_rate_radps",
+                      "must be >= 0 [rad/s] (0: off)");
   }
   if (pnp.min_corner_angle_deg < 0.0 || pnp.min_corner_angle_deg >= 90.0) {
     return fieldError(source, markOf("min_corner_angle_deg"), "frontend.min_corner_angle_deg", "must be in [0, 90)");

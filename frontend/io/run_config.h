@@ -61,6 +61,14 @@ struct SequenceRunParams {
   /// restarts the pipeline (frontend/pipeline/odometry_clock_guard.h; counted,
   /// PipelineCounters::odometry_held_at_clock_jump, odometry_clock_restarts) [s], >= 0.
   double max_odometry_jump_s = 10.0;
+  /// An odometry sample further from the newest accepted one than a drone flies — more than this speed [m/s]
+  /// (`frontend.max_odometry_speed_mps`) or turn rate [rad/s] (`frontend.max_odometry_turn_rate_radps`) over their
+  /// time apart, plus 0.1 m / 0.1 rad — is a pose jump: held until OdometryMotionGuard::kConfirmations samples in a
+  /// row continue from it, so one glitched pose is never taken as motion, and a VIO that really jumps is taken two
+  /// samples later (frontend/pipeline/odometry_motion_guard.h; counted, PipelineCounters::odometry_held_at_pose_jump,
+  /// odometry_pose_jumps). >= 0; 0: that check off.
+  double max_odometry_speed_mps = 50.0;
+  double max_odometry_turn_rate_radps = 40.0;
   /// The VIO's translation scale estimated in flight and taken out of the odometry (`frontend.estimate_odometry_scale`,
   /// `frontend.odometry_scale_min_error`; dual_graph/odometry_scale.h).
   OdometryScaleParams odometry_scale;

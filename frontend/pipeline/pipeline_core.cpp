@@ -38,10 +38,12 @@ Result<std::unique_ptr<PipelineCore>> PipelineCore::create(const SequenceRunPara
     const Status switched = params.camera_switch->camera.validate();
     if (!switched.ok()) return Status(switched.code(), "the camera switched to: " + switched.message());
   }
-  if (!(params.max_detection_lead_s > 0.0) || !(params.max_odometry_gap_s >= 0.0) ||
-      !(params.max_odometry_jump_s >= 0.0) || !std::isfinite(params.max_odometry_jump_s)) {
-    return Status(StatusCode::kInvalidArgument, "pipeline: max_detection_lead_s must be > 0, max_odometry_gap_s "
-                                                "and max_odometry_jump_s finite and >= 0 [s]");
+  const auto limit = [](double value) { return value >= 0.0 && std::isfinite(value); };
+  if (!(params.max_detection_lead_s > 0.0) || !(params.max_odometry_gap_s >= 0.0) || !limit(params.max_odometry_jump_s) ||
+      !limit(params.max_odometry_speed_mps) || !limit(params.max_odometry_turn_rate_radps)) {
+    return Status(StatusCode::kInvalidArgument, "pipeline: max_detection_lead_s must be > 0 [s]; max_odometry_gap_s, "
+                                                "max_odometry_jump_s [s], max_odometry_speed_mps [m/s] and "
+                                                "max_odometry_turn_rate_radps [rad/s] finite and >= 0");
   }
   auto known_map = map.gateMap();
   if (!known_map.ok()) return known_map.status();

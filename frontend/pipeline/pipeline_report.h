@@ -79,6 +79,10 @@ struct PipelineCounters {
   int odometry_clock_jumps = 0;        ///< new clocks ahead confirmed (their first confirmed sample taken, after a gap)
   /// New clocks behind confirmed (a looped bag, a restarted VIO): the pipeline restarted there (StreamingLocalizer).
   int odometry_clock_restarts = 0;
+  /// Samples held at a pose jump faster than max_odometry_speed_mps / max_odometry_turn_rate_radps
+  /// (OdometryMotionGuard): a glitched pose, or the first samples of a VIO that really jumped.
+  int odometry_held_at_pose_jump = 0;
+  int odometry_pose_jumps = 0;         ///< pose jumps confirmed (3 samples in a row continued from one) and taken
   int detections_invalid = 0;          ///< non-finite values, or corners and poses in one instant
   int detections_backwards = 0;        ///< older than an instant given before
   int detections_too_far_ahead = 0;    ///< beyond the newest odometry by more than max_detection_lead_s
@@ -116,6 +120,8 @@ void forEachPipelineCount(Visit&& visit) {
   visit("odometry_held_at_clock_jump", &PipelineCounters::odometry_held_at_clock_jump);
   visit("odometry_clock_jumps", &PipelineCounters::odometry_clock_jumps);
   visit("odometry_clock_restarts", &PipelineCounters::odometry_clock_restarts);
+  visit("odometry_held_at_pose_jump", &PipelineCounters::odometry_held_at_pose_jump);
+  visit("odometry_pose_jumps", &PipelineCounters::odometry_pose_jumps);
   visit("detections_invalid", &PipelineCounters::detections_invalid);
   visit("detections_backwards", &PipelineCounters::detections_backwards);
   visit("detections_too_far_ahead", &PipelineCounters::detections_too_far_ahead);

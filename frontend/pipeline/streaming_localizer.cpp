@@ -19,7 +19,8 @@ StreamingLocalizer::StreamingLocalizer(std::unique_ptr<PipelineCore> core, Pipel
     : core_(std::move(core)),
       threading_(threading),
       max_queued_inputs_(max_queued_inputs),
-      clock_guard_(core_->params().max_odometry_jump_s) {
+      clock_guard_(core_->params().max_odometry_jump_s),
+      motion_guard_(core_->params().max_odometry_speed_mps, core_->params().max_odometry_turn_rate_radps) {
   snapshot_.map_T_odom = core_->localizer().mapTOdom();
   snapshot_.state = core_->localizer().trackingState();
   initial_snapshot_ = snapshot_;
@@ -163,6 +164,11 @@ Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
                   "odometry sample at t=" + formatTimestamp(input.t) + ": the odometry clock went back and stayed " +
                       "there, and a pipeline around a borrowed Localizer cannot restart");
   }
+  // A pose jump on the accepted clock (a new clock's first sample is a first sample: its pose may be anywhere).
+  if (clock == ClockCheck::kOn && motion_guard_.check(input.t, input.odom_T_body) == MotionCheck::kHeld) {
+    countRefused();
+    return motion_guard_.heldStatus();
+  }
   const bool restart = clock == ClockCheck::kRestart;
   if (threading_ == PipelineThreading::kCallerThread) {
     Result<PoseUpdate> update = [&]() -> Result<PoseUpdate> {
@@ -176,7 +182,7 @@ Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
       return done;
     }();
     if (update.ok()) {
-      clock_guard_.accepted(input.t);
+      accepted(input, clock);
       publish(*update);
     } else {
       countRefused();
@@ -205,13 +211,19 @@ Result<PoseUpdate> StreamingLocalizer::addOdometry(const OdometryInput& input) {
   }
   if (restart) announceRestart();  // once queued (a full queue refuses the sample; the guard then starts again)
   last_submitted_t_ = input.t;
-  clock_guard_.accepted(input.t);
+  accepted(input, clock);
   PoseUpdate update;
   std::lock_guard<std::mutex> lock(snapshot_mutex_);
   update.pose = CorrectedPose{input.t, snapshot_.map_T_odom * input.odom_T_body, snapshot_.state, std::nullopt};
   update.report = last_report_;
   update.report.clock_restarted = restart;  // this sample's, not the worker's last
   return update;
+}
+
+void StreamingLocalizer::accepted(const OdometryInput& input, ClockCheck clock) {
+  clock_guard_.accepted(input.t);
+  if (clock != ClockCheck::kOn) motion_guard_.reset();  // a new clock: its first sample starts the motion again
+  motion_guard_.accepted(input.t, input.odom_T_body);
 }
 
 void StreamingLocalizer::workerLoop() {
@@ -283,10 +295,12 @@ Result<PipelineResults> StreamingLocalizer::finish() {
   results.pipeline_counters.odometry_queue_full += odometry_queue_full_;
   results.pipeline_counters.odometry_held_at_clock_jump = clock_guard_.held();
   results.pipeline_counters.odometry_clock_jumps = clock_guard_.jumps();
-  // Every sample the pipeline did not take, as in both modes: refused on submission, held at a clock jump, or refused
+  results.pipeline_counters.odometry_held_at_pose_jump = motion_guard_.held();
+  results.pipeline_counters.odometry_pose_jumps = motion_guard_.jumps();
+  // Every sample the pipeline did not take, as in both modes: refused on submission, held at a clock or pose jump, or refused
   // by the core before the Localizer saw it.
   results.localizer_counters.odometry_rejected += invalid_on_submit_ + refused_on_submit_ + odometry_queue_full_ +
-                                                  clock_guard_.held() +
+                                                  clock_guard_.held() + motion_guard_.held() +
                                                   core_->odometryRefusedBeforeLocalizer() + carried_odometry_rejected_;
   results.initialization = core_->initialization();
   results.camera_switched_at = core_->cameraSwitchedAt();

@@ -13,6 +13,7 @@
 
 #include "dualgraph/core/status.h"
 #include "dualgraph/frontend/pipeline/odometry_clock_guard.h"
+#include "dualgraph/frontend/pipeline/odometry_motion_guard.h"
 #include "dualgraph/frontend/pipeline/pipeline_core.h"
 
 namespace dualgraph {
@@ -99,8 +100,10 @@ class StreamingLocalizer {
   /// others (order, lead over the odometry) counted when the worker takes it.
   Status addDetections(const DetectionInstant& instant);
   /// One odometry sample; kInvalidArgument (counted) for a non-finite or non-rigid sample, one not after the
-  /// previous, or one held at a clock jump (more than `frontend.max_odometry_jump_s` from the newest accepted sample,
-  /// either way; OdometryClockGuard: taken once 3 samples in a row continue from it, and behind once they span 1 s).
+  /// previous, one held at a clock jump (more than `frontend.max_odometry_jump_s` from the newest accepted sample,
+  /// either way; OdometryClockGuard: taken once 3 samples in a row continue from it, and behind once they span 1 s),
+  /// or one held at a pose jump (moved or turned faster than `frontend.max_odometry_speed_mps` /
+  /// `_turn_rate_radps` from the newest accepted sample; OdometryMotionGuard: taken once 3 samples continue from it).
   /// A confirmed jump ahead is a gap; a confirmed jump back restarts the pipeline as newly created
   /// (UpdateReport::clock_restarted, in both modes; a borrowed one cannot, and refuses the confirming sample with
   /// kFailedPrecondition). Caller-thread mode: this sample's work, its pose
@@ -139,6 +142,8 @@ class StreamingLocalizer {
   /// The clock went back (odometry thread): the snapshot is a new pipeline's until the new core publishes, and what
   /// the worker still finishes of the flight before is not published.
   void announceRestart();
+  /// The sample was taken (queued, in worker mode): the guards move on to it.
+  void accepted(const OdometryInput& input, ClockCheck clock);
   /// A sample the core refused still counts as taken (PipelineSnapshot::samples).
   void countRefused();
   /// Worker mode: `event` queued for the worker (refused after finish, or with the queue full: `full` set).
@@ -170,6 +175,7 @@ class StreamingLocalizer {
   bool stopping_ = false;
   double last_submitted_t_ = -std::numeric_limits<double>::infinity();  ///< odometry thread only
   OdometryClockGuard clock_guard_;  ///< odometry thread only: both modes hold a clock jump here, before the core
+  OdometryMotionGuard motion_guard_;  ///< odometry thread only: likewise a pose jump faster than a drone flies
   int refused_on_submit_ = 0;  ///< odometry refused as not after the newest before the core (odometry thread only)
   int invalid_on_submit_ = 0;  ///< odometry invalid before the core or the queue, and malformed (odometry thread only)
   /// Detections refused before they reached the core: worker mode's checks, and malformed ones (detector thread).

@@ -145,6 +145,28 @@ class Streaming(unittest.TestCase):
         with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "max_odometry_jump_s"):
             dualgraph.StreamingLocalizer(self.sequence, config)
 
+    def test_a_glitched_pose_is_held_and_the_limits_are_checked(self):
+        config = dualgraph.RunConfig()
+        self.assertEqual((config.max_odometry_speed_mps, config.max_odometry_turn_rate_radps), (50.0, 40.0))
+        times, _ = self.sequence.odometry
+        poses = self.sequence.odometry_matrices
+        glitched = poses[1].copy()
+        glitched[0, 3] += 1e6  # one pose 1000 km away: refused, the flight goes on from the one before
+        pipeline = dualgraph.StreamingLocalizer(self.sequence, config)
+        pipeline.add_odometry(times[0], poses[0])
+        with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "pose jump"):
+            pipeline.add_odometry(times[1], glitched)
+        pipeline.add_odometry(times[2], poses[2])
+        counters = pipeline.finish().pipeline_counters
+        self.assertEqual((counters["odometry_held_at_pose_jump"], counters["odometry_pose_jumps"]), (1, 0))
+        config.max_odometry_speed_mps = 0.0  # off: taken as motion, as before the guard
+        pipeline = dualgraph.StreamingLocalizer(self.sequence, config)
+        pipeline.add_odometry(times[0], poses[0])
+        pipeline.add_odometry(times[1], glitched)
+        config.max_odometry_turn_rate_radps = float("nan")
+        with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "max_odometry_turn_rate_radps"):
+            dualgraph.StreamingLocalizer(self.sequence, config)
+
     def _corners(self):
         """The sequence's corner detections grouped by image: stamps (camera clock, as add_corners takes them), ids,
         (m, 4, 2) pixels."""

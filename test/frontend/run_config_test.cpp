@@ -55,6 +55,9 @@ TEST(RunConfig, BundledDefaultYamlIsExactlyTheDefaults) {
   EXPECT_EQ(loaded->relocalization.global_after_s, defaults.relocalization.global_after_s);
   EXPECT_EQ(loaded->relocalization.replace_ratio, defaults.relocalization.replace_ratio);
   EXPECT_FALSE(loaded->time_offset.has_value());
+  EXPECT_EQ(loaded->max_odometry_jump_s, defaults.max_odometry_jump_s);
+  EXPECT_EQ(loaded->max_odometry_speed_mps, defaults.max_odometry_speed_mps);
+  EXPECT_EQ(loaded->max_odometry_turn_rate_radps, defaults.max_odometry_turn_rate_radps);
 }
 
 TEST(RunConfig, EmptyTextAndMissingSectionsKeepTheDefaults) {
@@ -98,7 +101,9 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
       "  relocalization_sigma_t: 4.5\n"
       "  relocalization_sigma_r: 0.25\n"
       "  relocalization_global_after_s: 7.5\n"
-      "  relocalization_replace_ratio: 0.25\n";
+      "  relocalization_replace_ratio: 0.25\n"
+      "  max_odometry_speed_mps: 80\n"
+      "  max_odometry_turn_rate_radps: 0\n";
   auto parsed = parseRunConfig(text, kSource);
   ASSERT_TRUE(parsed.ok()) << parsed.status().message();
   EXPECT_EQ(parsed->localizer.mode, LocalizerMode::kSingle);
@@ -127,6 +132,8 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
   EXPECT_EQ(parsed->relocalization.global_after_s, 7.5);
   EXPECT_EQ(parsed->relocalization.replace_ratio, 0.25);
   EXPECT_EQ(parsed->pose_detection_sigma_r, 0.03);
+  EXPECT_EQ(parsed->max_odometry_speed_mps, 80.0);
+  EXPECT_EQ(parsed->max_odometry_turn_rate_radps, 0.0);
   const Matrix6d covariance = parsed->defaultPoseDetectionCovariance();
   EXPECT_DOUBLE_EQ(covariance(0, 0), 0.04);
   EXPECT_DOUBLE_EQ(covariance(5, 5), 0.0009);
@@ -178,6 +185,9 @@ TEST(RunConfig, ErrorsNameTheLineAndTheField) {
       {"scale bar at the scale's bound", "frontend:\n  trust_ids: true\n  odometry_scale_min_error: 0.5\n", 3,
        "frontend.odometry_scale_min_error"},
       {"negative scale bar", "frontend:\n  odometry_scale_min_error: -0.01\n", 2, "frontend.odometry_scale_min_error"},
+      {"negative speed limit", "frontend:\n  max_odometry_speed_mps: -1\n", 2, "frontend.max_odometry_speed_mps"},
+      {"NaN turn-rate limit", "frontend:\n  trust_ids: true\n  max_odometry_turn_rate_radps: .nan\n", 3,
+       "frontend.max_odometry_turn_rate_radps"},
       {"frontend a number", "localizer:\n  d_main: 2.0\nfrontend: 3\n", 3, "frontend"},
       {"frontend a list", "frontend:\n  - trust_ids\n", 2, "frontend"},
       {"unknown localizer key", "localizer:\n  d_mian: 2.0\nfrontend:\n  trust_ids: true\n", 2, "d_mian"},

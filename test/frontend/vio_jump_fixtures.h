@@ -32,6 +32,9 @@ struct JumpOutcome {
   double vio_ate_m = 0.0;
   /// The graph size reported at the end counts the keyframes of the graphs given up at a relocalisation too.
   bool size_counts_every_keyframe = false;
+  /// The jump as the pose guard saw it: confirmed once, its first two samples held (OdometryMotionGuard).
+  int pose_jumps = 0;
+  int held_at_pose_jump = 0;
   bool self_calibrated_before_jump = false;  ///< the configuration's self-calibration (first 15 s) came first
 };
 
@@ -79,6 +82,8 @@ inline JumpOutcome runWithVioJump(const std::string& track_name, const std::stri
   outcome.size_counts_every_keyframe =
       !run->stats.empty() && run->stats.back().main_vertices >= static_cast<int>(run->keyframes.size());
   outcome.losses = run->localizer_counters.losses;
+  outcome.pose_jumps = run->pipeline_counters.odometry_pose_jumps;
+  outcome.held_at_pose_jump = run->pipeline_counters.odometry_held_at_pose_jump;
   outcome.relocalizations = run->localizer_counters.relocalizations;
   outcome.final_state = run->estimate.empty() ? TrackingState::kInitialising : run->estimate.back().state;
   auto metrics = computeRunMetrics(sequence, *run);
@@ -98,6 +103,8 @@ inline JumpOutcome runWithVioJump(const std::string& track_name, const std::stri
 /// Issue 24's target for a jump: found and a map pose again within 2 s, tracking to the end, as good as
 /// tracking makes it over the last quarter (0.1-0.3 m on these profiles, not the jump's 3 m), better than VIO.
 inline void expectRecovered(const JumpOutcome& outcome, const std::string& what) {
+  EXPECT_EQ(outcome.pose_jumps, 1) << what;
+  EXPECT_EQ(outcome.held_at_pose_jump, 2) << what;
   EXPECT_GE(outcome.losses, 1) << what;
   EXPECT_GE(outcome.relocalizations, 1) << what;
   EXPECT_TRUE(outcome.size_counts_every_keyframe) << what;

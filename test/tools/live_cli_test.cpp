@@ -136,19 +136,32 @@ TEST(LiveCli, RecordsThePipelineRefusesAreCountedAndLeftOutOfTheRecording) {
   std::string glitched = text.substr(third, text.find('\n', third) + 1 - third);
   glitched.replace(5, stamp_end - third - 5, std::to_string(std::stod(text.substr(third + 5, stamp_end - third - 5)) + 1e6));
   text.insert(third, glitched);  // before the (third) record whose stamp it took, 10^6 s ahead
+  // And one posed 10^6 m away (a glitched pose, valid and on the clock), 0.1 ms before a later record: held.
+  const size_t fourth = text.find("odom ", text.find("odom ", third + glitched.size()) + 5);
+  const auto record = words(text.substr(fourth, text.find('\n', fourth) - fourth));
+  ASSERT_EQ(record.size(), 1u);
+  std::vector<std::string> fields = record[0];
+  ASSERT_GE(fields.size(), 9u);
+  fields[1] = std::to_string(std::stod(fields[1]) - 1e-4);
+  fields[2] = std::to_string(std::stod(fields[2]) + 1e6);
+  std::string far;
+  for (const std::string& field : fields) far += (far.empty() ? "" : " ") + field;
+  text.insert(fourth, far + "\n");
   const std::string doubled = testing::writeFile("live_refused_doubled.txt", text);
   const std::string out = tempDir() + "/live_refused_run";
   fs::remove_all(out);
   const CommandRun run = runDualgraph("live" + mapAndCamera(sequence) + " --out " + out + " --poses " + out + "_poses.txt < " + doubled);
   EXPECT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_NE(run.err.find("2 odom records refused (0 invalid (not finite, not rigid, or a covariance that is not one), 1 not "
-                         "after the previous, 1 held at a clock jump beyond frontend.max_odometry_jump_s)"),
+  EXPECT_NE(run.err.find("3 odom records refused (0 invalid (not finite, not rigid, or a covariance that is not one), 1 not "
+                         "after the previous, 1 held at a clock jump beyond frontend.max_odometry_jump_s, 1 held at a "
+                         "pose jump faster than frontend.max_odometry_speed_mps / _turn_rate_radps)"),
             std::string::npos)
       << run.err;
   EXPECT_EQ(words(readFile(out + "_poses.txt")).size(), words(readFile(sequence + "/vio.tum")).size());
   const std::string metrics = readFile(out + "/metrics.json");  // each refusal under its reason there too
   EXPECT_NE(metrics.find("\"odometry_not_after_previous\": 1,"), std::string::npos) << metrics;
   EXPECT_NE(metrics.find("\"odometry_held_at_clock_jump\": 1,"), std::string::npos) << metrics;
+  EXPECT_NE(metrics.find("\"odometry_held_at_pose_jump\": 1,"), std::string::npos) << metrics;
   EXPECT_NE(metrics.find("\"odometry_invalid\": 0,"), std::string::npos) << metrics;
   ASSERT_EQ(runDualgraph("run --quiet --sequence " + out + "/sequence --out " + out + "_replayed").exit_code, 0);
   EXPECT_EQ(words(readFile(out + "_replayed/estimate.tum")).size(), words(readFile(out + "/estimate.tum")).size());
