@@ -152,13 +152,14 @@ class Streaming(unittest.TestCase):
         poses = self.sequence.odometry_matrices
         glitched = poses[1].copy()
         glitched[0, 3] += 1e6  # one pose 1000 km away: refused, the flight goes on from the one before
-        pipeline = dualgraph.StreamingLocalizer(self.sequence, config)
-        pipeline.add_odometry(times[0], poses[0])
-        with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "pose jump"):
-            pipeline.add_odometry(times[1], glitched)
-        pipeline.add_odometry(times[2], poses[2])
-        counters = pipeline.finish().pipeline_counters
-        self.assertEqual((counters["odometry_held_at_pose_jump"], counters["odometry_pose_jumps"]), (1, 0))
+        for threading in ("caller", "worker"):
+            pipeline = dualgraph.StreamingLocalizer(self.sequence, config, threading=threading)
+            pipeline.add_odometry(times[0], poses[0])
+            with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "pose jump"):
+                pipeline.add_odometry(times[1], glitched)
+            pipeline.add_odometry(times[2], poses[2])
+            counters = pipeline.finish().pipeline_counters
+            self.assertEqual((counters["odometry_held_at_pose_jump"], counters["odometry_pose_jumps"]), (1, 0), threading)
         config.max_odometry_speed_mps = 0.0  # off: taken as motion, as before the guard
         pipeline = dualgraph.StreamingLocalizer(self.sequence, config)
         pipeline.add_odometry(times[0], poses[0])
