@@ -41,12 +41,16 @@ PipelineThreading threadingFrom(const std::string& name) {
 }
 
 std::unique_ptr<PyStreaming> make(const SequenceRunParams& config, const Track& map, std::optional<CameraModel> camera,
-                                  const std::string& threading) {
+                                  const std::string& threading, long long max_queued_inputs) {
   auto out = std::make_unique<PyStreaming>();
   out->worker = threadingFrom(threading) == PipelineThreading::kWorker;
-  out->pipeline = unwrap(StreamingLocalizer::create(config, map, std::move(camera), threadingFrom(threading)));
+  // Not positive: the pipeline's own refusal (InvalidArgumentError naming max_queued_inputs).
+  const size_t bound = max_queued_inputs > 0 ? static_cast<size_t>(max_queued_inputs) : 0;
+  out->pipeline = unwrap(StreamingLocalizer::create(config, map, std::move(camera), threadingFrom(threading), bound));
   return out;
 }
+
+constexpr long long kDefaultBound = static_cast<long long>(StreamingLocalizer::kDefaultMaxQueuedInputs);
 
 py::dict poseDict(const CorrectedPose& pose) {
   py::dict out;
@@ -66,22 +70,25 @@ Odometry samples (add_odometry, the VIO's clock) and detection instants (add_cor
 in arrival order; the corrected pose world_T_body at every sample at once. Inside: the frame search, association at the
 corrected pose, loss and relocalisation, self-calibration: `dualgraph run`'s policy, so feeding a sequence sample by
 sample gives run_sequence's answer. threading='caller' (default: deterministic, the work inside add_odometry) or
-'worker' (a worker thread; add_* only queue). One thread per input; snapshot() from any. Refused inputs raise a
+'worker' (a worker thread; add_* only queue; max_queued_inputs bounds its queue, an input beyond it refused and
+counted as odometry_queue_full / detections_queue_full). One thread per input; snapshot() from any. Refused inputs raise a
 dualgraph.Error naming why and are counted (finish().localizer_counters / the run's counters).)doc")
-      .def(py::init([](const Sequence& sequence, const SequenceRunParams& config, const std::string& threading) {
-             return make(config, sequence.map, sequence.camera, threading);
+      .def(py::init([](const Sequence& sequence, const SequenceRunParams& config, const std::string& threading,
+                       long long max_queued_inputs) {
+             return make(config, sequence.map, sequence.camera, threading, max_queued_inputs);
            }),
            "sequence"_a, py::arg_v("config", SequenceRunParams{}, "RunConfig()"), "threading"_a = "caller",
+           "max_queued_inputs"_a = kDefaultBound,
            "The sequence's gate map and camera; its odometry and detections are not fed (add_* does that).")
       .def_static("from_files",
                   [](const std::string& map, const std::string& camera, const SequenceRunParams& config,
-                     const std::string& threading) {
+                     const std::string& threading, long long max_queued_inputs) {
                     std::optional<CameraModel> model;
                     if (!camera.empty()) model = unwrap(loadCameraYaml(camera));
-                    return make(config, unwrap(loadTrackYaml(map)), std::move(model), threading);
+                    return make(config, unwrap(loadTrackYaml(map)), std::move(model), threading, max_queued_inputs);
                   },
                   "map"_a, "camera"_a = "", py::arg_v("config", SequenceRunParams{}, "RunConfig()"),
-                  "threading"_a = "caller",
+                  "threading"_a = "caller", "max_queued_inputs"_a = kDefaultBound,
                   "From a gates.yaml and a camera.yaml (empty: none, pose detections only).")
       .def("add_odometry",
            [](PyStreaming& s, double t, ArrayLike odom_T_body, OptionalArrayLike absolute_covariance,

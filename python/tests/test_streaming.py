@@ -168,6 +168,26 @@ class Streaming(unittest.TestCase):
         with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "max_odometry_turn_rate_radps"):
             dualgraph.StreamingLocalizer(self.sequence, config)
 
+    def test_the_workers_queue_bound_is_the_callers(self):
+        times, _ = self.sequence.odometry
+        poses = self.sequence.odometry_matrices
+        pipeline = dualgraph.StreamingLocalizer(self.sequence, dualgraph.RunConfig(), threading="worker",
+                                                max_queued_inputs=1)
+        refused = 0
+        for t, pose in zip(times[:400], poses[:400]):
+            try:
+                pipeline.add_odometry(t, pose)
+            except dualgraph.Error as error:
+                self.assertIn("inputs behind", str(error))
+                refused += 1
+        counters = pipeline.finish().pipeline_counters
+        self.assertEqual(counters["odometry_queue_full"], refused)  # each refusal counted, however many the race made
+        self.assertEqual(pipeline.snapshot()["samples"], 400)
+        for bound in (0, -5):
+            with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "max_queued_inputs"):
+                dualgraph.StreamingLocalizer(self.sequence, dualgraph.RunConfig(), threading="worker",
+                                             max_queued_inputs=bound)
+
     def _corners(self):
         """The sequence's corner detections grouped by image: stamps (camera clock, as add_corners takes them), ids,
         (m, 4, 2) pixels."""
