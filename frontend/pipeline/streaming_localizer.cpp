@@ -256,7 +256,17 @@ void StreamingLocalizer::workerLoop() {
 }
 
 Status StreamingLocalizer::restartCore() {
-  auto fresh = PipelineCore::create(core_->params(), origin_->map, origin_->camera);
+  // The camera in use carries over: a self-calibrated clock offset and mount belong to the sensors, not to the VIO's
+  // clock (a looped bag, a restarted VIO). Its offset is then the camera's own, and a switch already made is done.
+  SequenceRunParams params = core_->params();
+  std::optional<CameraModel> camera = origin_->camera;
+  if (core_->cameraSwitchedAt() && core_->frontend().camera()) {
+    camera = *core_->frontend().camera();
+    camera->time_offset = core_->timeOffset();
+    params.time_offset.reset();
+    params.camera_switch.reset();
+  }
+  auto fresh = PipelineCore::create(params, origin_->map, std::move(camera));
   if (!fresh.ok()) return fresh.status();  // made once with the same inputs: not expected
   (void)core_->finish();  // its waiting detections counted; fails only when it never took a sample
   addCounts(carried_, core_->counters());

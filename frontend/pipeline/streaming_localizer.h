@@ -136,7 +136,8 @@ class StreamingLocalizer {
   };
   StreamingLocalizer(std::unique_ptr<PipelineCore> core, PipelineThreading threading, size_t max_queued_inputs);
   /// The clock went back: the core so far is finished (its waiting detections counted), its counters carried, and a
-  /// new one made from the creation's parameters, map and camera. The thread that owns core_.
+  /// new one made from the creation's parameters, map and camera — the camera in use when it was switched (the
+  /// self-calibration's clock offset and mount). The thread that owns core_.
   Status restartCore();
   void publish(const PoseUpdate& update);
   /// The clock went back (odometry thread): the snapshot is a new pipeline's until the new core publishes, and what

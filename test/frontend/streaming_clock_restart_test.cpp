@@ -7,9 +7,11 @@
 
 #include "dualgraph/core/stamp_tolerance.h"
 #include "dualgraph/frontend/pipeline/streaming_localizer.h"
+#include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/sequence_run.h"
 #include "test/frontend/simulated_flight.h"
 #include "test/frontend/streaming_flight.h"
+#include "test/testing/shared_data.h"
 
 namespace dualgraph {
 namespace clock_restart_test {
@@ -166,6 +168,30 @@ TEST_F(StreamingClockRestart, ALoopedBagRestartsThePipelineInBothModes) {
     EXPECT_EQ((*pipeline)->snapshot().samples, static_cast<long>(first_pass.odometry.samples.size() + answers.size()));
     EXPECT_EQ((*pipeline)->snapshot().t, flight_->odometry.samples.back().t);
   }
+}
+
+// A looped bag whose first pass ran long enough for the self-calibration (15 s): the camera it calibrated (clock
+// offset and mount) goes on after the restart. Before, the new pipeline went back to the camera file's and flew on
+// it until its own self-calibration, 15 s later.
+TEST(StreamingClockRestartCamera, TheSelfCalibratedCameraGoesOnAfterARestart) {
+  const Sequence flight = flighttest::simulatedFlight("ratm_ellipse.yaml", "realistic", 1, 4);
+  ASSERT_TRUE(flight.camera.has_value());
+  const size_t restart_at = restartIndex(flight);
+  const auto config = loadRunConfig(testing::sourcePath("data/config/default.yaml"));  // self-calibration on
+  ASSERT_TRUE(config.ok()) << config.status().message();
+  auto pipeline = StreamingLocalizer::create(*config, flight.map, flight.camera);
+  ASSERT_TRUE(pipeline.ok()) << pipeline.status().message();
+  feed(**pipeline, shiftedPrefix(flight, flight.odometry.samples.size(), 500.0), nullptr);
+  const double calibrated = (*pipeline)->timeOffset();
+  ASSERT_GT(std::abs(calibrated - flight.camera->time_offset), 1e-3) << "the first pass must have self-calibrated";
+  std::vector<Result<PoseUpdate>> answers;
+  feed(**pipeline, shiftedPrefix(flight, restart_at + 20, 0.0), &answers);
+  ASSERT_TRUE(answers[restart_at].ok()) << answers[restart_at].status().message();
+  EXPECT_TRUE(answers[restart_at]->report.clock_restarted);
+  EXPECT_EQ((*pipeline)->timeOffset(), calibrated);
+  Result<PipelineResults> results = (*pipeline)->finish();
+  ASSERT_TRUE(results.ok()) << results.status().message();
+  EXPECT_EQ(results->pipeline_counters.odometry_clock_restarts, 1);
 }
 
 // The very first sample stamped 10^6 s ahead: before, taken, and the whole real flight refused as not after it.
