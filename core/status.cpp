@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/core/status.h"
 
+#include <cstdio>
 #include <sstream>
 
 namespace dualgraph {
@@ -23,6 +24,12 @@ const char* statusCodeName(StatusCode code) {
 std::string Status::toString() const {
   if (ok()) return "OK";
   return std::string(statusCodeName(code_)) + ": " + message_;
+}
+
+std::string formatNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", value);
+  return text;
 }
 
 std::string formatTimestamp(double t) {

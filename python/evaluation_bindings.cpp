@@ -2,7 +2,6 @@
 // dualgraph.evaluate_trajectory (ATE / RPE as `dualgraph eval`), dualgraph.read_trajectory, TrajectoryMetrics.
 #include <pybind11/stl.h>
 
-#include <cstdio>
 #include <optional>
 
 #include "arrays.h"
@@ -73,12 +72,6 @@ py::list rpeDicts(const std::vector<RelativePoseError>& windows) {
   return out;
 }
 
-std::string number(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
-  return buffer;
-}
-
 }  // namespace
 
 void bindEvaluation(py::module_& m) {
@@ -116,7 +109,7 @@ for; rotation error the geodesic angle of R_gt^-1 * R_aligned [deg]; RPE over tr
                     "estimate stamps inside the ground truth's span but farther than max_gap_s from its samples [count]")
       .def("__repr__", [](const TrajectoryMetrics& t) {
         return "TrajectoryMetrics(alignment='" + std::string(trajectoryAlignmentName(t.alignment)) + "', ate_m=" +
-               number(t.ate_m) + ", ate_rot_deg=" + number(t.ate_rot_deg) + ", associated=" + std::to_string(t.associated) +
+               formatNumber(t.ate_m) + ", ate_rot_deg=" + formatNumber(t.ate_rot_deg) + ", associated=" + std::to_string(t.associated) +
                " of " + std::to_string(t.estimate_poses) + ", rpe=" + std::to_string(t.rpe.size()) + " windows)";
       });
 

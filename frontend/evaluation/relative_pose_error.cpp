@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <utility>
 
@@ -16,13 +15,6 @@ namespace {
 constexpr double kRpeRadToDeg = 180.0 / EIGEN_PI;
 
 using IndexPairs = std::vector<std::pair<size_t, size_t>>;
-
-/// A window for messages, 6 significant digits.
-std::string windowText(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
-  return buffer;
-}
 
 /// Path length [m] from pose 0 to each pose along the associated ground truth.
 std::vector<double> groundTruthPath(const TrajectoryAssociation& association) {
@@ -155,7 +147,7 @@ Result<RelativePoseError> relativePoseError(const TrajectoryAssociation& associa
                                             RpePairing pairing) {
   if (!(std::isfinite(distance_m) && distance_m > 0.0)) {
     return Status(StatusCode::kInvalidArgument,
-                  "RPE distance " + windowText(distance_m) + " m must be positive and finite");
+                  "RPE distance " + formatNumber(distance_m) + " m must be positive and finite");
   }
   const IndexPairs pairs = pairing == RpePairing::kEvo ? evoPairsByDistance(association, distance_m, scale)
                                                        : everyPosePairsByDistance(association, distance_m);

@@ -3,7 +3,6 @@
 // from the estimate (associateByNearestStamp) or from the sparser trajectory (associateAsEvo).
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include "dualgraph/frontend/evaluation/trajectory_association.h"
@@ -12,13 +11,6 @@
 
 namespace dualgraph {
 namespace {
-
-/// A value for messages, 6 significant digits (own name: unity builds join this file with trajectory_metrics.cpp).
-std::string formatForMessage(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
-  return buffer;
-}
 
 /// "[first, last] s" of a non-empty trajectory, for messages.
 std::string spanText(const StampedPoses& poses) {
@@ -84,7 +76,7 @@ size_t nearestStamp(const StampedPoses& poses, double t) {
 Status checkMaxTimeDifference(double max_dt_s) {
   if (std::isfinite(max_dt_s) && max_dt_s > 0.0) return Status();
   return Status(StatusCode::kInvalidArgument,
-                "maximum time difference " + formatForMessage(max_dt_s) + " s must be positive and finite");
+                "maximum time difference " + formatNumber(max_dt_s) + " s must be positive and finite");
 }
 
 }  // namespace
@@ -94,7 +86,7 @@ Result<TrajectoryAssociation> associateByTime(const StampedPoses& world_T_body_g
   DG_RETURN_IF_ERROR(validateTrajectory(world_T_body_gt, "ground truth"));
   DG_RETURN_IF_ERROR(validateTrajectory(estimate_T_body, "estimate"));
   if (!(std::isfinite(max_gap_s) && max_gap_s > 0.0)) {
-    return Status(StatusCode::kInvalidArgument, "maximum gap " + formatForMessage(max_gap_s) + " s must be positive and finite");
+    return Status(StatusCode::kInvalidArgument, "maximum gap " + formatNumber(max_gap_s) + " s must be positive and finite");
   }
   const double t_first = world_T_body_gt.front().first;
   const double t_last = world_T_body_gt.back().first;
@@ -128,7 +120,7 @@ Result<TrajectoryAssociation> associateByTime(const StampedPoses& world_T_body_g
     association.estimate_T_body.push_back(estimate_T_body[i]);
   }
   return nonEmpty(std::move(association), world_T_body_gt, estimate_T_body,
-                  "a ground-truth sample within the maximum gap of " + formatForMessage(max_gap_s) + " s");
+                  "a ground-truth sample within the maximum gap of " + formatNumber(max_gap_s) + " s");
 }
 
 Result<TrajectoryAssociation> associateByNearestStamp(const StampedPoses& world_T_body_gt,
@@ -161,7 +153,7 @@ Result<TrajectoryAssociation> associateByNearestStamp(const StampedPoses& world_
     association.estimate_T_body.push_back(estimate_T_body[i]);
   }
   return nonEmpty(std::move(association), world_T_body_gt, estimate_T_body,
-                  "a ground-truth stamp within " + formatForMessage(max_dt_s) + " s");
+                  "a ground-truth stamp within " + formatNumber(max_dt_s) + " s");
 }
 
 Result<TrajectoryAssociation> associateAsEvo(const StampedPoses& world_T_body_gt, const StampedPoses& estimate_T_body,
@@ -193,7 +185,7 @@ Result<TrajectoryAssociation> associateAsEvo(const StampedPoses& world_T_body_gt
     }
   }
   const std::string what = (association.paired_from_ground_truth ? "an estimate" : "a ground-truth") +
-                           std::string(" stamp within ") + formatForMessage(max_diff_s) + " s";
+                           std::string(" stamp within ") + formatNumber(max_diff_s) + " s";
   return nonEmpty(std::move(association), world_T_body_gt, estimate_T_body, what);
 }
 

@@ -2,20 +2,10 @@
 #include "dualgraph/frontend/pipeline/odometry_clock_guard.h"
 
 #include <cmath>
-#include <cstdio>
 
 #include "dualgraph/core/stamp_tolerance.h"
 
 namespace dualgraph {
-namespace {
-
-std::string seconds(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", value);
-  return text;
-}
-
-}  // namespace
 
 ClockCheck OdometryClockGuard::check(double t) {
   if (!std::isfinite(t)) return ClockCheck::kOn;  // the sample check's business: refused as not finite
@@ -51,11 +41,11 @@ Status OdometryClockGuard::heldStatus() const {
   const double t = candidate_->last_t;
   const bool ahead = t > *newest_;
   return Status(StatusCode::kInvalidArgument,
-                "odometry sample at t=" + formatTimestamp(t) + " is " + seconds(std::abs(t - *newest_)) + " s " +
+                "odometry sample at t=" + formatTimestamp(t) + " is " + formatNumber(std::abs(t - *newest_)) + " s " +
                     (ahead ? "after" : "before") + " the newest accepted one at t=" + formatTimestamp(*newest_) +
-                    " (more than frontend.max_odometry_jump_s = " + seconds(max_jump_s_) + " s): a clock " +
+                    " (more than frontend.max_odometry_jump_s = " + formatNumber(max_jump_s_) + " s): a clock " +
                     (ahead ? "jump" : "restart") + ", held until " + std::to_string(kConfirmations) +
-                    " samples in a row continue from it" + (ahead ? "" : " over " + seconds(kRestartSpanS) + " s") +
+                    " samples in a row continue from it" + (ahead ? "" : " over " + formatNumber(kRestartSpanS) + " s") +
                     " (" + std::to_string(candidate_->samples) + " so far)");
 }
 

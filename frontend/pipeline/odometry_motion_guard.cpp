@@ -2,17 +2,9 @@
 #include "dualgraph/frontend/pipeline/odometry_motion_guard.h"
 
 #include <cmath>
-#include <cstdio>
-
 
 namespace dualgraph {
 namespace {
-
-std::string number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", value);
-  return text;
-}
 
 double turnBetween(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
@@ -67,10 +59,10 @@ Status OdometryMotionGuard::heldStatus() const {
   const double moved = (last_checked_.pose.translation() - newest_->pose.translation()).norm();
   const double turned = turnBetween(newest_->pose, last_checked_.pose);
   return Status(StatusCode::kInvalidArgument,
-                "odometry sample at t=" + formatTimestamp(last_checked_.t) + " is " + number(moved) + " m and " +
-                    number(turned) + " rad from the newest accepted one at t=" + formatTimestamp(newest_->t) + ", " +
-                    number(dt) + " s before (faster than frontend.max_odometry_speed_mps = " + number(max_speed_) +
-                    " m/s or frontend.max_odometry_turn_rate_radps = " + number(max_turn_rate_) +
+                "odometry sample at t=" + formatTimestamp(last_checked_.t) + " is " + formatNumber(moved) + " m and " +
+                    formatNumber(turned) + " rad from the newest accepted one at t=" + formatTimestamp(newest_->t) + ", " +
+                    formatNumber(dt) + " s before (faster than frontend.max_odometry_speed_mps = " + formatNumber(max_speed_) +
+                    " m/s or frontend.max_odometry_turn_rate_radps = " + formatNumber(max_turn_rate_) +
                     " rad/s): a pose jump, held until " + std::to_string(kConfirmations) +
                     " samples in a row continue from it (" + std::to_string(candidate_samples_) + " so far)");
 }
