@@ -230,6 +230,37 @@ TEST(RunCli, MissingSequenceExitsOneNamingIt) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// A VIO file with one pose 1000 km off mid-flight (a recorder's glitch): the row is valid, so the run takes the
+// file; the pipeline holds the pose (a pose jump), says so whatever --quiet says, and counts it.
+TEST(RunCli, AGlitchedVioPoseIsHeldAndWarned) {
+  const std::string glitched = tempDir() + "/glitched_vio";
+  fs::remove_all(glitched);
+  fs::copy(sequenceDir(), glitched, fs::copy_options::recursive);
+  std::vector<std::string> rows = dataLines(glitched + "/vio.tum");
+  ASSERT_GT(rows.size(), 100u);
+  std::istringstream fields(rows[rows.size() / 2]);
+  double t = 0.0, x = 0.0;
+  fields >> t >> x;
+  std::string rest;
+  std::getline(fields, rest);
+  std::ostringstream row;
+  row.precision(17);
+  row << t << " " << x + 1e6 << rest;
+  rows[rows.size() / 2] = row.str();
+  std::string text;
+  for (const std::string& line : rows) text += line + "\n";
+  testing::writeFile("glitched_vio/vio.tum", text);
+  const std::string out = tempDir() + "/glitched_vio_out";
+  const CommandRun run = runDualgraph("run --quiet --sequence " + glitched + " --out " + out);
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("1 odometry poses further from the newest accepted one than "
+                         "frontend.max_odometry_speed_mps / _turn_rate_radps allow were held as a pose jump"),
+            std::string::npos)
+      << run.err;
+  EXPECT_EQ(jsonNumber(readFile(out + "/metrics.json"), "odometry_held_at_pose_jump"), 1.0);
+  EXPECT_EQ(jsonNumber(readFile(out + "/metrics.json"), "odometry_pose_jumps"), 0.0);
+}
+
 TEST(RunCli, UsageErrorsExitTwo) {
   const std::string seq = "--sequence " + sequenceDir();
   const std::string out = " --out " + tempDir() + "/usage";
