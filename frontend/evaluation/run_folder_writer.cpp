@@ -143,6 +143,8 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
       .add("initialized", run.initialization ? (run.initialization->locked ? 1L : 0L) : -1L)
       .add("initialized_at_s", run.initialization && run.initialization->locked ? run.initialization->locked_at
                                                                                 : std::numeric_limits<double>::quiet_NaN())
+      .add("lock_refined_on_corners",
+           run.initialization && run.initialization->locked ? (run.initialization->refined_on_corners ? 1L : 0L) : -1L)
       .add("lock_world_T_odom_x_m", lock ? lock->translation().x() : kNaN)
       .add("lock_world_T_odom_y_m", lock ? lock->translation().y() : kNaN)
       .add("lock_world_T_odom_z_m", lock ? lock->translation().z() : kNaN)

@@ -26,6 +26,10 @@ struct FrameInitializerParams {
   std::optional<Eigen::Isometry3d> start_world_T_body;
   double start_sigma_t = 1.0;
   double start_sigma_r = 0.5;
+  /// The first lock's frame fitted again on the window's corner rays against the map gates (fitFrameOnCorners,
+  /// frame_corner_fit.h; FrameSearch does it, `frontend.initialization_corner_fit`): the search's PnP centres are
+  /// biased short at range and two far gates fix its yaw to degrees only.
+  bool refine_on_corners = true;
 };
 
 /// What the search has found so far.
@@ -48,6 +52,9 @@ struct FrameInitialization {
   /// horizontal distance from the centroid.
   double positionSigmaAt(const Eigen::Isometry3d& odom_T_body) const;
   std::string why_not;      ///< when not locked: too few detections, or an ambiguous layout (with counts)
+  /// The first lock only: world_T_odom is the search's frame fitted again on its window's corner rays
+  /// (FrameInitializerParams::refine_on_corners), and the position σ at the first keyframe that fit's.
+  bool refined_on_corners = false;
 };
 
 /// Finds world_T_odom from gate detections alone (issue 24: "automatic initialisation"). Every detection,

@@ -121,6 +121,8 @@ const FrontendField kFrontendFields[] = {
      [](Text s, Text f, Node v, SequenceRunParams& p) {
        return readNonNegativeInt(s, f, v, p.initialization.min_inliers, 1);
      }},
+    {"initialization_corner_fit",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.initialization.refine_on_corners); }},
     {"pose_detection_sigma_t",
      [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.pose_detection_sigma_t); }},
     {"pose_detection_sigma_r",

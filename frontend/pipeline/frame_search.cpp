@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/frontend/pipeline/frame_search.h"
 
+#include "dualgraph/frontend/gates/frame_corner_fit.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -115,9 +117,12 @@ Result<FrameSearch::Outcome> FrameSearch::add(const DetectionInstant& instant, c
     // The new first keyframe: at the search's first detection (a first lock), else at the newest sample.
     const Eigen::Isometry3d anchor_odom_T_body = seen_.empty() ? odom_T_body : seen_.front().odom_T_body;
     // The found frame's position is held as well as its uncertainty at the first keyframe says (foundSigmaT); its
-    // yaw keeps the configured σ (a few nearby gates fix it only to degrees).
-    Result<double> anchor =
-        localizer.relocalize(found.world_T_odom, since, foundSigmaT(found, anchor_odom_T_body), params_.localizer.initial_sigma_r);
+    // yaw keeps the configured σ (a few nearby gates fix it only to degrees). A first lock is fitted again on its
+    // window's corners first (refineOnCorners).
+    Eigen::Isometry3d frame = found.world_T_odom;
+    double sigma_t = foundSigmaT(found, anchor_odom_T_body);
+    if (initial_ && params_.initialization.refine_on_corners) refineOnCorners(anchor_odom_T_body, frame, sigma_t);
+    Result<double> anchor = localizer.relocalize(frame, since, sigma_t, params_.localizer.initial_sigma_r);
     if (!anchor.ok()) return anchor.status();
     for (Seen& seen : seen_) {
       if (notAfter(*anchor, seen.instant.t)) outcome.replay.push_back(std::move(seen));
@@ -158,6 +163,21 @@ double FrameSearch::foundSigmaT(const FrameInitialization& found, const Eigen::I
   const double sigma = found.positionSigmaAt(odom_T_body);
   return std::clamp(std::isfinite(sigma) ? sigma : params_.localizer.initial_sigma_t, 0.1,
                     std::max(0.1, params_.localizer.initial_sigma_t));
+}
+
+void FrameSearch::refineOnCorners(const Eigen::Isometry3d& anchor_odom_T_body, Eigen::Isometry3d& frame, double& sigma_t) {
+  std::vector<FrameFitDetection, Eigen::aligned_allocator<FrameFitDetection>> detections;
+  for (const Seen& seen : seen_) {
+    for (const GateObservation& pose : seen.solved.poses) detections.push_back(FrameFitDetection{seen.odom_T_body, pose});
+  }
+  const FrameCornerFit fit = fitFrameOnCorners(detections, map_, frame, params_.initialization.inlier_distance);
+  if (!fit.refined) return;
+  frame = fit.world_T_odom;
+  sigma_t = std::clamp(fit.positionSigmaAt(anchor_odom_T_body), 0.1, std::max(0.1, params_.localizer.initial_sigma_t));
+  if (initialization_) {
+    initialization_->world_T_odom = frame;
+    initialization_->refined_on_corners = true;
+  }
 }
 
 void FrameSearch::start(const FrameInitializerParams& search, const Eigen::Isometry3d& odom_T_body, double t) {

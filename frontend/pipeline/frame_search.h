@@ -90,6 +90,9 @@ class FrameSearch {
   static bool sameFrame(const FrameInitialization& found, const Eigen::Isometry3d& current,
                         const Eigen::Isometry3d& odom_T_body);
   double foundSigmaT(const FrameInitialization& found, const Eigen::Isometry3d& odom_T_body) const;
+  /// A first lock: `frame` fitted again on the window's corner rays (fitFrameOnCorners), and `sigma_t` the fit's
+  /// position σ at the first keyframe (clamped as foundSigmaT); both unchanged when the fit does not refine it.
+  void refineOnCorners(const Eigen::Isometry3d& anchor_odom_T_body, Eigen::Isometry3d& frame, double& sigma_t);
   void start(const FrameInitializerParams& search, const Eigen::Isometry3d& odom_T_body, double t);
 
   const SequenceRunParams& params_;

@@ -58,6 +58,7 @@ TEST(RunConfig, BundledDefaultYamlIsExactlyTheDefaults) {
   EXPECT_EQ(loaded->max_odometry_jump_s, defaults.max_odometry_jump_s);
   EXPECT_EQ(loaded->max_odometry_speed_mps, defaults.max_odometry_speed_mps);
   EXPECT_EQ(loaded->max_odometry_turn_rate_radps, defaults.max_odometry_turn_rate_radps);
+  EXPECT_EQ(loaded->initialization.refine_on_corners, defaults.initialization.refine_on_corners);
 }
 
 TEST(RunConfig, EmptyTextAndMissingSectionsKeepTheDefaults) {
@@ -103,7 +104,8 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
       "  relocalization_global_after_s: 7.5\n"
       "  relocalization_replace_ratio: 0.25\n"
       "  max_odometry_speed_mps: 80\n"
-      "  max_odometry_turn_rate_radps: 0\n";
+      "  max_odometry_turn_rate_radps: 0\n"
+      "  initialization_corner_fit: false\n";
   auto parsed = parseRunConfig(text, kSource);
   ASSERT_TRUE(parsed.ok()) << parsed.status().message();
   EXPECT_EQ(parsed->localizer.mode, LocalizerMode::kSingle);
@@ -134,6 +136,7 @@ TEST(RunConfig, EveryFrontendKeyIsReadBack) {
   EXPECT_EQ(parsed->pose_detection_sigma_r, 0.03);
   EXPECT_EQ(parsed->max_odometry_speed_mps, 80.0);
   EXPECT_EQ(parsed->max_odometry_turn_rate_radps, 0.0);
+  EXPECT_FALSE(parsed->initialization.refine_on_corners);
   const Matrix6d covariance = parsed->defaultPoseDetectionCovariance();
   EXPECT_DOUBLE_EQ(covariance(0, 0), 0.04);
   EXPECT_DOUBLE_EQ(covariance(5, 5), 0.0009);
