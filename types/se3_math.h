@@ -2,6 +2,8 @@
 // SO(3)/SE(3) maths: quaternions, exp/log, Jacobians, adjoint, g2o's [t; q.vec] chart and units.
 #pragma once
 
+#include <cmath>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -32,6 +34,8 @@ Eigen::Matrix4d quatRightMatrix(const Eigen::Quaterniond& b);
 
 /// [v]×, so that skew(a) · b = a × b.
 Eigen::Matrix3d skew(const Eigen::Vector3d& v);
+/// The heading of a rotation's x axis about z [rad], atan2(R₁₀, R₀₀): a gravity-aligned frame's yaw, a gate normal's.
+inline double headingOf(const Eigen::Matrix3d& rotation) { return std::atan2(rotation(1, 0), rotation(0, 0)); }
 /// Rodrigues' formula; exact to round-off for any |θ|, including 0.
 Eigen::Matrix3d so3Exp(const Eigen::Vector3d& theta);
 /// The rotation vector of R with |θ| ∈ [0, π]; stable near 0 and near π (via the quaternion).

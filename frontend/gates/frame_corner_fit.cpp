@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "dualgraph/types/se3_math.h"
+
 namespace dualgraph {
 namespace {
 
@@ -15,8 +17,6 @@ Eigen::Isometry3d frameOf(const Parameters& p) {
   frame.translation() = p.head<3>();
   return frame;
 }
-
-double headingOf(const Eigen::Matrix3d& rotation) { return std::atan2(rotation(1, 0), rotation(0, 0)); }
 
 /// One corner: its point in the world, the body pose in the odometry frame, the camera on the body, the measured
 /// normalised coordinates and the whitening of their covariance.

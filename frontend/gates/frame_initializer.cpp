@@ -9,11 +9,10 @@
 
 #include "dualgraph/core/stamp_tolerance.h"
 #include "dualgraph/types/se2.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {
-
-double headingOf(const Eigen::Matrix3d& rotation) { return std::atan2(rotation(1, 0), rotation(0, 0)); }
 
 Eigen::Isometry3d gravityAligned(double yaw, const Eigen::Vector3d& translation) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
