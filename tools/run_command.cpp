@@ -15,6 +15,7 @@
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/io/trajectory_io.h"
 #include "dualgraph/frontend/evaluation/run_folder.h"
+#include "dualgraph/types/se3_math.h"
 #include "tools/data_dir.h"
 #include "tools/staged_folder.h"
 
@@ -229,9 +230,9 @@ int runRunCommand(const RunOptions& o) {
   if (run->initialization) {
     const Eigen::Isometry3d& frame = run->initialization->world_T_odom;
     std::cout << "  VIO frame found at t0 + " << run->initialization->locked_at - t0 << " s from " << run->initialization->inliers
-              << " agreeing detections (runner-up " << run->initialization->runner_up << "): yaw "
-              << std::atan2(frame.linear()(1, 0), frame.linear()(0, 0)) * 180.0 / M_PI << " deg, offset "
-              << frame.translation().norm() << " m\n";
+              << " agreeing detections (runner-up " << run->initialization->runner_up << ")"
+              << (run->initialization->refined_on_corners ? ", fitted on their corners" : "") << ": yaw "
+              << headingOf(frame.linear()) * 180.0 / M_PI << " deg, offset " << frame.translation().norm() << " m\n";
   }
   if (self_calibration.applied) {
     const double elapsed = self_calibration.at_s - sequence->odometry.samples.front().t;

@@ -1,14 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/frontend/pipeline/frame_search.h"
 
-#include "dualgraph/frontend/gates/frame_corner_fit.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
 
 #include "dualgraph/core/stamp_tolerance.h"
+#include "dualgraph/frontend/gates/frame_corner_fit.h"
 
 namespace dualgraph {
 
