@@ -36,6 +36,13 @@ Eigen::Matrix4d quatRightMatrix(const Eigen::Quaterniond& b);
 Eigen::Matrix3d skew(const Eigen::Vector3d& v);
 /// The heading of a rotation's x axis about z [rad], atan2(R₁₀, R₀₀): a gravity-aligned frame's yaw, a gate normal's.
 inline double headingOf(const Eigen::Matrix3d& rotation) { return std::atan2(rotation(1, 0), rotation(0, 0)); }
+/// A gravity-aligned pose: Rz(yaw) [rad] and `translation` [m].
+inline Eigen::Isometry3d gravityAligned(double yaw, const Eigen::Vector3d& translation) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = translation;
+  return pose;
+}
 /// Rodrigues' formula; exact to round-off for any |θ|, including 0.
 Eigen::Matrix3d so3Exp(const Eigen::Vector3d& theta);
 /// The rotation vector of R with |θ| ∈ [0, π]; stable near 0 and near π (via the quaternion).

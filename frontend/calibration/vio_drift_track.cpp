@@ -5,9 +5,9 @@
 #include <cmath>
 
 #include "dualgraph/dual_graph/odometry_history.h"
+#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
-double yawOf(const Eigen::Matrix3d& rotation) { return std::atan2(rotation(1, 0), rotation(0, 0)); }
 
 Eigen::Matrix3d rotationAboutZ(double yaw) {
   return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
@@ -75,7 +75,7 @@ Result<DriftKnots> VioDriftTrack::constantKnots(const std::vector<OdometrySample
   knots.t0 = t_begin;
   knots.spacing = spacing;
   const int intervals = std::max(1, static_cast<int>(std::ceil((t_end - t_begin) / spacing - 1e-9)));
-  const double yaw = yawOf(world_T_odom.linear());
+  const double yaw = headingOf(world_T_odom.linear());
   knots.yaw.assign(static_cast<size_t>(intervals) + 1, yaw);
   // With ψ constant the re-integrated increments add up to Rz(ψ) (p(τ) − p_0): c puts p_0 where world_T_odom does.
   const Eigen::Vector3d offset =
@@ -96,7 +96,7 @@ Result<DriftKnots> VioDriftTrack::knotsFromKeyframes(const std::vector<Corrected
     if (!odom_T_body.ok()) continue;
     const Eigen::Isometry3d world_T_odom = keyframe.world_T_body * odom_T_body->inverse();
     Eigen::Vector4d value;
-    value << world_T_odom.translation(), yawOf(world_T_odom.linear());
+    value << world_T_odom.translation(), headingOf(world_T_odom.linear());
     if (!values.empty()) value[3] = values.back()[3] + std::remainder(value[3] - values.back()[3], 2.0 * M_PI);
     times.push_back(keyframe.t);
     values.push_back(value);

@@ -80,8 +80,6 @@ class VioDriftTrack {
   std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>> lower_total_, upper_total_;
 };
 
-/// The heading of a (nearly) gravity-aligned rotation [rad]: atan2(R₁₀, R₀₀).
-double yawOf(const Eigen::Matrix3d& rotation);
 /// Rz(yaw): the rotation by `yaw` [rad] about the z axis.
 Eigen::Matrix3d rotationAboutZ(double yaw);
 

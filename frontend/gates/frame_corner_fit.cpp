@@ -11,12 +11,7 @@ namespace {
 
 using Parameters = Eigen::Vector4d;  // x, y, z [m], yaw [rad]
 
-Eigen::Isometry3d frameOf(const Parameters& p) {
-  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
-  frame.linear() = Eigen::AngleAxisd(p(3), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  frame.translation() = p.head<3>();
-  return frame;
-}
+Eigen::Isometry3d frameOf(const Parameters& p) { return gravityAligned(p(3), p.head<3>()); }
 
 /// One corner: its point in the world, the body pose in the odometry frame, the camera on the body, the measured
 /// normalised coordinates and the whitening of their covariance.

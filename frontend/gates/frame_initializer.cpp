@@ -12,16 +12,6 @@
 #include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
-namespace {
-
-Eigen::Isometry3d gravityAligned(double yaw, const Eigen::Vector3d& translation) {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  pose.translation() = translation;
-  return pose;
-}
-
-}  // namespace
 
 FrameInitializer::FrameInitializer(const FrameInitializerParams& params, GateMap map)
     : params_(params), map_(std::move(map)) {

@@ -17,13 +17,6 @@
 namespace dualgraph {
 namespace {
 
-Eigen::Isometry3d gravityAligned(double yaw, const Eigen::Vector3d& t) {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  pose.translation() = t;
-  return pose;
-}
-
 // The RATM ellipse's four gates (a half turn maps the layout onto itself), or the same with one gate moved.
 GateMap ellipseGates(bool symmetric) {
   GateMap map;
