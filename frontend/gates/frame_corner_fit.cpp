@@ -31,6 +31,28 @@ Eigen::Vector2d residual(const Corner& c, const Eigen::Isometry3d& frame) {
   return c.whitening * (p.head<2>() / p.z() - c.measured);
 }
 
+/// The symmetry of a square gate (a quarter turn about its normal x, and the turn to its other side about z) that
+/// brings the detected gate frame nearest the map gate's: a detected corner p (detected gate frame) lies at
+/// symmetry · p in the map gate's. A detector orders the corners by the image, so a banked drone labels them a
+/// quarter turn off; the side comes from the PnP normal.
+Eigen::Matrix3d gateSymmetryTo(const Eigen::Matrix3d& world_R_gate, const Eigen::Matrix3d& world_R_detected) {
+  Eigen::Matrix3d best = Eigen::Matrix3d::Identity();
+  double best_angle = std::numeric_limits<double>::infinity();
+  for (int side = 0; side < 2; ++side) {
+    for (int quarter = 0; quarter < 4; ++quarter) {
+      const Eigen::Matrix3d candidate = Eigen::AngleAxisd(side * M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+                                        Eigen::AngleAxisd(quarter * M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+      // The detected frame turned into the map gate's: world_R_detected · candidateᵀ against world_R_gate.
+      const double angle = Eigen::AngleAxisd(world_R_gate.transpose() * world_R_detected * candidate.transpose()).angle();
+      if (angle < best_angle) {
+        best_angle = angle;
+        best = candidate;
+      }
+    }
+  }
+  return best;
+}
+
 constexpr double kHuber = 2.0;
 
 double huberWeight(double norm) { return norm <= kHuber ? 1.0 : kHuber / norm; }
@@ -86,15 +108,13 @@ FrameCornerFit fitFrameOnCorners(const std::vector<FrameFitDetection, Eigen::ali
     }
     if (best < 0) continue;
     const Eigen::Isometry3d& world_T_gate = map.world_T_gate.at(best);
-    const double turn = std::remainder(headingOf(world_T_gate_seen.linear()) - headingOf(world_T_gate.linear()), 2.0 * M_PI);
-    const Eigen::Matrix3d side = std::abs(turn) > M_PI / 2 ? Eigen::Matrix3d(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()))
-                                                          : Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d symmetry = gateSymmetryTo(world_T_gate.linear(), world_T_gate_seen.linear());
     const Eigen::Isometry3d odom_T_camera = d.odom_T_body * o.corner_rays.body_T_camera;
     for (int j = 0; j < 4; ++j) {
       const Eigen::LLT<Eigen::Matrix2d> llt(o.corner_rays.covariance[j]);
       if (llt.info() != Eigen::Success) continue;
       Corner c;
-      c.p_world = world_T_gate * (side * o.corner_rays.p_gate.col(j));
+      c.p_world = world_T_gate * (symmetry * o.corner_rays.p_gate.col(j));
       c.odom_T_camera = odom_T_camera;
       c.measured = o.corner_rays.normalized.col(j);
       c.whitening = llt.matrixL().solve(Eigen::Matrix2d::Identity());

@@ -36,7 +36,8 @@ struct FrameCornerFit {
 /// Fits a gravity-aligned world_T_odom (x, y, z, yaw) to the detections' corner rays against the map gates by
 /// Gauss–Newton with a Huber weight (k = 2 whitened), starting from `start`. Each detection's gate is the map gate
 /// its PnP centre lies nearest under `start` (within `max_distance` [m]; its own id when it has one in the map),
-/// its side (Rz(π)) the one its PnP normal is nearer. The search's PnP gate centres are biased short at range and
+/// its corners matched to that gate's up to the square's symmetry nearest its PnP frame (the side, and a quarter
+/// turn about the normal: a detector orders the corners by the image, so a banked drone labels them a turn off). The search's PnP gate centres are biased short at range and
 /// its yaw comes from two or three far gates; the corners over the window's motion constrain the frame better.
 /// Detections without four corner rays are skipped. Deterministic; never prints. Thread-safe (pure).
 FrameCornerFit fitFrameOnCorners(const std::vector<FrameFitDetection, Eigen::aligned_allocator<FrameFitDetection>>& detections,

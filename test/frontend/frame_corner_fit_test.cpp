@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // fitFrameOnCorners: the frame a search locked on, fitted again on exact corners, comes back to the truth from a
-// start 0.5 m and 4° off, whichever side each gate was seen from; on noisy corners its covariance covers its error;
-// too few corners, or detections without four corners, leave the start as it was.
+// start 0.5 m and 4° off, whichever side each gate was seen from and however its corners were labelled; on noisy
+// corners its covariance covers its error; too few corners, or detections without four corners, leave the start.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -35,9 +35,12 @@ struct Scene {
 
 /// The window a drone flying from x = −9 to −5 m towards both gates sees: 10 instants, each gate once, corners
 /// exact or with `pixel_noise` px of Gaussian noise; each gate's observation in its own frame turned by Rz(π)
-/// when `from_behind`.
+/// when `from_behind`; with `quarter_off`, every other instant's corners labelled a quarter turn off (corner j is
+/// the image of corner j + 1, as a detector that orders corners by the image labels them when the drone banks),
+/// its PnP gate frame turned with them.
 std::vector<FrameFitDetection, Eigen::aligned_allocator<FrameFitDetection>> window(const Scene& scene, double pixel_noise,
-                                                                                  std::mt19937& random, bool from_behind) {
+                                                                                  std::mt19937& random, bool from_behind,
+                                                                                  bool quarter_off = false) {
   std::vector<FrameFitDetection, Eigen::aligned_allocator<FrameFitDetection>> out;
   std::normal_distribution<double> noise(0.0, pixel_noise / kFocal);
   const Eigen::Matrix3d turn = from_behind ? Eigen::Matrix3d(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()))
@@ -45,6 +48,7 @@ std::vector<FrameFitDetection, Eigen::aligned_allocator<FrameFitDetection>> wind
   for (int k = 0; k < 10; ++k) {
     const Eigen::Isometry3d world_T_body = yawPose(-9.0 + 0.4 * k, 0.2 * std::sin(k), 1.0, 0.05 * std::cos(k));
     const Eigen::Isometry3d odom_T_body = scene.world_T_odom.inverse() * world_T_body;
+    const bool relabelled = quarter_off && k % 2 == 1;
     for (const auto& [id, world_T_gate] : scene.map.world_T_gate) {
       GateCornerRays rays;
       rays.count = 4;
@@ -53,13 +57,16 @@ std::vector<FrameFitDetection, Eigen::aligned_allocator<FrameFitDetection>> wind
       rays.p_gate << 0, 0, 0, 0, -h, h, h, -h, h, h, -h, -h;
       rays.p_gate = turn.transpose() * rays.p_gate;  // the same corners, in the turned gate frame
       for (int j = 0; j < 4; ++j) {
+        const int imaged = relabelled ? (j + 1) % 4 : j;
         const Eigen::Vector3d p_camera =
-            (world_T_body * scene.body_T_camera).inverse() * (world_T_gate * (turn * rays.p_gate.col(j)));
+            (world_T_body * scene.body_T_camera).inverse() * (world_T_gate * (turn * rays.p_gate.col(imaged)));
         rays.normalized.col(j) = p_camera.head<2>() / p_camera.z() + Eigen::Vector2d(noise(random), noise(random));
         rays.covariance[j] = Eigen::Matrix2d::Identity() * std::pow(std::max(pixel_noise, 1.0) / kFocal, 2);
       }
       Eigen::Isometry3d body_T_gate = world_T_body.inverse() * world_T_gate;
-      body_T_gate.linear() = body_T_gate.linear() * turn;
+      const Eigen::Matrix3d relabel = relabelled ? Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix()
+                                                 : Eigen::Matrix3d::Identity();
+      body_T_gate.linear() = body_T_gate.linear() * relabel * turn;
       GateObservation observation = GateObservation::pose(0.1 * k, from_behind ? -1 : id, body_T_gate,
                                                           Matrix6d::Identity() * 1e-4);
       observation.corner_rays = rays;
@@ -86,6 +93,22 @@ TEST(FrameCornerFit, ExactCornersBringTheFrameBackFromHalfAMetreAndFourDegrees) 
     EXPECT_LT((fit.world_T_odom.translation() - scene.world_T_odom.translation()).norm(), 1e-6);
     EXPECT_LT(std::abs(yawOf(fit.world_T_odom) - yawOf(scene.world_T_odom)), 1e-7);
     EXPECT_TRUE(fit.covariance.allFinite());
+  }
+}
+
+TEST(FrameCornerFit, CornersLabelledAQuarterTurnOffFitAsWell) {
+  const Scene scene;
+  const Eigen::Isometry3d start = scene.world_T_odom * yawPose(0.4, -0.3, 0.1, 4.0 * M_PI / 180.0);
+  for (bool from_behind : {false, true}) {
+    SCOPED_TRACE(from_behind ? "seen from behind, ids unknown" : "seen from the front");
+    std::mt19937 random(1);
+    const FrameCornerFit fit =
+        fitFrameOnCorners(window(scene, 0.0, random, from_behind, true), scene.map, start, 1.0);
+    ASSERT_TRUE(fit.refined);
+    EXPECT_EQ(fit.corners, 80);
+    EXPECT_LT(fit.rms_after, 1e-4);  // every corner on its own map corner: none left to the Huber weight
+    EXPECT_LT((fit.world_T_odom.translation() - scene.world_T_odom.translation()).norm(), 1e-6);
+    EXPECT_LT(std::abs(yawOf(fit.world_T_odom) - yawOf(scene.world_T_odom)), 1e-7);
   }
 }
 
