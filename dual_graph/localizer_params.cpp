@@ -195,4 +195,14 @@ Status checkObservationFor(const LocalizerParams& params, const GateMap& map, co
   return Status::okStatus();
 }
 
+OdometryNoiseModel noiseModelOf(const LocalizerParams& params) {
+  OdometryNoiseModel model;
+  model.use_input_covariance = params.use_input_covariance;
+  model.sigma_t = params.odom_sigma_t;
+  model.sigma_r = params.odom_sigma_r;
+  model.sigma_tilt = params.odom_sigma_tilt;
+  model.min_distance = params.odom_min_distance;
+  return model;
+}
+
 }  // namespace dualgraph

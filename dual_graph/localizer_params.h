@@ -10,6 +10,7 @@
 #include "dualgraph/core/status.h"
 #include "dualgraph/dual_graph/gate_map.h"
 #include "dualgraph/dual_graph/measurements.h"
+#include "dualgraph/dual_graph/odometry_history.h"
 #include "dualgraph/solvers/linear_solver_factory.h"
 
 namespace dualgraph {
@@ -187,5 +188,9 @@ const char* localizerModeName(LocalizerMode mode);
 const char* landmarkModelName(LandmarkModel model);
 /// "block"/"graph".
 const char* temporarySolverKindName(TemporarySolverKind kind);
+
+/// The odometry's per-metre noise model and input-covariance choice of `params` (the temporary graph's, the main
+/// graph's between keyframes, the single-graph baseline's).
+OdometryNoiseModel noiseModelOf(const LocalizerParams& params);
 
 }  // namespace dualgraph

@@ -130,7 +130,4 @@ class TemporaryGraph {
   BlockLmSolver solver_;    ///< work buffers of the block solver, reused between keyframes
 };
 
-/// The per-metre model and input-covariance choice of `params`.
-OdometryNoiseModel noiseModelOf(const LocalizerParams& params);
-
 }  // namespace dualgraph
