@@ -251,6 +251,50 @@ void bindRun(py::module_& m) {
           },
           "the VIO's translation scale (dual_graph/odometry_scale.h): enabled, applied, applied_at_s [s] (None: never), "
           "scale (at the end), estimate and sigma (the last estimate), updates [count]; metrics.json odometry_scale_*")
+      .def_property_readonly(
+          "initialization",
+          [](const SequenceRunResult& r) -> py::object {
+            if (!r.initialization) return py::none();
+            const FrameInitialization& f = *r.initialization;
+            py::dict out;
+            out["locked"] = f.locked;
+            out["at_s"] = f.locked ? py::object(py::float_(f.locked_at)) : py::object(py::none());
+            out["world_T_odom"] = f.locked ? py::object(poseArray(f.world_T_odom)) : py::object(py::none());
+            out["inliers"] = f.inliers;
+            out["gates"] = f.gates;
+            out["runner_up"] = f.runner_up;
+            out["residual_rms_m"] = f.residual_rms_m;
+            out["refined_on_corners"] = f.refined_on_corners;
+            out["why_not"] = f.why_not;
+            return out;
+          },
+          "how the frame search found the VIO's frame (None: `initialization: given`): locked, at_s [s] (None: never), "
+          "world_T_odom (7,) [m, quaternion] (None: never), inliers, gates, runner_up [count], residual_rms_m [m], "
+          "refined_on_corners (fitted again on its window's corners), why_not; metrics.json initialized*, lock_*")
+      .def_property_readonly(
+          "self_calibration",
+          [](const SequenceRunResult& r) {
+            const SelfCalibrationReport& c = r.self_calibration;
+            py::dict out;
+            out["attempted"] = c.attempted;
+            out["attempts"] = c.attempts;
+            out["applied"] = c.applied;
+            out["at_s"] = c.at_s;
+            out["time_offset_before_s"] = c.time_offset_before;
+            out["time_offset_s"] = c.time_offset_after;
+            out["time_offset_sigma_s"] = c.time_offset_sigma;
+            out["mount_change_deg"] = c.mount_change_deg;
+            out["iterations"] = c.iterations;
+            out["time_offset_applied"] = c.time_offset_applied;
+            out["mount_applied"] = c.mount_applied;
+            out["why_not_time_offset"] = c.why_not_time_offset;
+            out["why_not_mount"] = c.why_not_mount;
+            out["why_not"] = c.why_not;
+            return out;
+          },
+          "the onboard self-calibration (`self_calibration_after_s`): attempted, attempts [count], applied, at_s [s], "
+          "time_offset_before_s / time_offset_s / time_offset_sigma_s [s], mount_change_deg [deg], iterations [count], "
+          "time_offset_applied, mount_applied, why_not_time_offset, why_not_mount, why_not; metrics.json self_calibration_*")
       .def("__repr__", [](const SequenceRunResult& r) {
         char text[64];
         std::snprintf(text, sizeof(text), ", wall_seconds=%.3f)", r.wall_seconds);

@@ -125,6 +125,48 @@ class SameAsTheCli(unittest.TestCase):
         with self.assertRaises(ValueError):
             config.initialization = "guess"
 
+    def test_the_lock_and_the_self_calibration_are_dualgraph_runs(self):
+        # The default configuration (frame search, corner fit), self-calibrated at 8 s (the one lap is shorter
+        # than the default 15 s): RunResult reports what metrics.json of `dualgraph run` reports, to the digit.
+        config_path = os.path.join(self.tmp, "calibrate_at_8s.yaml")
+        with open(CONFIG, encoding="utf-8") as default, open(config_path, "w", encoding="utf-8") as early:
+            text = default.read()
+            self.assertIn("self_calibration_after_s: 15.0", text)
+            early.write(text.replace("self_calibration_after_s: 15.0", "self_calibration_after_s: 8.0"))
+        run_dir = os.path.join(self.tmp, "run_default")
+        run_cli("run", "--sequence", self.sequence_dir, "--out", run_dir, "--quiet", "--config", config_path)
+        with open(os.path.join(run_dir, "metrics.json")) as f:
+            metrics = json.load(f)
+        config = dualgraph.load_run_config(config_path)
+        result = dualgraph.run_sequence(dualgraph.load_sequence(self.sequence_dir, config), config)
+        lock = result.initialization
+        self.assertTrue(lock["locked"])
+        self.assertEqual(metrics["initialized"], 1)
+        self.assertEqual(lock["at_s"], metrics["initialized_at_s"])
+        self.assertEqual(lock["refined_on_corners"], metrics["lock_refined_on_corners"] == 1)
+        self.assertTrue(lock["refined_on_corners"])
+        self.assertGreaterEqual(lock["gates"], 2)
+        self.assertGreater(lock["inliers"], lock["runner_up"])
+        self.assertEqual(lock["why_not"], "")
+        world_T_odom = lock["world_T_odom"]
+        self.assertEqual(world_T_odom.shape, (7,))
+        expected = [metrics["lock_world_T_odom_" + key] for key in ("x_m", "y_m", "z_m", "qx", "qy", "qz", "qw")]
+        sign = 1.0 if world_T_odom[6] >= 0 else -1.0  # metrics.json writes w >= 0
+        np.testing.assert_allclose(np.concatenate([world_T_odom[:3], sign * world_T_odom[3:]]), expected,
+                                   rtol=0, atol=1e-12)
+        calibration = result.self_calibration
+        self.assertTrue(calibration["attempted"])
+        self.assertEqual(calibration["applied"], metrics["self_calibration_applied"] == 1)
+        for key in ("at_s", "time_offset_before_s", "time_offset_s", "time_offset_sigma_s", "mount_change_deg"):
+            self.assertEqual(calibration[key], metrics["self_calibration_" + key], key)
+        for key in ("attempts", "iterations", "why_not", "why_not_time_offset", "why_not_mount"):
+            self.assertEqual(calibration[key], metrics["self_calibration_" + key], key)
+        for key in ("time_offset_applied", "mount_applied"):
+            self.assertEqual(calibration[key], metrics["self_calibration_" + key] == 1, key)
+        given = dualgraph.run_sequence(self.sequence, self.config)
+        self.assertIsNone(given.initialization)  # `initialization: given`: no search
+        self.assertFalse(given.self_calibration["applied"])
+
     def test_the_vio_scale_is_the_configs_and_reported(self):
         self.assertTrue(dualgraph.RunConfig().estimate_odometry_scale)
         config = dualgraph.load_run_config(CONFIG)
