@@ -159,7 +159,7 @@ Status PipelineCore::addDetections(const DetectionInstant& instant) {
   last_instant_t_ = instant.t;
   if (self_calibrator_) {
     if (!instant.poses.empty()) self_calibrator_->notePoseDetections();
-    self_calibrator_->addCorners(instant.corners, localizer_->trackingState() == TrackingState::kTracking);
+    self_calibrator_->addCorners(instant.corners, time_offset_);
   }
   waiting_.push_back(instant);
   return Status();
@@ -264,6 +264,7 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
   report_.keyframe_failed = localizer_->counters().keyframes_failed > failed_before;
   if (corrected->state != TrackingState::kTracking) corrected->covariance.reset();  // a gap made it lost
   report_.state = corrected->state;
+  if (self_calibrator_) self_calibrator_->noteState(input.t, corrected->state == TrackingState::kTracking);
   return PoseUpdate{*corrected, report_};
 }
 

@@ -18,8 +18,39 @@ SelfCalibrator::SelfCalibrator(double after_s, double time_offset_before, std::s
   report_.why_not = std::move(why_off);
 }
 
-void SelfCalibrator::addCorners(const std::vector<CornerDetection>& corners, bool tracking) {
-  if (pending_ && tracking) corners_.insert(corners_.end(), corners.begin(), corners.end());
+void SelfCalibrator::addCorners(const std::vector<CornerDetection>& corners, double time_offset) {
+  if (!pending_) return;
+  for (const CornerDetection& corner : corners) {
+    const double t_odometry = corner.t - time_offset;
+    if (newest_noted_ && t_odometry <= *newest_noted_) {
+      judge(corner, t_odometry);
+    } else {
+      waiting_.push_back(Waiting{corner, t_odometry});
+    }
+  }
+}
+
+void SelfCalibrator::noteState(double t, bool tracking) {
+  if (!pending_) return;
+  while (!waiting_.empty() && waiting_.front().t_odometry <= t) {
+    judge(waiting_.front().corner, waiting_.front().t_odometry);
+    waiting_.pop_front();
+  }
+  if (transitions_.empty() || transitions_.back().second != tracking) transitions_.emplace_back(t, tracking);
+  newest_noted_ = t;
+}
+
+bool SelfCalibrator::trackingJustBefore(double t) const {
+  bool tracking = false;
+  for (const auto& [from, state] : transitions_) {
+    if (!(from < t)) break;
+    tracking = state;
+  }
+  return tracking;
+}
+
+void SelfCalibrator::judge(const CornerDetection& corner, double t_odometry) {
+  if (trackingJustBefore(t_odometry)) corners_.push_back(corner);
 }
 
 void SelfCalibrator::addOdometry(const OdometrySample& sample) {
@@ -59,6 +90,8 @@ std::optional<CameraModel> SelfCalibrator::run(double t, const CameraModel& came
     corners_.shrink_to_fit();
     odometry_.clear();
     odometry_.shrink_to_fit();
+    waiting_.clear();
+    transitions_.clear();
   }
   return camera_to_use;
 }

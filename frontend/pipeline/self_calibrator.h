@@ -2,7 +2,9 @@
 // SelfCalibrator: the onboard self-calibration — the flight so far collected, calibrated once it can carry it, applied in parts that hold.
 #pragma once
 
+#include <deque>
 #include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -15,8 +17,9 @@
 namespace dualgraph {
 
 /// The camera's clock offset and mount rotation calibrated on the flight so far, onboard (PipelineCore's). From the
-/// first odometry sample t0 it keeps the odometry and the corner detections (camera clock) that arrive while the
-/// localizer is tracking; at the first sample at or after t_c = t0 + after_s at which it is tracking and at least
+/// first odometry sample t0 it keeps the odometry and the corner detections (camera clock) stamped while the
+/// localizer was tracking (judged by stamp against the states after each sample, so the answer does not depend on
+/// how far ahead of the odometry a detection arrived); at the first sample at or after t_c = t0 + after_s at which it is tracking and at least
 /// kMinCorners such corners are in, it runs
 /// calibrateCameraOnRun on them and on each half apart, and hands back the camera with the parts judgeCalibration
 /// accepts (frontend/calibration/calibration_acceptance.h), or none; the report says what happened. Once, unless that
@@ -33,9 +36,15 @@ class SelfCalibrator {
   SelfCalibrator(double after_s, double time_offset_before, std::string why_off);
 
   bool pending() const { return pending_; }
-  /// Corners as they arrive; kept only while `tracking`: before the lock or while lost there is no trajectory
-  /// to match them against (a flight locked late, at 24.5 s, calibrated on its first keyframe alone: 6.3 deg).
-  void addCorners(const std::vector<CornerDetection>& corners, bool tracking);
+  /// Corners kept so far (stamped while tracking) [count].
+  size_t cornersKept() const { return corners_.size(); }
+  /// Corners as they arrive (camera clock; `time_offset` [s] the camera's offset in use, t_odometry = t − it); kept
+  /// only when stamped while the localizer was tracking (noteState): before the lock or while lost there is no
+  /// trajectory to match them against (a flight locked late, at 24.5 s, calibrated on its first keyframe alone: 6.3 deg).
+  void addCorners(const std::vector<CornerDetection>& corners, double time_offset);
+  /// After each accepted odometry sample at `t` [s]: whether the localizer is tracking from it on. The corners
+  /// stamped up to t are judged by the state after the sample before theirs (the state they were used in).
+  void noteState(double t, bool tracking);
   void notePoseDetections() { pose_detections_seen_ = true; }
   /// Every accepted odometry sample; the first sets t_c.
   void addOdometry(const OdometrySample& sample);
@@ -61,7 +70,16 @@ class SelfCalibrator {
   bool pending_;
   bool started_ = false;
   bool pose_detections_seen_ = false;
-  std::vector<CornerDetection> corners_;
+  std::vector<CornerDetection> corners_;  ///< kept: stamped while tracking
+  struct Waiting {
+    CornerDetection corner;
+    double t_odometry;  ///< its stamp on the odometry clock [s]
+  };
+  std::deque<Waiting> waiting_;  ///< stamped after the newest noted sample: not judged yet (arrival = stamp order)
+  std::vector<std::pair<double, bool>> transitions_;  ///< (t, tracking from just after t): the state's changes
+  std::optional<double> newest_noted_;
+  bool trackingJustBefore(double t) const;
+  void judge(const CornerDetection& corner, double t_odometry);
   std::vector<OdometrySample> odometry_;
   SelfCalibrationReport report_;
 };

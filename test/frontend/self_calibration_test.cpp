@@ -170,23 +170,62 @@ TEST(SelfCalibration, AnInvalidCameraSwitchIsRefusedNamingTheField) {
 namespace dualgraph {
 namespace {
 
-/// A SelfCalibrator fed a flight's odometry and corners (all of them, as arriving while `tracking`), due at 5 s.
-SelfCalibrator fedCalibrator(const Sequence& sequence, bool tracking) {
+/// A SelfCalibrator fed a flight's odometry, the localizer `tracking` from `lock` [s] on (after the sample at or
+/// after it), and its corners: all of them before the odometry (arriving far ahead of it), or each just before the
+/// first sample at or after its stamp (`interleaved`). Due at 5 s.
+SelfCalibrator fedCalibrator(const Sequence& sequence, bool tracking, double lock = -1e9, bool interleaved = false) {
   SelfCalibrator calibrator(5.0, 0.0, "");
-  for (const OdometrySample& sample : sequence.odometry.samples) calibrator.addOdometry(sample);
-  calibrator.addCorners(sequence.corners, tracking);
+  size_t next = 0;
+  if (!interleaved) calibrator.addCorners(sequence.corners, 0.0);
+  for (const OdometrySample& sample : sequence.odometry.samples) {
+    std::vector<CornerDetection> arrived;
+    while (interleaved && next < sequence.corners.size() && sequence.corners[next].t <= sample.t) {
+      arrived.push_back(sequence.corners[next++]);
+    }
+    calibrator.addCorners(arrived, 0.0);
+    calibrator.addOdometry(sample);
+    calibrator.noteState(sample.t, tracking && sample.t >= lock);
+  }
   return calibrator;
 }
 
-// Corners that arrive before the lock (or while lost) have no trajectory to be matched against: they are not kept,
+// Corners stamped before the lock (or while lost) have no trajectory to be matched against: they are not kept,
 // so they neither count towards kMinCorners nor enter the calibration (a flight that locked at 24.5 s calibrated on
 // its first keyframe alone and found 6.3 degrees of mount error, the halves 12 degrees apart).
-TEST(SelfCalibrator, KeepsOnlyTheCornersThatArriveWhileTracking) {
+TEST(SelfCalibrator, KeepsOnlyTheCornersStampedWhileTracking) {
   const Sequence sequence = caltest::realisticFlight("ratm_ellipse.yaml", 1, 2, 0.015);
   ASSERT_GT(sequence.corners.size(), SelfCalibrator::kMinCorners);
   const double late = sequence.odometry.samples.front().t + 6.0;
   EXPECT_FALSE(fedCalibrator(sequence, false).due(late, true));
+  EXPECT_EQ(fedCalibrator(sequence, false).cornersKept(), 0u);
   EXPECT_TRUE(fedCalibrator(sequence, true).due(late, true));
+  EXPECT_EQ(fedCalibrator(sequence, true).cornersKept(), sequence.corners.size() -
+                                                            static_cast<size_t>(std::count_if(
+                                                                sequence.corners.begin(), sequence.corners.end(),
+                                                                [&](const CornerDetection& c) {
+                                                                  return c.t <= sequence.odometry.samples.front().t;
+                                                                })));
+}
+
+// Which corners count is a matter of their stamps, not of when they arrive: a detector whose output reaches the
+// pipeline a quarter of a second ahead of the VIO (`dualgraph live`) keeps the same corners as a replay that hands
+// each one over at its time (`dualgraph run`), so both calibrate the same camera. Before, the state at arrival
+// decided: corners stamped just after the lock but arriving before it were dropped.
+TEST(SelfCalibrator, TheCornersKeptDoNotDependOnHowEarlyTheyArrive) {
+  const Sequence sequence = caltest::realisticFlight("ratm_ellipse.yaml", 1, 2, 0.015);
+  const double lock = sequence.odometry.samples.front().t + 2.0;
+  const SelfCalibrator early = fedCalibrator(sequence, true, lock, false);
+  const SelfCalibrator on_time = fedCalibrator(sequence, true, lock, true);
+  const size_t stamped_after_lock = static_cast<size_t>(std::count_if(
+      sequence.corners.begin(), sequence.corners.end(), [&](const CornerDetection& c) { return c.t > lock; }));
+  EXPECT_GT(stamped_after_lock, SelfCalibrator::kMinCorners);
+  EXPECT_EQ(early.cornersKept(), on_time.cornersKept());
+  // Every corner stamped after the sample that locked (the sample at or after `lock`), none before it.
+  const OdometrySample& locking = *std::find_if(sequence.odometry.samples.begin(), sequence.odometry.samples.end(),
+                                                [&](const OdometrySample& s) { return s.t >= lock; });
+  const size_t after_locking = static_cast<size_t>(std::count_if(
+      sequence.corners.begin(), sequence.corners.end(), [&](const CornerDetection& c) { return c.t > locking.t; }));
+  EXPECT_EQ(on_time.cornersKept(), after_locking);
 }
 
 // A calibration that finds too little to go on (here the map is 100 m off, so no corner matches a gate) is tried

@@ -170,9 +170,9 @@ TEST_F(StreamingClockRestart, ALoopedBagRestartsThePipelineInBothModes) {
   }
 }
 
-// A looped bag whose first pass ran long enough for the self-calibration (15 s): the camera it calibrated (clock
-// offset and mount) goes on after the restart. Before, the new pipeline went back to the camera file's and flew on
-// it until its own self-calibration, 15 s later.
+// A looped bag whose first pass ran long enough for the self-calibration (default.yaml's): the camera it calibrated
+// (clock offset and mount) goes on after the restart. Before, the new pipeline went back to the camera file's and
+// flew on it until its own self-calibration, as long again.
 TEST(StreamingClockRestartCamera, TheSelfCalibratedCameraGoesOnAfterARestart) {
   const Sequence flight = flighttest::simulatedFlight("ratm_ellipse.yaml", "realistic", 1, 4);
   ASSERT_TRUE(flight.camera.has_value());
