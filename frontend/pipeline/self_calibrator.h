@@ -4,8 +4,8 @@
 
 #include <deque>
 #include <optional>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dualgraph/dual_graph/localizer.h"
@@ -19,10 +19,10 @@ namespace dualgraph {
 /// The camera's clock offset and mount rotation calibrated on the flight so far, onboard (PipelineCore's). From the
 /// first odometry sample t0 it keeps the odometry and the corner detections (camera clock) stamped while the
 /// localizer was tracking (judged by stamp against the states after each sample, so the answer does not depend on
-/// how far ahead of the odometry a detection arrived); at the first sample at or after t_c = t0 + after_s at which it is tracking and at least
-/// kMinCorners such corners are in, it runs
-/// calibrateCameraOnRun on them and on each half apart, and hands back the camera with the parts judgeCalibration
-/// accepts (frontend/calibration/calibration_acceptance.h), or none; the report says what happened. Once, unless that
+/// how far ahead of the odometry a detection arrived); at the first sample at or after t_c = t0 + after_s at which
+/// it is tracking and at least kMinCorners such corners are in, it runs calibrateCameraOnRun on them and on each
+/// half apart, and hands back the camera with the parts judgeCalibration accepts
+/// (frontend/calibration/calibration_acceptance.h), or none; the report says what happened. Once, unless that
 /// attempt found too little to go on (the calibration failed or did not converge, or a significant part could not
 /// be checked on both halves): then again after_s later on the longer flight so far, kMaxAttempts in all.
 /// Not thread-safe (the pipeline's thread).
