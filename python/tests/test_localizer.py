@@ -160,7 +160,7 @@ class SameAsTheCli(unittest.TestCase):
             self.assertEqual(calibration[key], metrics["self_calibration_" + key] == 1, key)
         given = dualgraph.run_sequence(self.sequence, self.config)
         self.assertIsNone(given.initialization)  # `initialization: given`: no search
-        self.assertFalse(given.self_calibration["applied"])
+        self.assertFalse(given.self_calibration["applied"])  # the clean profile: nothing to correct
 
     def test_the_vio_scale_is_the_configs_and_reported(self):
         self.assertTrue(dualgraph.RunConfig().estimate_odometry_scale)
