@@ -22,7 +22,7 @@ void SelfCalibrator::addCorners(const std::vector<CornerDetection>& corners, dou
   if (!pending_) return;
   for (const CornerDetection& corner : corners) {
     const double t_odometry = corner.t - time_offset;
-    if (newest_noted_ && t_odometry <= *newest_noted_) {
+    if (newest_noted_ && notAfter(t_odometry, *newest_noted_)) {
       judge(corner, t_odometry);
     } else {
       waiting_.push_back(Waiting{corner, t_odometry});
@@ -32,7 +32,7 @@ void SelfCalibrator::addCorners(const std::vector<CornerDetection>& corners, dou
 
 void SelfCalibrator::noteState(double t, bool tracking) {
   if (!pending_) return;
-  while (!waiting_.empty() && waiting_.front().t_odometry <= t) {
+  while (!waiting_.empty() && notAfter(waiting_.front().t_odometry, t)) {
     judge(waiting_.front().corner, waiting_.front().t_odometry);
     waiting_.pop_front();
   }
@@ -43,7 +43,7 @@ void SelfCalibrator::noteState(double t, bool tracking) {
 bool SelfCalibrator::trackingJustBefore(double t) const {
   bool tracking = false;
   for (const auto& [from, state] : transitions_) {
-    if (!(from < t)) break;
+    if (!clearlyBefore(from, t)) break;  // a corner stamped at a sample is used before that sample's own state
     tracking = state;
   }
   return tracking;
