@@ -10,7 +10,7 @@ namespace {
 constexpr double kDeg = 180.0 / M_PI;
 
 std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0) {
-  char text[160];
+  char text[320];
   std::snprintf(text, sizeof(text), pattern, a, b, c);
   return text;
 }
@@ -58,6 +58,18 @@ CalibrationAcceptance judgeCalibration(const CameraModel& camera, const CameraCa
   const double mount_allowed =
       3.0 * std::hypot(first_half->rotation_sigma.norm(), second_half->rotation_sigma.norm()) * kDeg +
       params.mount_agreement_deg;
+  // What the halves show of the mount together: their calibrations are independent (disjoint corners), so their
+  // inverse-variance mean is what the flight shows without the VIO's drift model linking the halves — a mount
+  // that only the whole shows rests on that model, where a VIO error can pass for a mount (a constant mount is in
+  // what each half sees).
+  const Eigen::Vector3d mount_weights[2] = {first_half->rotation_sigma.cwiseAbs2().cwiseMax(1e-24).cwiseInverse(),
+                                            second_half->rotation_sigma.cwiseAbs2().cwiseMax(1e-24).cwiseInverse()};
+  const Eigen::Vector3d halves_mount =
+      (mount_weights[0].cwiseProduct(first_half->mount_correction) + mount_weights[1].cwiseProduct(second_half->mount_correction))
+          .cwiseQuotient(mount_weights[0] + mount_weights[1]);
+  const double halves_mount_sigma = (mount_weights[0] + mount_weights[1]).cwiseInverse().cwiseSqrt().norm();
+  out.halves_mount_change_deg = halves_mount.norm() * kDeg;
+  out.halves_mount_sigma_deg = halves_mount_sigma * kDeg;
   if (time_significant) {
     out.time_offset = time_apart <= time_allowed;
     if (!out.time_offset) {
@@ -71,6 +83,11 @@ CalibrationAcceptance judgeCalibration(const CameraModel& camera, const CameraCa
       out.why_not_mount = format("the halves of the flight disagree on the mount correction by %.2f deg (allowed %.2f): a "
                                  "VIO attitude error, not the mount (whole flight: %.2f deg)",
                                  mount_apart, mount_allowed, mount_change * kDeg);
+    } else if (!(out.halves_mount_change_deg > std::max(3.0 * out.halves_mount_sigma_deg, params.min_mount_change_deg))) {
+      out.mount = false;
+      out.why_not_mount = format("the halves together show a mount correction of only %.2f deg (3 sigma = %.2f deg): the "
+                                 "whole flight's %.2f deg rests on the VIO's drift model linking them, not on what each half sees",
+                                 out.halves_mount_change_deg, 3.0 * out.halves_mount_sigma_deg, mount_change * kDeg);
     }
   }
   return out;

@@ -12,7 +12,10 @@ namespace dualgraph {
 /// exceeds 3σ of its own formal estimate and a floor below which it changes nothing that matters; it is
 /// **consistent** when the flight's first and second halves, calibrated apart, agree on it within 3σ of their
 /// difference plus `*_agreement` — a constant clock offset or mount error is the same in both halves, while a
-/// VIO attitude error that the mount absorbs drifts from one half to the other.
+/// VIO attitude error that the mount absorbs drifts from one half to the other. A mount correction must also be
+/// **shown by the halves together**: their inverse-variance mean beyond 3σ of itself and the floor. The halves are
+/// independent, the whole is not: its extra precision comes from the VIO's drift model linking them, and there a
+/// VIO error can pass for a mount (bench/README.md, "A mount the halves must show").
 struct CalibrationAcceptanceParams {
   double min_time_offset_change = 0.002;  ///< [s]
   double min_mount_change_deg = 0.25;     ///< [deg]
@@ -29,6 +32,8 @@ struct CalibrationAcceptance {
   double half_time_offsets[2] = {0.0, 0.0};   ///< the halves' δ [s] (when both calibrated)
   double half_mount_change_deg[2] = {0.0, 0.0};  ///< the halves' mount corrections [deg]
   bool halves_calibrated = false;
+  /// The halves' mount corrections' inverse-variance mean (what they show together): its size and 1σ [deg].
+  double halves_mount_change_deg = 0.0, halves_mount_sigma_deg = 0.0;
   /// The whole flight's estimate of each part is beyond 3σ and the floor (checked before the halves).
   bool time_offset_significant = false;
   bool mount_significant = false;
