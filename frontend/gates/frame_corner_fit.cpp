@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "dualgraph/frontend/gates/gate_symmetry.h"
 #include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
@@ -29,28 +30,6 @@ Eigen::Vector2d residual(const Corner& c, const Eigen::Isometry3d& frame) {
   const Eigen::Vector3d p = (frame * c.odom_T_camera).inverse() * c.p_world;
   if (!(p.z() > 1e-3)) return Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
   return c.whitening * (p.head<2>() / p.z() - c.measured);
-}
-
-/// The symmetry of a square gate (a quarter turn about its normal x, and the turn to its other side about z) that
-/// brings the detected gate frame nearest the map gate's: a detected corner p (detected gate frame) lies at
-/// symmetry · p in the map gate's. A detector orders the corners by the image, so a banked drone labels them a
-/// quarter turn off; the side comes from the PnP normal.
-Eigen::Matrix3d gateSymmetryTo(const Eigen::Matrix3d& world_R_gate, const Eigen::Matrix3d& world_R_detected) {
-  Eigen::Matrix3d best = Eigen::Matrix3d::Identity();
-  double best_angle = std::numeric_limits<double>::infinity();
-  for (int side = 0; side < 2; ++side) {
-    for (int quarter = 0; quarter < 4; ++quarter) {
-      const Eigen::Matrix3d candidate = Eigen::AngleAxisd(side * M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
-                                        Eigen::AngleAxisd(quarter * M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
-      // The detected frame turned into the map gate's: world_R_detected · candidateᵀ against world_R_gate.
-      const double angle = Eigen::AngleAxisd(world_R_gate.transpose() * world_R_detected * candidate.transpose()).angle();
-      if (angle < best_angle) {
-        best_angle = angle;
-        best = candidate;
-      }
-    }
-  }
-  return best;
 }
 
 constexpr double kHuber = 2.0;
@@ -108,7 +87,10 @@ FrameCornerFit fitFrameOnCorners(const std::vector<FrameFitDetection, Eigen::ali
     }
     if (best < 0) continue;
     const Eigen::Isometry3d& world_T_gate = map.world_T_gate.at(best);
-    const Eigen::Matrix3d symmetry = gateSymmetryTo(world_T_gate.linear(), world_T_gate_seen.linear());
+    // The side and the quarter turn of a banked view's corner labels: a corner p of the detected gate lies at
+    // Sᵀ · p in the map gate's frame.
+    const Eigen::Matrix3d symmetry =
+        nearestGateSymmetry(world_T_gate.linear(), world_T_gate_seen.linear(), GateSides::kEither).transpose();
     const Eigen::Isometry3d odom_T_camera = d.odom_T_body * o.corner_rays.body_T_camera;
     for (int j = 0; j < 4; ++j) {
       const Eigen::LLT<Eigen::Matrix2d> llt(o.corner_rays.covariance[j]);

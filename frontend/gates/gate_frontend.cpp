@@ -3,30 +3,20 @@
 
 #include <cmath>
 
+#include "dualgraph/frontend/gates/gate_symmetry.h"
 #include "dualgraph/frontend/gates/partial_gate.h"
-#include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
 namespace {
 
-// The quarter turn about the gate normal (x) that brings the detected gate frame closest to the
-// map gate's orientation; the covariance (right perturbation in the gate frame) turns with it.
+// The quarter turn about the gate normal (x) that brings the detected gate frame closest to the map gate's
+// orientation; the covariance (right perturbation in the gate frame) turns with it.
 void turnToMapGate(GateObservation& observation, const Eigen::Isometry3d& world_T_body,
                    const Eigen::Isometry3d& world_T_gate) {
-  const Eigen::Matrix3d world_R_detected = world_T_body.linear() * observation.body_T_gate.linear();
-  int best = 0;
-  double best_angle = INFINITY;
-  for (int quarter = 0; quarter < 4; ++quarter) {
-    const Eigen::Matrix3d turn = Eigen::AngleAxisd(quarter * M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
-    const double angle = so3Log(world_T_gate.linear().transpose() * world_R_detected * turn).norm();
-    if (angle < best_angle) {
-      best_angle = angle;
-      best = quarter;
-    }
-  }
-  if (best == 0) return;
-  observation = inTurnedGateFrame(std::move(observation),
-                                  Eigen::AngleAxisd(best * M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix());
+  const Eigen::Matrix3d turn = nearestGateSymmetry(
+      world_T_gate.linear(), world_T_body.linear() * observation.body_T_gate.linear(), GateSides::kKnown);
+  if (turn.isIdentity(0.0)) return;
+  observation = inTurnedGateFrame(std::move(observation), turn);
 }
 
 }  // namespace

@@ -4,8 +4,9 @@
 #include <cmath>
 #include <random>
 
+#include "dualgraph/dual_graph/measurements.h"
 #include "dualgraph/frontend/gates/gate_pnp.h"
-#include "dualgraph/types/se3_math.h"
+#include "dualgraph/frontend/gates/gate_symmetry.h"
 
 namespace dualgraph {
 namespace {
@@ -15,22 +16,9 @@ Status invalidRace(const std::string& what) { return Status(StatusCode::kInvalid
 // The gate frame of a PnP solution is fixed by the image corner order only up to the square's 90°
 // turns about its normal; a pose detector that knows the map reports the turn closest to the gate.
 void alignToTrueGate(GateObservation& observation, const Eigen::Isometry3d& true_body_T_gate) {
-  double best_angle = 1e9;
-  Eigen::Matrix3d best_turn = Eigen::Matrix3d::Identity();
-  for (int quarter = 0; quarter < 4; ++quarter) {
-    const Eigen::Matrix3d turn = Eigen::AngleAxisd(quarter * M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
-    const Eigen::Matrix3d candidate = observation.body_T_gate.linear() * turn;
-    const double angle = so3Log(true_body_T_gate.linear().transpose() * candidate).norm();
-    if (angle < best_angle) {
-      best_angle = angle;
-      best_turn = turn;
-    }
-  }
-  Eigen::Isometry3d turn_pose = Eigen::Isometry3d::Identity();
-  turn_pose.linear() = best_turn;
-  observation.body_T_gate = observation.body_T_gate * turn_pose;
-  const Matrix6d adjoint = se3Adjoint(turn_pose.inverse());
-  observation.pose_covariance = adjoint * observation.pose_covariance * adjoint.transpose();
+  const Eigen::Matrix3d turn =
+      nearestGateSymmetry(true_body_T_gate.linear(), observation.body_T_gate.linear(), GateSides::kKnown);
+  observation = inTurnedGateFrame(std::move(observation), turn);
 }
 
 // The VIO frame of a flight: world_T_odom with a yaw and a horizontal offset drawn from stream 4 (identity
