@@ -259,12 +259,16 @@ Status StreamingLocalizer::restartCore() {
   // The camera in use carries over: a self-calibrated clock offset and mount belong to the sensors, not to the VIO's
   // clock (a looped bag, a restarted VIO). Its offset is then the camera's own, and a switch already made is done.
   SequenceRunParams params = core_->params();
-  std::optional<CameraModel> camera = origin_->camera;
+  // Made in place from the camera it copies (copy-initialising the optional draws GCC 12's false
+  // -Wmaybe-uninitialized on CameraModel's fields).
+  std::optional<CameraModel> camera;
   if (core_->cameraSwitchedAt() && core_->frontend().camera()) {
-    camera = *core_->frontend().camera();
+    camera.emplace(*core_->frontend().camera());
     camera->time_offset = core_->timeOffset();
     params.time_offset.reset();
     params.camera_switch.reset();
+  } else if (origin_->camera) {
+    camera.emplace(*origin_->camera);
   }
   auto fresh = PipelineCore::create(params, origin_->map, std::move(camera));
   if (!fresh.ok()) return fresh.status();  // made once with the same inputs: not expected
