@@ -64,7 +64,7 @@ struct LocalizerParams {
   // Odometry covariance: the input's per-sample relative covariance when every sample of an interval has
   // one (and `use_input_covariance`), otherwise σ·√d per metre travelled, d floored at `odom_min_distance`.
   bool use_input_covariance = true;
-  double odom_sigma_t = 0.05;       ///< translation σ per √metre [m/√m]
+  double odom_sigma_t = 0.03;       ///< translation σ per √metre [m/√m] (bench/README.md, "The per-metre model")
   double odom_sigma_r = 0.01;       ///< yaw σ per √metre (about the VIO frame's vertical) [rad/√m]
   /// Roll and pitch σ per √metre (about the VIO frame's horizontal axes) [rad/√m]: a gravity-aligned VIO's tilt
   /// does not drift as its yaw does.
