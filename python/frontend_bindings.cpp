@@ -284,6 +284,10 @@ void bindRun(py::module_& m) {
             out["time_offset_s"] = c.time_offset_after;
             out["time_offset_sigma_s"] = c.time_offset_sigma;
             out["mount_change_deg"] = c.mount_change_deg;
+            out["first_half_mount_change_deg"] = c.half_mount_change_deg[0];
+            out["second_half_mount_change_deg"] = c.half_mount_change_deg[1];
+            out["halves_mount_change_deg"] = c.halves_mount_change_deg;
+            out["halves_mount_sigma_deg"] = c.halves_mount_sigma_deg;
             out["iterations"] = c.iterations;
             out["time_offset_applied"] = c.time_offset_applied;
             out["mount_applied"] = c.mount_applied;
@@ -293,7 +297,9 @@ void bindRun(py::module_& m) {
             return out;
           },
           "the onboard self-calibration (`self_calibration_after_s`): attempted, attempts [count], applied, at_s [s], "
-          "time_offset_before_s / time_offset_s / time_offset_sigma_s [s], mount_change_deg [deg], iterations [count], "
+          "time_offset_before_s / time_offset_s / time_offset_sigma_s [s], mount_change_deg [deg], "
+          "first_half_mount_change_deg / second_half_mount_change_deg / halves_mount_change_deg / halves_mount_sigma_deg "
+          "[deg] (each half apart, what they show together), iterations [count], "
           "time_offset_applied, mount_applied, why_not_time_offset, why_not_mount, why_not; metrics.json self_calibration_*")
       .def("__repr__", [](const SequenceRunResult& r) {
         char text[64];

@@ -25,6 +25,10 @@ struct SelfCalibrationReport {
   double time_offset_after = 0.0;    ///< the calibrated one [s]
   double time_offset_sigma = 0.0;    ///< its formal 1σ [s]
   double mount_change_deg = 0.0;     ///< the angle of the mount rotation's correction, as estimated [deg]
+  /// The mount correction of each half of the flight so far, calibrated apart, and what they show together (their
+  /// inverse-variance mean's angle and its 1σ) [deg]; 0 when the halves were not both calibrated.
+  double half_mount_change_deg[2] = {0.0, 0.0};
+  double halves_mount_change_deg = 0.0, halves_mount_sigma_deg = 0.0;
   int iterations = 0;                ///< match-and-solve iterations
   /// Each part is applied only when significant and shown by both halves of the flight so far
   /// (frontend/calibration/calibration_acceptance.h); `applied` when either is.

@@ -143,6 +143,10 @@ std::optional<CameraModel> SelfCalibrator::attempt(const CameraModel& camera, co
   self.mount_applied = accepted.mount;
   self.why_not_time_offset = accepted.why_not_time_offset;
   self.why_not_mount = accepted.why_not_mount;
+  self.half_mount_change_deg[0] = accepted.half_mount_change_deg[0];
+  self.half_mount_change_deg[1] = accepted.half_mount_change_deg[1];
+  self.halves_mount_change_deg = accepted.halves_mount_change_deg;
+  self.halves_mount_sigma_deg = accepted.halves_mount_sigma_deg;
   if (!accepted.time_offset && !accepted.mount) {
     self.why_not = "neither part cleared the bar: " + accepted.why_not_time_offset + "; " + accepted.why_not_mount;
     // A part that was significant but could not be checked on both halves: the flight so far was too short for it.

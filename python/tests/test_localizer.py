@@ -152,8 +152,11 @@ class SameAsTheCli(unittest.TestCase):
         calibration = result.self_calibration
         self.assertTrue(calibration["attempted"])
         self.assertEqual(calibration["applied"], metrics["self_calibration_applied"] == 1)
-        for key in ("at_s", "time_offset_before_s", "time_offset_s", "time_offset_sigma_s", "mount_change_deg"):
+        for key in ("at_s", "time_offset_before_s", "time_offset_s", "time_offset_sigma_s", "mount_change_deg",
+                    "first_half_mount_change_deg", "second_half_mount_change_deg", "halves_mount_change_deg",
+                    "halves_mount_sigma_deg"):
             self.assertEqual(calibration[key], metrics["self_calibration_" + key], key)
+        self.assertGreater(calibration["halves_mount_sigma_deg"], 0.0)  # both halves were calibrated
         for key in ("attempts", "iterations", "why_not", "why_not_time_offset", "why_not_mount"):
             self.assertEqual(calibration[key], metrics["self_calibration_" + key], key)
         for key in ("time_offset_applied", "mount_applied"):

@@ -74,6 +74,11 @@ TEST_F(RealVio, AMountOnlyTheWholeFlightShowsIsKeptAndTheRunBeatsTheVio) {
   EXPECT_EQ(jsonNumber(metrics, "self_calibration_mount_applied"), 0.0) << metrics;
   EXPECT_GT(jsonNumber(metrics, "self_calibration_mount_change_deg"), 1.0) << metrics;  // what the whole showed
   EXPECT_NE(metrics.find("the halves together show a mount correction of only"), std::string::npos) << metrics;
+  // What the halves show together is within its 3 sigma, and less than the whole flight's.
+  const double halves = jsonNumber(metrics, "self_calibration_halves_mount_change_deg");
+  EXPECT_GT(jsonNumber(metrics, "self_calibration_halves_mount_sigma_deg"), 0.0) << metrics;
+  EXPECT_LT(halves, 3.0 * jsonNumber(metrics, "self_calibration_halves_mount_sigma_deg")) << metrics;
+  EXPECT_LT(halves, jsonNumber(metrics, "self_calibration_mount_change_deg")) << metrics;
   EXPECT_EQ(jsonNumber(metrics, "self_calibration_time_offset_applied"), 1.0) << metrics;
   EXPECT_NEAR(jsonNumber(metrics, "self_calibration_time_offset_s"), -0.050, 0.006) << metrics;
   EXPECT_GT(jsonNumber(metrics, "ate_reduction_pct"), 0.0) << metrics;
