@@ -22,6 +22,14 @@
 namespace dualgraph::tools {
 namespace {
 
+// The odometry's noise as the run uses it: the file's covariances, or the per-metre model and its keys.
+std::string odometryNoiseSummary(bool file_has_none, const LocalizerParams& localizer) {
+  if (!file_has_none && localizer.use_input_covariance) return "with covariances";
+  const std::string model = "modelled at " + formatNumber(localizer.odom_sigma_t) + " m and " +
+                            formatNumber(localizer.odom_sigma_r) + " rad of yaw per sqrt(m) (localizer.odom_sigma_t, odom_sigma_r)";
+  return (file_has_none ? "no covariance, " : "covariances not used (localizer.use_input_covariance), ") + model;
+}
+
 int fail(const std::string& message) {
   std::cerr << "dualgraph run: " << message << "\n";
   return 1;
@@ -224,7 +232,7 @@ int runRunCommand(const RunOptions& o) {
   if (sequence->has_corners) std::cout << " (corner noise " << run->frontend_counters.pixel_sigma << " px)";
   std::cout << "\n  odometry " << sequence->vio_path << " (" << trajectoryFormatName(sequence->vio_format) << ", "
             << sequence->odometry.samples.size() << " samples, "
-            << (sequence->odometry.absolute_covariances.empty() ? "no covariance" : "with covariances")
+            << odometryNoiseSummary(sequence->odometry.absolute_covariances.empty(), params->localizer)
             << ", t0 = " << formatTimestamp(sequence->odometry.samples.front().t) << " s; times below from t0)\n";
   const double t0 = sequence->odometry.samples.front().t;
   if (run->initialization) {

@@ -143,6 +143,15 @@ TEST(RunVioFormats, OpenVinsCovarianceGivesTheRunOfTheSameCovarianceInTum) {
   EXPECT_LT(largestDifference(tum + "_run/estimate.tum", ov + "_run/estimate.tum", 0.0), 1e-6);
   EXPECT_NE(readFile(ov + "_run/run.yaml").find("vio: \"" + ov + "/odometry.txt\""), std::string::npos)
       << readFile(ov + "_run/run.yaml");
+  // Told to ignore them, the run says so and which model it used instead.
+  const std::string config = testing::writeFile("no_input_covariance.yaml",
+                                                "localizer:\n  use_input_covariance: false\n  odom_sigma_t: 0.04\n");
+  const CommandRun c = runDualgraph("run --config " + config + " --sequence " + ov + " --vio " + ov +
+                                    "/odometry.txt --out " + ov + "_run_model");
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  EXPECT_NE(c.out.find("covariances not used (localizer.use_input_covariance), modelled at 0.04 m and 0.01 rad"),
+            std::string::npos)
+      << c.out;
 }
 
 /// OpenVINS as it starts: the first 20 rows with an all-zero covariance (the filter has none yet).
@@ -189,7 +198,11 @@ TEST(RunVioFormats, EurocOdometryGivesTheTumRunAndReportReadsItBack) {
   const CommandRun b = runDualgraph("run --sequence " + euroc + " --vio " + euroc + "/odometry.txt --out " + euroc + "_run");
   ASSERT_EQ(b.exit_code, 0) << b.err;
   EXPECT_NE(b.out.find("(EuRoC CSV, "), std::string::npos) << b.out;
-  EXPECT_NE(b.out.find("no covariance, t0 = "), std::string::npos) << b.out;
+  // A file without covariance: the run says which model stands in for it, with the keys that set it.
+  EXPECT_NE(b.out.find("no covariance, modelled at 0.03 m and 0.01 rad of yaw per sqrt(m) (localizer.odom_sigma_t, "
+                       "odom_sigma_r), t0 = "),
+            std::string::npos)
+      << b.out;
   // Integer nanoseconds round each stamp by < 1 ns; through the optimiser's stopping tests that moves the estimate
   // by tens of micrometres (measured 3.2e-5 m), not more.
   EXPECT_LT(largestDifference(tum + "_run/estimate.tum", euroc + "_run/estimate.tum", 1e-6), 1e-4);
