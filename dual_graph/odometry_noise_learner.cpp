@@ -70,7 +70,10 @@ void OdometryNoiseLearner::addSighting(int gate_id, const Eigen::Isometry3d& key
 void OdometryNoiseLearner::addSightings(const GateEdgeMeasurements& distilled) {
   for (const GateEdgeMeasurement& gate : distilled) {
     if (gate.model != LandmarkModel::kPose) continue;
-    const Eigen::LDLT<Matrix6d> information(gate.pose_information);
+    // The information before the systematic floor when there is one: the floor stands for errors two sightings of
+    // the gate share (map, mount, a range bias), which their difference cancels; κ ≥ 1 takes up the rest.
+    const Eigen::LDLT<Matrix6d> information(gate.statistical_pose_information.isZero(0.0) ? gate.pose_information
+                                                                                          : gate.statistical_pose_information);
     if (information.info() != Eigen::Success || !information.isPositive()) continue;
     const Matrix6d covariance = covarianceG2oToMetric(information.solve(Matrix6d::Identity()));
     addSighting(gate.gate_id, gate.node_T_gate, 0.5 * (covariance + covariance.transpose()));

@@ -18,7 +18,8 @@ namespace dualgraph {
 /// covariances are at each range. A gate distilled from keyframe i and again from keyframe j gives the motion
 /// between them twice: from the gates, body_i_T_body_j = z_i·z_j⁻¹ (z = keyframe_T_gate; the gate's pose and its map
 /// error cancel), and from the VIO, odom_T_i⁻¹·odom_T_j. Their difference e (metric [t; θ] in body j) has
-/// covariance κ·G + Q(λ): G = Ad(z_j)(R_i + R_j)Ad(z_j)ᵀ from the two edges' covariances, Q the odometry's base
+/// covariance κ·G + Q(λ): G = Ad(z_j)(R_i + R_j)Ad(z_j)ᵀ from the two edges' covariances (`addSightings`: before
+/// the systematic floor, GateEdgeMeasurement::statistical_pose_information, when there is one), Q the odometry's base
 /// covariance from i to j (accumulated keyframe to keyframe as a random walk) under the variance factors λ = (λ_t,
 /// λ_r). Each new sighting of a gate is paired with its previous one (the next keyframe in a pass, or a lap later).
 ///

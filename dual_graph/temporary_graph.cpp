@@ -247,13 +247,16 @@ Status TemporaryGraph::optimizeWithBlocks(const std::vector<int>& gate_vertices,
 namespace {
 
 /// The distilled edge's information: the marginal must be usable on its own (a floor never hides a broken
-/// one), then the systematic floor is added to it.
+/// one), then the systematic floor is added to it; `before_floor` (when given) gets the information without it,
+/// or zero when there is no floor.
 template <int N, typename What>
 Status distilledInformation(const Eigen::MatrixXd& marginal, const Eigen::Matrix<double, N, N>& floor_covariance,
-                            const What& what, Eigen::Matrix<double, N, N>& information) {
+                            const What& what, Eigen::Matrix<double, N, N>& information,
+                            Eigen::Matrix<double, N, N>* before_floor = nullptr) {
   const Eigen::Matrix<double, N, N> fixed = marginal;
   DG_RETURN_IF_ERROR(informationFromFixedCovariance<N>(fixed, what, information));
   if (floor_covariance.isZero(0.0)) return Status();
+  if (before_floor != nullptr) *before_floor = information;
   return informationFromFixedCovariance<N>(Eigen::Matrix<double, N, N>(fixed + floor_covariance), what, information);
 }
 
@@ -309,7 +312,8 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
       distilled.node_T_gate = keyframe_T_odom * gate_estimates[g];
       Matrix6d floor_covariance = Matrix6d::Zero();
       addFloorToPoseCovariance(floor, distilled.node_T_gate, floor_covariance);
-      usable = distilledInformation<6>(*covariance, floor_covariance, what, distilled.pose_information);
+      usable = distilledInformation<6>(*covariance, floor_covariance, what, distilled.pose_information,
+                                       &distilled.statistical_pose_information);
     } else if (usable.ok()) {
       distilled.p_node = keyframe_T_odom * gate_estimates[g].translation();
       distilled.node_T_gate.translation() = distilled.p_node;
