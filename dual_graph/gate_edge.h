@@ -21,9 +21,9 @@ struct GateEdgeMeasurement {
   LandmarkModel model = LandmarkModel::kPose;
   Eigen::Isometry3d node_T_gate = Eigen::Isometry3d::Identity();
   Matrix6d pose_information = Matrix6d::Identity();
-  /// kPose, a distilled edge under a systematic floor (dual_graph/systematic_floor.h): its information before the
-  /// floor (the detections' own spread), for the odometry-noise learner — the floor stands for errors two sightings
-  /// of the gate share. Zero: the same as `pose_information`.
+  /// kPose, a distilled edge under a systematic floor (dual_graph/systematic_floor.h) with learn_odometry_noise: its
+  /// information before the floor (the detections' own spread), for the odometry-noise learner — the floor stands
+  /// for errors two sightings of the gate share. Zero: the same as `pose_information`.
   Matrix6d statistical_pose_information = Matrix6d::Zero();
   Eigen::Vector3d p_node = Eigen::Vector3d::Zero();
   Eigen::Matrix3d point_information = Eigen::Matrix3d::Identity();

@@ -312,8 +312,9 @@ DistillationResult TemporaryGraph::distil(double t_keyframe, const Eigen::Isomet
       distilled.node_T_gate = keyframe_T_odom * gate_estimates[g];
       Matrix6d floor_covariance = Matrix6d::Zero();
       addFloorToPoseCovariance(floor, distilled.node_T_gate, floor_covariance);
+      // The information before the floor only for the one that reads it, the odometry-noise learner.
       usable = distilledInformation<6>(*covariance, floor_covariance, what, distilled.pose_information,
-                                       &distilled.statistical_pose_information);
+                                       params_.learn_odometry_noise ? &distilled.statistical_pose_information : nullptr);
     } else if (usable.ok()) {
       distilled.p_node = keyframe_T_odom * gate_estimates[g].translation();
       distilled.node_T_gate.translation() = distilled.p_node;

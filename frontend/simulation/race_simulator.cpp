@@ -18,6 +18,7 @@ Status invalidRace(const std::string& what) { return Status(StatusCode::kInvalid
 void alignToTrueGate(GateObservation& observation, const Eigen::Isometry3d& true_body_T_gate) {
   const Eigen::Matrix3d turn =
       nearestGateSymmetry(true_body_T_gate.linear(), observation.body_T_gate.linear(), GateSides::kKnown);
+  if (turn.isIdentity(0.0)) return;
   observation = inTurnedGateFrame(std::move(observation), turn);
 }
 
