@@ -9,7 +9,7 @@ largest ATE reduction a run can reach on it. Prints, over the span of the run's 
 detection): the VIO's ATE, the floor's, the run's, and the share of the span more than 1 s after the last detection.
 Every ATE is the position RMSE after an SE(3) alignment (Umeyama, no scale), as in a run's metrics.json.
 
-Usage: bench/gate_coverage_bound.py SEQUENCE_DIR [RUN_DIR] [--markdown LABEL]
+Usage: bench/gate_coverage_bound.py SEQUENCE_DIR [RUN_DIR] [--markdown LABEL | --json]
 SEQUENCE_DIR holds vio.tum and gt.tum (TUM rows: t x y z qx qy qz qw) and corners.csv or detections.csv.
 """
 import csv
@@ -62,6 +62,11 @@ def pose_at(trajectory, t):
     return p, rotation(trajectory[i, 4:8])
 
 
+def positions_at(trajectory, stamps):
+    """pose_at's positions at many stamps at once (N x 3)."""
+    return np.stack([np.interp(stamps, trajectory[:, 0], trajectory[:, k]) for k in (1, 2, 3)], axis=1)
+
+
 def aligned_ate(positions, truth):
     mu_e, mu_g = positions.mean(0), truth.mean(0)
     u, _, vt = np.linalg.svd((truth - mu_g).T @ (positions - mu_e) / len(positions))
@@ -91,27 +96,31 @@ def main(argv):
         stamps = estimate[:, 0][(estimate[:, 0] >= begin) & (estimate[:, 0] <= end)]
     if len(stamps) < 3:
         sys.exit(f"{sequence}: fewer than three stamps where the VIO, the ground truth and a detection overlap")
-    floor, vio_positions, truth_positions, gap = [], [], [], 0
-    for t in stamps:
-        last_fix = fixes[np.searchsorted(fixes, t, side='right') - 1]
-        gap += (t - last_fix) > 1.0
-        p_fix, r_fix = pose_at(truth, last_fix)         # world_T_body at the fix, perfect
-        v_fix_p, v_fix_r = pose_at(vio, last_fix)
-        v_p, _ = pose_at(vio, t)
-        floor.append(p_fix + r_fix @ (v_fix_r.T @ (v_p - v_fix_p)))  # the VIO's motion since the fix
-        vio_positions.append(v_p)
-        truth_positions.append(pose_at(truth, t)[0])
-    truth_positions = np.array(truth_positions)
-    vio_ate = aligned_ate(np.array(vio_positions), truth_positions)
-    floor_ate = aligned_ate(np.array(floor), truth_positions)
+    last_fix = fixes[np.searchsorted(fixes, stamps, side='right') - 1]
+    gap = int(((stamps - last_fix) > 1.0).sum())
+    vio_positions = positions_at(vio, stamps)
+    truth_positions = positions_at(truth, stamps)
+    floor = np.empty_like(vio_positions)
+    for fix in np.unique(last_fix):  # the poses after one fix follow the VIO's motion since it
+        rows = last_fix == fix
+        p_fix, r_fix = pose_at(truth, fix)  # world_T_body at the fix, perfect
+        v_fix_p, v_fix_r = pose_at(vio, fix)
+        floor[rows] = p_fix + (r_fix @ v_fix_r.T @ (vio_positions[rows] - v_fix_p).T).T
+    vio_ate = aligned_ate(vio_positions, truth_positions)
+    floor_ate = aligned_ate(floor, truth_positions)
     run_ate = None
     if estimate is not None:
-        run_ate = aligned_ate(np.array([pose_at(estimate, t)[0] for t in stamps]), truth_positions)
+        run_ate = aligned_ate(positions_at(estimate, stamps), truth_positions)
     gap_share = 100.0 * gap / len(stamps)
     # A VIO without error (the ground truth as VIO) has nothing to reduce.
     best = 'n/a' if vio_ate <= 1e-9 else f"{100.0 * (1.0 - floor_ate / vio_ate):.0f} %"
     run_text = 'n/a' if run_ate is None else f"{run_ate:.3f}"
-    if label is not None:
+    if '--json' in argv:
+        import json
+        print(json.dumps({'span_begin': float(stamps[0]), 'span_end': float(stamps[-1]), 'poses': len(stamps),
+                          'vio_ate_m': vio_ate, 'floor_ate_m': floor_ate, 'run_ate_m': run_ate,
+                          'first_detection': float(fixes[0]), 'share_after_1s_pct': gap_share}))
+    elif label is not None:
         print(f"| {label} | {vio_ate:.3f} | {floor_ate:.3f} | {best} | {run_text} | {gap_share:.0f} % |")
     else:
         print(f"span {stamps[0]:.3f}–{stamps[-1]:.3f} s ({len(stamps)} poses): VIO ATE {vio_ate:.4f} m, "

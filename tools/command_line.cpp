@@ -179,8 +179,13 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
                   "Recorded-flight mode: ground truth world_T_body of a real flight (TUM, EuRoC CSV, OpenVINS); virtual "
                   "gates are placed on it and corners synthesised from it");
   cmd->add_option("--vio", o.vio, "Recorded-flight mode: the VIO recorded on that flight, kept as it is (vio.tum)");
-  cmd->add_option("--gate-spacing", o.gates.spacing, "Recorded-flight mode: path length between placed gates [m]")
+  cmd->add_option("--gate-spacing", o.gates.spacing, "Recorded-flight mode: fewest metres of path between placed gates")
       ->check(positive());
+  cmd->add_option("--gate-approach-view", o.gates.min_approach_view,
+                  "Recorded-flight mode: a gate goes only where the camera sees it whole for this long, unbroken, on "
+                  "the approach [s] (default 1)");
+  cmd->add_option("--min-gates", o.gates.min_gates,
+                  "Recorded-flight mode: fewer places for gates than this is an error (default 3)")->check(positive());
   cmd->add_option("--gate-separation", o.gates.min_separation, "Recorded-flight mode: fewest metres between two gates");
   cmd->add_option("--gate-size", o.gates.size, "Recorded-flight mode: side of a placed gate [m]")->check(positive());
   cmd->add_option("--out", o.out, "Sequence folder to write (created)")->required();
@@ -245,7 +250,7 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
   flight->needs(vio);
   vio->needs(flight);
   for (const std::string& name : simulatedFlightOnlyOptions()) flight->excludes(cmd->get_option(name));
-  for (const char* name : {"--gate-spacing", "--gate-separation", "--gate-size"}) cmd->get_option(name)->needs(flight);
+  for (const char* name : {"--gate-spacing", "--gate-separation", "--gate-size", "--gate-approach-view", "--min-gates"}) cmd->get_option(name)->needs(flight);
   cmd->final_callback([cmd, &o] {
     for (const CLI::Option* option : cmd->get_options()) {
       if (option->count() > 0) o.given.insert(option->get_name());

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <set>
 
@@ -176,7 +177,10 @@ int runRecordedFlight(SimulateOptions& o) {
             << " samples, kept as recorded\n"
             << "  gates: " << flight->true_gates.gates.size();
   if (flight->gates_placed) {
-    std::cout << " placed on the path every " << o.gates.spacing << " m, at least " << o.gates.min_separation << " m apart";
+    double shortest = std::numeric_limits<double>::infinity();
+    for (const PlacedGateApproach& approach : flight->approaches) shortest = std::min(shortest, approach.view_s);
+    std::cout << " placed where the drone flies through them (one per " << o.gates.spacing << " m flown at most, at least "
+              << o.gates.min_separation << " m apart), each seen whole on its approach for " << shortest << " s or more";
   } else {
     std::cout << " from " << o.track;
   }

@@ -74,6 +74,31 @@ Status validateDetectionSimParams(const DetectionSimParams& p) {
 
 double bodyAngularRate(const Flight& flight, double t) { return bodyAngularRate(FlightTrajectory(flight), t); }
 
+GateView gateViewFrom(const Eigen::Isometry3d& world_T_camera, const TrackGate& gate, const CameraModel& camera,
+                      const DetectionSimParams& params, double cos_max_view) {
+  GateView view;
+  const Eigen::Isometry3d world_T_gate = gate.worldTGate();
+  const Eigen::Vector3d line_of_sight = world_T_gate.translation() - world_T_camera.translation();
+  const double range = line_of_sight.norm();
+  if (range < params.min_range || range > params.max_range) return view;
+  if (std::abs(line_of_sight.dot(world_T_gate.linear().col(0))) < cos_max_view * range) return view;
+  view.in_range = true;
+  const Eigen::Isometry3d camera_T_world = world_T_camera.inverse();
+  const Eigen::Matrix<double, 3, 4> corners = gateCornersInGateFrame(gate.size, GateSide::kFront);
+  for (int i = 0; i < 4; ++i) {
+    const Projection projection = camera.project(camera_T_world * (world_T_gate * Eigen::Vector3d(corners.col(i))));
+    const Eigen::Vector2d& px = projection.pixel;
+    view.in_front = view.in_front && projection.in_front;
+    const bool inside = projection.valid() && px.x() >= params.edge_margin - 0.5 && px.y() >= params.edge_margin - 0.5 &&
+                        px.x() < camera.width - 0.5 - params.edge_margin &&
+                        px.y() < camera.height - 0.5 - params.edge_margin;
+    view.inside[static_cast<size_t>(i)] = inside;
+    view.inside_count += inside ? 1 : 0;
+    view.pixels.col(i) = px;
+  }
+  return view;
+}
+
 std::array<int, 4> imageCornerOrder(const Pixels& pixels) {
   std::array<int, 4> by_v{0, 1, 2, 3};
   std::sort(by_v.begin(), by_v.end(), [&](int a, int b) {
@@ -105,7 +130,6 @@ Result<std::vector<SimulatedDetection>> simulateDetections(const BodyTrajectory&
   DetectionSimStats counts;
   std::vector<SimulatedDetection> detections;
   const double cos_max_view = std::cos(params.max_view_angle_deg * M_PI / 180.0);
-
   int gate_detections = 0;
   double sigma_sum = 0.0;
   constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
@@ -120,33 +144,17 @@ Result<std::vector<SimulatedDetection>> simulateDetections(const BodyTrajectory&
       sigma = std::sqrt(sigma * sigma + blur * blur);
     }
     const Eigen::Isometry3d world_T_camera = world_T_body * camera.body_T_camera;
-    const Eigen::Isometry3d camera_T_world = world_T_camera.inverse();
     for (size_t g = 0; g < track.gates.size(); ++g) {
       const TrackGate& gate = track.gates[g];
       const Eigen::Isometry3d world_T_gate = gate.worldTGate();
       const Eigen::Vector3d line_of_sight = world_T_gate.translation() - world_T_camera.translation();
-      const double range = line_of_sight.norm();
-      if (range < params.min_range || range > params.max_range) continue;
       const Eigen::Vector3d normal_axis = world_T_gate.linear().col(0);
-      if (std::abs(line_of_sight.dot(normal_axis)) < cos_max_view * range) continue;
-      const Eigen::Matrix<double, 3, 4> corners = gateCornersInGateFrame(gate.size, GateSide::kFront);
-      Pixels pixels;
-      std::array<bool, 4> inside{};
-      bool in_front = true;
-      int inside_count = 0;
-      for (int i = 0; i < 4; ++i) {
-        const Projection projection = camera.project(camera_T_world * (world_T_gate * Eigen::Vector3d(corners.col(i))));
-        const Eigen::Vector2d& px = projection.pixel;
-        in_front = in_front && projection.in_front;
-        inside[static_cast<size_t>(i)] = projection.valid() && px.x() >= params.edge_margin - 0.5 &&
-                                         px.y() >= params.edge_margin - 0.5 &&
-                                         px.x() < camera.width - 0.5 - params.edge_margin &&
-                                         px.y() < camera.height - 0.5 - params.edge_margin;
-        inside_count += inside[static_cast<size_t>(i)] ? 1 : 0;
-        pixels.col(i) = px;
-      }
-      const bool whole = inside_count == 4;
-      if (!whole && !(params.partial_gates && in_front && inside_count >= params.min_visible_corners)) continue;
+      const GateView view = gateViewFrom(world_T_camera, gate, camera, params, cos_max_view);
+      if (!view.inRange()) continue;
+      const Pixels& pixels = view.pixels;
+      const std::array<bool, 4>& inside = view.inside;
+      const bool whole = view.whole();
+      if (!whole && !(params.partial_gates && view.in_front && view.inside_count >= params.min_visible_corners)) continue;
       ++(whole ? counts.visible : counts.partial_views);
       if (uniform(rng) < params.miss_probability) {
         ++counts.missed;

@@ -82,6 +82,26 @@ double bodyAngularRate(const Flight& flight, double t);
 /// the two lower ones right to left. `order[i]` is the input column that goes to position i.
 std::array<int, 4> imageCornerOrder(const Eigen::Matrix<double, 2, 4>& pixels);
 
+/// What a camera sees of one gate, geometry only (no noise, no miss): in range and within the view angle
+/// (`in_range`), every corner in front of the camera (`in_front`), which of the four corners (the gate frame's
+/// order, GateSide::kFront) project inside the image with the detector's edge margin, and their pixels.
+struct GateView {
+  bool in_range = false;   ///< range within [min_range, max_range] and view angle within max_view_angle_deg
+  bool in_front = true;    ///< (meaningful only in range)
+  std::array<bool, 4> inside{};
+  int inside_count = 0;
+  Eigen::Matrix<double, 2, 4> pixels = Eigen::Matrix<double, 2, 4>::Zero();
+  bool inRange() const { return in_range; }
+  bool whole() const { return in_range && inside_count == 4; }  ///< the four corners in the image
+
+  EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+};
+
+/// The view of `gate` from a camera at `world_T_camera` with the detector's range, angle and edge limits;
+/// `cos_max_view` = cos(params.max_view_angle_deg), passed in so that a caller looping over images computes it once.
+GateView gateViewFrom(const Eigen::Isometry3d& world_T_camera, const TrackGate& gate, const CameraModel& camera,
+                      const DetectionSimParams& params, double cos_max_view);
+
 /// The gate detections of a flight: at every processed image, every gate whose four inner corners
 /// project into the image (CameraModel::project, the flight's true world_T_body) within the range and
 /// view-angle limits (with partial_gates also those with at least min_visible_corners in it), in time order,

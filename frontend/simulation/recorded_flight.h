@@ -16,20 +16,40 @@
 
 namespace dualgraph {
 
-/// Where virtual gates go on a recorded path: one every `spacing` metres flown, at the body's position then,
-/// its normal along the horizontal direction of travel (the drone flies through it), none closer than
-/// `min_separation` to another. Deterministic: no random draw.
+/// Where virtual gates go on a recorded path, as a venue would put them: where the drone flies through a gate's
+/// opening (within `max_passage_offset` of its centre, its normal within `max_crossing_angle_deg` of the horizontal direction
+/// of travel) and its camera sees the whole gate on the approach for at least `min_approach_view` seconds without
+/// a break (the detector's geometry: range, view angle, the four corners inside the image). Spots every 0.05 s of
+/// flight are ranked by their approach view, the longest first; each is kept when it is at least `min_separation`
+/// from every gate kept and at least `spacing` metres of path from each. Deterministic: no random draw.
 struct GatePlacementParams {
-  double spacing = 4.0;         ///< path length between gates [m], > 0
-  double min_separation = 2.0;  ///< between gate centres [m], ≥ 0; a spot too close to a gate is passed by
+  double spacing = 4.0;         ///< path length flown between two gates' spots, at least [m], > 0
+  double min_separation = 2.0;  ///< between gate centres [m], ≥ 0
   double min_speed = 0.2;       ///< horizontal speed below which the direction of travel is undefined [m/s], > 0
   double size = 1.5;            ///< side of the inner square [m], > 0
   int max_gates = 100;          ///< ≥ 1
+  double min_approach_view = 1.0;       ///< the whole gate in view without a break before the crossing [s], ≥ 0
+  double approach_window = 8.0;         ///< how long before the crossing the approach is looked at [s], > 0
+  double max_crossing_angle_deg = 60.0; ///< between the gate's normal and the direction of travel [deg], in [0, 85]
+  /// How far from the opening's centre the body may pass, across and up [m], in [0, size/2): a gate whose centre
+  /// sits below the path is seen whole by a camera pitched down (EuRoC's looks ≈ 20° below the horizon).
+  double max_passage_offset = 0.5;
+  int min_gates = 3;            ///< fewer places than this: an error (no sequence that can never lock), ≥ 1
 };
 
-/// Gates on `truth` (world frame, ids 0, 1, … in the order flown). kInvalidArgument naming the parameter out of
-/// range, or when the path allows no gate (shorter than half a spacing, or never moving).
-Result<Track> placeGatesOnPath(const SampledTrajectory& truth, const GatePlacementParams& params);
+/// One placed gate's approach: how long the camera saw it whole, without a break, before the drone flew through.
+struct PlacedGateApproach {
+  int gate_id = -1;
+  double crossing_time = 0.0;  ///< the ground truth's time at the gate [s]
+  double view_s = 0.0;         ///< [s]
+};
+
+/// Gates on `truth` (world frame, ids 0, 1, … in the order flown) seen through `camera` (its body_T_camera) with
+/// the geometry of `detector`; `approaches` (optional) gets each gate's approach. kInvalidArgument naming the
+/// parameter out of range, or when fewer than `min_gates` places exist (the message says how many and why).
+Result<Track> placeGatesOnPath(const SampledTrajectory& truth, const CameraModel& camera,
+                               const DetectionSimParams& detector, const GatePlacementParams& params,
+                               std::vector<PlacedGateApproach>* approaches = nullptr);
 
 /// Everything a recorded-flight sequence depends on besides the two trajectories and the camera.
 struct RecordedFlightParams {
@@ -53,6 +73,7 @@ struct RecordedFlight {
   double overlap_end = 0.0;
   double path_length = 0.0;        ///< ground truth's path over the overlap [m]
   bool gates_placed = true;        ///< false: `track` gave them
+  std::vector<PlacedGateApproach> approaches;  ///< each placed gate's approach (empty when `track` gave them)
 };
 
 /// Places gates on `ground_truth` (or takes `track`'s, whose path is ignored), synthesises corner detections from

@@ -23,16 +23,10 @@ Eigen::Isometry3d pose(double x, double y, double z, double yaw) {
   return out;
 }
 
-// Flying along +x at `speed` m/s for `seconds`, 100 Hz, then (when `back`) the same way back 0.5 m to the side.
-Samples straightLine(double speed, double seconds, bool back = false) {
+// Flying along +x at `speed` m/s for `seconds`, 100 Hz.
+Samples straightLine(double speed, double seconds) {
   Samples samples;
   for (int k = 0; k <= static_cast<int>(seconds * 100); ++k) samples.emplace_back(k / 100.0, pose(speed * k / 100.0, 0, 1.5, 0));
-  if (back) {
-    const double end = speed * seconds;
-    for (int k = 1; k <= static_cast<int>(seconds * 100); ++k) {
-      samples.emplace_back(seconds + k / 100.0, pose(end - speed * k / 100.0, 0.5, 1.5, M_PI));
-    }
-  }
   return samples;
 }
 
@@ -55,55 +49,120 @@ TEST(SampledTrajectory, RefusesTooFewNonIncreasingOrNonFiniteSamples) {
             StatusCode::kInvalidArgument);
 }
 
-TEST(GatePlacement, OneGateEverySpacingAlongTheDirectionOfTravel) {
-  auto trajectory = SampledTrajectory::create(straightLine(1.0, 20.0));
-  ASSERT_TRUE(trajectory.ok());
-  auto track = placeGatesOnPath(*trajectory, GatePlacementParams{});  // every 4 m, the first after 2 m
-  ASSERT_TRUE(track.ok()) << track.status().message();
-  ASSERT_EQ(track->gates.size(), 5u);
-  for (size_t i = 0; i < track->gates.size(); ++i) {
-    EXPECT_EQ(track->gates[i].id, static_cast<int>(i));
-    EXPECT_NEAR(track->gates[i].position.x(), 2.0 + 4.0 * static_cast<double>(i), 0.011);
-    EXPECT_NEAR(track->gates[i].yaw, 0.0, 1e-9);
-  }
+// A forward-looking pinhole camera (90° wide, 60° high) on a body whose x axis is the direction it faces.
+CameraModel forwardCamera() {
+  CameraModel camera = CameraModel::pinhole(320, 320, 320, 240, 640, 480);
+  Eigen::Matrix3d body_R_camera;
+  body_R_camera << 0, 0, 1, -1, 0, 0, 0, -1, 0;  // camera z (optical axis) = body x, camera x = −body y
+  camera.body_T_camera.linear() = body_R_camera;
+  return camera;
 }
 
-// The way back runs 0.5 m beside the way out: no two gates closer than min_separation (the way back's go between
-// the way out's where there is room), and with a separation below 0.5 m every 4 m of both ways has one.
-TEST(GatePlacement, NoTwoGatesCloserThanTheSeparation) {
-  auto trajectory = SampledTrajectory::create(straightLine(1.0, 20.0, true));
+// Around a circle of radius r at `speed` m/s, facing `facing` rad from the direction of travel, 100 Hz.
+Samples circle(double r, double speed, double seconds, double facing = 0.0) {
+  Samples samples;
+  for (int k = 0; k <= static_cast<int>(seconds * 100); ++k) {
+    const double a = speed * (k / 100.0) / r;
+    samples.emplace_back(k / 100.0, pose(r * std::cos(a), r * std::sin(a), 1.5, a + M_PI / 2 + facing));
+  }
+  return samples;
+}
+
+// The body's offset from a gate's centre when it crosses the gate's plane, in the gate's plane (across, up) [m];
+// NaN when the path does not cross it within ±1 s of `t`.
+Eigen::Vector2d crossingOffset(const SampledTrajectory& truth, const TrackGate& gate, double t) {
+  const Eigen::Isometry3d world_T_gate = gate.worldTGate();
+  double before = NAN;
+  for (double s = t - 1.0; s <= t + 1.0; s += 0.005) {
+    const Eigen::Vector3d p = world_T_gate.inverse() * truth.worldTBody(s).translation();
+    if (!std::isnan(before) && (before < 0) != (p.x() < 0)) return p.tail<2>();
+    before = p.x();
+  }
+  return Eigen::Vector2d(NAN, NAN);
+}
+
+TEST(GatePlacement, GatesWhereTheDroneFliesThroughAndItsCameraSeesThemOnTheApproach) {
+  auto trajectory = SampledTrajectory::create(circle(8.0, 2.0, 30.0));
   ASSERT_TRUE(trajectory.ok());
-  GatePlacementParams params;
-  for (double separation : {2.0, 3.0, 5.0}) {
-    params.min_separation = separation;
-    auto track = placeGatesOnPath(*trajectory, params);
-    ASSERT_TRUE(track.ok());
-    // The way out alone: one every max(spacing, separation) metres of its 20 m, the first after 2 m.
-    EXPECT_GE(track->gates.size(), static_cast<size_t>(18.0 / std::max(4.0, separation)) + 1) << separation;
-    EXPECT_LT(track->gates.size(), 10u);
-    for (size_t i = 0; i < track->gates.size(); ++i) {
-      for (size_t j = 0; j < i; ++j) {
-        EXPECT_GE((track->gates[i].position - track->gates[j].position).norm(), separation) << i << " " << j;
-      }
+  const CameraModel camera = forwardCamera();
+  const DetectionSimParams detector;
+  const GatePlacementParams params;
+  std::vector<PlacedGateApproach> approaches;
+  auto track = placeGatesOnPath(*trajectory, camera, detector, params, &approaches);
+  ASSERT_TRUE(track.ok()) << track.status().message();
+  ASSERT_GE(track->gates.size(), 3u);
+  ASSERT_EQ(approaches.size(), track->gates.size());
+  for (size_t i = 0; i < track->gates.size(); ++i) {
+    const TrackGate& gate = track->gates[i];
+    EXPECT_EQ(gate.id, static_cast<int>(i));
+    EXPECT_EQ(approaches[i].gate_id, gate.id);
+    EXPECT_GE(approaches[i].view_s, params.min_approach_view);
+    const Eigen::Vector2d offset = crossingOffset(*trajectory, gate, approaches[i].crossing_time);
+    ASSERT_TRUE(offset.allFinite()) << "gate " << i << " is not flown through";
+    EXPECT_LE(offset.cwiseAbs().maxCoeff(), params.max_passage_offset + 1e-3) << i;  // crossing sampled every 5 ms
+    for (size_t j = 0; j < i; ++j) {
+      EXPECT_GE((gate.position - track->gates[j].position).norm(), params.min_separation) << i << " " << j;
     }
   }
-  params.min_separation = 0.4;
-  auto track = placeGatesOnPath(*trajectory, params);
-  ASSERT_TRUE(track.ok());
-  ASSERT_EQ(track->gates.size(), 10u);
-  EXPECT_NEAR(std::abs(track->gates.back().yaw), M_PI, 1e-9);  // flown through the other way
+  // The approach as the detector sees it: noise-free detections of each gate in the second before its crossing.
+  DetectionSimParams noise_free = detector;
+  noise_free.miss_probability = noise_free.false_gate_probability = 0.0;
+  auto detections = simulateDetections(*trajectory, *track, camera, noise_free, 1);
+  ASSERT_TRUE(detections.ok());
+  for (const PlacedGateApproach& approach : approaches) {
+    const auto seen = std::count_if(detections->begin(), detections->end(), [&](const SimulatedDetection& d) {
+      return d.true_gate_id == approach.gate_id && d.corners.t < approach.crossing_time &&
+             d.corners.t > approach.crossing_time - params.approach_window;
+    });
+    EXPECT_GE(seen, static_cast<long>(params.min_approach_view * 30.0) - 1) << approach.gate_id;
+  }
 }
 
-TEST(GatePlacement, AHoveringPathAllowsNoGate) {
+// The same circle flown facing outwards (the camera never looks where the drone goes): no place for a gate, and the
+// error says how many there are and how many a lock needs instead of writing a flight that can never lock.
+TEST(GatePlacement, AFlightWhoseCameraNeverSeesItsWayAheadGetsNoGatesAndSaysSo) {
+  auto trajectory = SampledTrajectory::create(circle(8.0, 2.0, 30.0, -M_PI / 2));
+  ASSERT_TRUE(trajectory.ok());
+  const Result<Track> track = placeGatesOnPath(*trajectory, forwardCamera(), DetectionSimParams{}, GatePlacementParams{});
+  ASSERT_EQ(track.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(track.status().message().find("only 0 place(s)"), std::string::npos) << track.status().message();
+  EXPECT_NE(track.status().message().find("3 needed"), std::string::npos) << track.status().message();
+}
+
+// A straight line allows gates, but all on one line: the VIO's frame could not be told from them (a turn about the
+// line leaves every gate where it was), so it is refused.
+TEST(GatePlacement, GatesAllOnOneLineAreRefused) {
+  auto trajectory = SampledTrajectory::create(straightLine(2.0, 20.0));
+  ASSERT_TRUE(trajectory.ok());
+  const Result<Track> track = placeGatesOnPath(*trajectory, forwardCamera(), DetectionSimParams{}, GatePlacementParams{});
+  ASSERT_EQ(track.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(track.status().message().find("one line"), std::string::npos) << track.status().message();
+}
+
+TEST(GatePlacement, AtMostOneGatePerSpacingOfPathAndNoneWhileHovering) {
+  auto trajectory = SampledTrajectory::create(circle(8.0, 2.0, 30.0));
+  ASSERT_TRUE(trajectory.ok());
+  GatePlacementParams params;
+  params.spacing = 12.0;
+  std::vector<PlacedGateApproach> approaches;
+  auto track = placeGatesOnPath(*trajectory, forwardCamera(), DetectionSimParams{}, params, &approaches);
+  ASSERT_TRUE(track.ok()) << track.status().message();
+  EXPECT_LE(track->gates.size(), 5u);  // 60 m of path
+  for (size_t i = 1; i < approaches.size(); ++i) {
+    EXPECT_GE((approaches[i].crossing_time - approaches[i - 1].crossing_time) * 2.0, params.spacing - 0.2);
+  }
   Samples hover;
   for (int k = 0; k < 1000; ++k) hover.emplace_back(k / 100.0, pose(0.001 * std::sin(k), 0, 1, 0));
-  auto trajectory = SampledTrajectory::create(hover);
-  ASSERT_TRUE(trajectory.ok());
-  const Result<Track> track = placeGatesOnPath(*trajectory, GatePlacementParams{});
-  EXPECT_EQ(track.status().code(), StatusCode::kInvalidArgument);
+  auto hovering = SampledTrajectory::create(hover);
+  ASSERT_TRUE(hovering.ok());
+  EXPECT_EQ(placeGatesOnPath(*hovering, forwardCamera(), DetectionSimParams{}, GatePlacementParams{}).status().code(),
+            StatusCode::kInvalidArgument);
   GatePlacementParams bad;
   bad.spacing = 0.0;
-  EXPECT_EQ(placeGatesOnPath(*trajectory, bad).status().code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(placeGatesOnPath(*trajectory, forwardCamera(), DetectionSimParams{}, bad).status().code(), StatusCode::kInvalidArgument);
+  bad = GatePlacementParams{};
+  bad.max_passage_offset = bad.size;
+  EXPECT_EQ(placeGatesOnPath(*trajectory, forwardCamera(), DetectionSimParams{}, bad).status().code(), StatusCode::kInvalidArgument);
 }
 
 // The ground truth of a simulated flight, recorded at 200 Hz, seen through SampledTrajectory: the same gates in

@@ -2,8 +2,7 @@
 // Real estimators on real flights (../shared/data/real_vio: EuRoC V2_01's ground truth and a VI-SLAM's real-time
 // poses, its clock ~50 ms behind), through the recorded-flight mode and `run` with the default configuration:
 // the ground truth fed as the VIO stays within 3 cm and self-calibration applies nothing to an exact camera; the
-// VI-SLAM's clock offset is found and applied, its mount left alone unless both halves of the flight show it (on
-// V2_01 and on MH_02, where only the whole flight shows one).
+// VI-SLAM's clock offset is found and applied, and no mount is calibrated onto its attitude error (V2_01, MH_02).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -65,23 +64,17 @@ TEST_F(RealVio, TheViSlamsClockOffsetIsFoundAndApplied) {
   EXPECT_NEAR(jsonNumber(metrics, "lost_share_pct"), 0.0, 1.0) << metrics;
 }
 
-// MH_02's VI-SLAM: its whole first 24 s show a 3 deg "mount" that neither half shows (its position error through
-// the drift model linking them; bench/README.md, "A mount the halves must show"). Applied, it made the run worse
-// than the VIO; kept, the run is better than the VIO, and the clock offset is still found.
-TEST_F(RealVio, AMountOnlyTheWholeFlightShowsIsKeptAndTheRunBeatsTheVio) {
+// MH_02's VI-SLAM (its attitude off by up to ~2.5 deg, its clock ~50 ms late): no mount correction is calibrated
+// onto the exact camera (neither the whole flight's 3 sigma nor the halves' rule lets one through: bench/README.md,
+// "A mount the halves must show"), and the clock offset is found and applied.
+TEST_F(RealVio, NoMountIsCalibratedOntoTheViSlamsAttitudeErrorOnMh02AndItsClockOffsetIsFound) {
   DG_SKIP_WITHOUT_SHARED("data/real_vio/MH_02_easy.gt.tum");
   const std::string metrics = runFlight("MH_02_easy", "vislam_rp.tum");
   EXPECT_EQ(jsonNumber(metrics, "self_calibration_mount_applied"), 0.0) << metrics;
-  EXPECT_GT(jsonNumber(metrics, "self_calibration_mount_change_deg"), 1.0) << metrics;  // what the whole showed
-  EXPECT_NE(metrics.find("the halves together show a mount correction of only"), std::string::npos) << metrics;
-  // What the halves show together is within its 3 sigma, and less than the whole flight's.
-  const double halves = jsonNumber(metrics, "self_calibration_halves_mount_change_deg");
-  EXPECT_GT(jsonNumber(metrics, "self_calibration_halves_mount_sigma_deg"), 0.0) << metrics;
-  EXPECT_LT(halves, 3.0 * jsonNumber(metrics, "self_calibration_halves_mount_sigma_deg")) << metrics;
-  EXPECT_LT(halves, jsonNumber(metrics, "self_calibration_mount_change_deg")) << metrics;
+  EXPECT_NE(metrics.find("\"self_calibration_why_not_mount\": \"the"), std::string::npos) << metrics;
   EXPECT_EQ(jsonNumber(metrics, "self_calibration_time_offset_applied"), 1.0) << metrics;
   EXPECT_NEAR(jsonNumber(metrics, "self_calibration_time_offset_s"), -0.050, 0.006) << metrics;
-  EXPECT_GT(jsonNumber(metrics, "ate_reduction_pct"), 0.0) << metrics;
+  EXPECT_NEAR(jsonNumber(metrics, "lost_share_pct"), 0.0, 1.0) << metrics;
 }
 
 }  // namespace
