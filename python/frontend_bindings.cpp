@@ -137,6 +137,8 @@ void bindRun(py::module_& m) {
       .def_readwrite("max_odometry_gap_s", &SequenceRunParams::max_odometry_gap_s,
                      "[s] >= 0: odometry samples further apart are a gap, the samples after it lost until the frame is "
                      "confirmed (0: off)")
+      .def_readwrite("bridge_odometry_gap_s", &SequenceRunParams::bridge_odometry_gap_s,
+                     "[s] >= 0: a gap at most this long while tracking keeps the frame and the state (0: never)")
       .def_readwrite("max_odometry_jump_s", &SequenceRunParams::max_odometry_jump_s,
                      "[s] >= 0: an odometry sample further after or before the newest is a clock jump, held until 3 "
                      "samples in a row continue from it; a confirmed jump back restarts the pipeline (0: off)")

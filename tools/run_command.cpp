@@ -152,10 +152,13 @@ int runRunCommand(const RunOptions& o) {
   warnOutsideOdometry(*sequence, *run);
   const PipelineCounters& refused = run->pipeline_counters;
   if (refused.odometry_gaps > 0) {
+    const int unbridged = refused.odometry_gaps - refused.odometry_gaps_bridged;
     warn(std::to_string(refused.odometry_gaps) + " gaps in the odometry longer than frontend.max_odometry_gap_s (" +
-         std::to_string(params->max_odometry_gap_s) + " s): the samples after each are marked lost until the frame is " +
-         "confirmed again (tracking_state.csv); " + std::to_string(refused.detections_in_gap) +
-         " detections inside them were not used");
+         formatNumber(params->max_odometry_gap_s) + " s): " + std::to_string(refused.odometry_gaps_bridged) +
+         " bridged (at most frontend.bridge_odometry_gap_s = " + formatNumber(params->bridge_odometry_gap_s) +
+         " s while tracking: frame and state kept), " + std::to_string(unbridged) +
+         " after which the samples are marked lost until the frame is confirmed again (tracking_state.csv); " +
+         std::to_string(refused.detections_in_gap) + " detections inside them were not used");
   }
   if (refused.odometry_held_at_clock_jump > 0) {
     warn(std::to_string(refused.odometry_held_at_clock_jump) + " odometry samples stamped more than " +

@@ -115,6 +115,7 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
       .add("detections_after_odometry", run.detections_after_odometry)
       .add("observations_too_late", run.localizer_counters.observations_too_late)
       .add("odometry_gaps", run.pipeline_counters.odometry_gaps)
+      .add("odometry_gaps_bridged", run.pipeline_counters.odometry_gaps_bridged)
       .add("odometry_clock_jumps", run.pipeline_counters.odometry_clock_jumps)
       .add("odometry_held_at_clock_jump", run.pipeline_counters.odometry_held_at_clock_jump)
       .add("odometry_clock_restarts", run.pipeline_counters.odometry_clock_restarts)

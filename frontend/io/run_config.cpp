@@ -143,6 +143,8 @@ const FrontendField kFrontendFields[] = {
      [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.max_detection_lead_s); }},
     {"max_odometry_gap_s",
      [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_gap_s); }},
+    {"bridge_odometry_gap_s",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.bridge_odometry_gap_s); }},
     {"max_odometry_jump_s",
      [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_jump_s); }},
     {"max_odometry_speed_mps",
@@ -194,6 +196,9 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
   }
   if (!(params.max_odometry_gap_s >= 0.0) || !std::isfinite(params.max_odometry_gap_s)) {
     return fieldError(source, markOf("max_odometry_gap_s"), "frontend.max_odometry_gap_s", "must be >= 0 [s] (0: off)");
+  }
+  if (!(params.bridge_odometry_gap_s >= 0.0) || !std::isfinite(params.bridge_odometry_gap_s)) {
+    return fieldError(source, markOf("bridge_odometry_gap_s"), "frontend.bridge_odometry_gap_s", "must be >= 0 [s] (0: never)");
   }
   if (!(params.max_odometry_jump_s >= 0.0) || !std::isfinite(params.max_odometry_jump_s)) {
     return fieldError(source, markOf("max_odometry_jump_s"), "frontend.max_odometry_jump_s", "must be >= 0 [s] (0: off)");

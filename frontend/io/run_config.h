@@ -52,9 +52,15 @@ struct SequenceRunParams {
   /// later detection as out of order) [s], > 0.
   double max_detection_lead_s = 1.0;
   /// Consecutive odometry samples further apart than this are a gap (`frontend.max_odometry_gap_s`, 0: off): the
-  /// detections inside it are refused (no pose to place them at), the samples after it are lost until gates fit
-  /// again or a search finds the frame (counted, PipelineCounters::odometry_gaps) [s], >= 0.
+  /// detections inside it are refused (no pose to place them at); unless the gap is bridged (below), the samples
+  /// after it are lost until gates fit again or a search finds the frame (counted, PipelineCounters::odometry_gaps)
+  /// [s], >= 0.
   double max_odometry_gap_s = 0.5;
+  /// A gap of at most this long while tracking is bridged (`frontend.bridge_odometry_gap_s`, 0: never): the frame
+  /// and the tracking state are kept, the VIO's own increment across the gap is the odometry edge (a VIO whose output
+  /// stalled kept integrating), and the state turns lost only as it does anywhere else — when gates are seen that
+  /// do not fit (TrackingMonitor). Counted, PipelineCounters::odometry_gaps_bridged [s], >= 0.
+  double bridge_odometry_gap_s = 2.0;
   /// An odometry sample stamped more than this after or before the newest accepted one is a clock jump
   /// (`frontend.max_odometry_jump_s`, 0: off): held until OdometryClockGuard::kConfirmations samples in a row
   /// continue from it, so one glitched stamp cannot make the rest of the flight "not after" it; a confirmed jump back

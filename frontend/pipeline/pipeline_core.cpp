@@ -252,7 +252,11 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
     DG_RETURN_IF_ERROR(handUpTo(input.t - latency, nullptr));
     corrected->state = localizer_->trackingState();
   }
-  if (gap) {  // the odometry across the gap may have jumped: the frame is confirmed again before it is trusted
+  const bool bridged = gap && params_.bridge_odometry_gap_s > 0.0 &&
+                       !elapsedMoreThan(input.t, gap_->first, params_.bridge_odometry_gap_s) &&
+                       localizer_->trackingState() == TrackingState::kTracking && localizer_->frameConfirmed();
+  if (bridged) ++counters_.odometry_gaps_bridged;
+  if (gap && !bridged) {  // the odometry across the gap may have jumped: the frame is confirmed again before it is trusted
     const Eigen::Isometry3d world_T_body = localizer_->mapTOdom() * sample.odom_T_body;
     if (localizer_->trackingState() == TrackingState::kTracking) localizer_->distrustFrame();
     if (search_) search_->restartAfterGap(input.t, world_T_body, sample.odom_T_body);

@@ -74,7 +74,8 @@ struct PipelineCounters {
   int odometry_invalid = 0;            ///< non-finite or non-rigid samples, or a covariance that is not one
   int odometry_not_after_previous = 0; ///< time not after the newest accepted sample (backwards or repeated)
   int odometry_queue_full = 0;         ///< worker mode: refused with the worker's queue full (a worker far behind)
-  int odometry_gaps = 0;               ///< gaps longer than max_odometry_gap_s (each marks the samples after it lost)
+  int odometry_gaps = 0;               ///< gaps longer than max_odometry_gap_s (bridged or not)
+  int odometry_gaps_bridged = 0;       ///< of those, bridged (bridge_odometry_gap_s): frame and state kept
   /// Samples whose absolute covariance was all or partly zero: used as without one (not refused).
   int odometry_covariance_unknown = 0;
   /// Samples held at a jump beyond max_odometry_jump_s, either way (OdometryClockGuard): a glitch, or the first
@@ -120,6 +121,7 @@ void forEachPipelineCount(Visit&& visit) {
   visit("odometry_not_after_previous", &PipelineCounters::odometry_not_after_previous);
   visit("odometry_queue_full", &PipelineCounters::odometry_queue_full);
   visit("odometry_gaps", &PipelineCounters::odometry_gaps);
+  visit("odometry_gaps_bridged", &PipelineCounters::odometry_gaps_bridged);
   visit("odometry_covariance_unknown", &PipelineCounters::odometry_covariance_unknown);
   visit("odometry_held_at_clock_jump", &PipelineCounters::odometry_held_at_clock_jump);
   visit("odometry_clock_jumps", &PipelineCounters::odometry_clock_jumps);

@@ -262,13 +262,11 @@ TEST_F(StreamingInput, APartlyZeroAbsoluteCovarianceIsUnknownNotRefused) {
   EXPECT_EQ(results->pipeline_counters.odometry_invalid, 0);
 }
 
-TEST_F(StreamingInput, AnOdometryGapMarksTheSamplesAfterItUntilTheFrameIsConfirmed) {
-  // 2 s without odometry in the middle of the flight (a VIO that stalled). Before: unnoticed, detections in the
-  // hole placed on a straight line across it, 1.4 m errors labelled `tracking`.
-  Sequence holed = *flight_;
+// The flight without odometry in (from, to) (a VIO whose output stalled).
+Sequence withOdometryHole(const Sequence& flight, double from, double to) {
+  Sequence holed = flight;
   std::vector<OdometrySample> kept;
   std::vector<Matrix6d> kept_covariances;
-  const double from = 9.0, to = 11.0;
   for (size_t k = 0; k < holed.odometry.samples.size(); ++k) {
     const double t = holed.odometry.samples[k].t;
     if (t > from && t < to) continue;
@@ -277,35 +275,69 @@ TEST_F(StreamingInput, AnOdometryGapMarksTheSamplesAfterItUntilTheFrameIsConfirm
   }
   holed.odometry.samples = kept;
   holed.odometry.absolute_covariances = kept_covariances;
-  const auto errors_while_tracking = [&](const SerialRun& run, double* worst) {
-    *worst = 0.0;
-    for (const PoseUpdate& update : run.updates) {
-      if (update.pose.state != TrackingState::kTracking || update.pose.t < to) continue;
-      auto truth = odometryPoseAt(holed.ground_truth->samples, update.pose.t);
-      if (!truth.ok()) continue;
-      *worst = std::max(*worst, (truth->translation() - update.pose.world_T_body.translation()).norm());
-    }
-  };
+  return holed;
+}
+
+// The worst position error of the poses labelled tracking from `after` on [m].
+double worstTrackingError(const Sequence& flight, const SerialRun& run, double after) {
+  double worst = 0.0;
+  for (const PoseUpdate& update : run.updates) {
+    if (update.pose.state != TrackingState::kTracking || update.pose.t < after) continue;
+    auto truth = odometryPoseAt(flight.ground_truth->samples, update.pose.t);
+    if (!truth.ok()) continue;
+    worst = std::max(worst, (truth->translation() - update.pose.world_T_body.translation()).norm());
+  }
+  return worst;
+}
+
+TEST_F(StreamingInput, AnOdometryGapLongerThanTheBridgeMarksTheSamplesAfterItUntilTheFrameIsConfirmed) {
+  // 3 s without odometry in the middle of the flight. Before the gap check: unnoticed, detections in the hole placed
+  // on a straight line across it, 1.4 m errors labelled `tracking`.
+  const double from = 9.0, to = 12.0;
+  const Sequence holed = withOdometryHole(*flight_, from, to);
   const SerialRun run = streamSerially(holed, SequenceRunParams{});
   const PipelineCounters& c = run.results.pipeline_counters;
   EXPECT_EQ(c.odometry_gaps, 1);
+  EXPECT_EQ(c.odometry_gaps_bridged, 0);
   EXPECT_GT(c.detections_in_gap, 0);
   const auto after = std::find_if(run.updates.begin(), run.updates.end(), [&](const PoseUpdate& u) { return u.pose.t >= to; });
   ASSERT_NE(after, run.updates.end());
   EXPECT_TRUE(after->report.odometry_gap);
   EXPECT_EQ(after->pose.state, TrackingState::kLost);
   EXPECT_EQ(run.updates.back().pose.state, TrackingState::kTracking);  // confirmed again
-  double worst = 0.0;
-  errors_while_tracking(run, &worst);
+  const double worst = worstTrackingError(holed, run, to);
   EXPECT_LT(worst, 0.6) << "worst error labelled tracking after the gap [m]";
 
   SequenceRunParams unguarded;
   unguarded.max_odometry_gap_s = 0.0;  // off: the control, what the test would see without the check
   const SerialRun blind = streamSerially(holed, unguarded);
   EXPECT_EQ(blind.results.pipeline_counters.odometry_gaps, 0);
-  double blind_worst = 0.0;
-  errors_while_tracking(blind, &blind_worst);
-  EXPECT_GT(blind_worst, worst) << "the gap check changed nothing here";
+  EXPECT_GT(worstTrackingError(holed, blind, to), worst) << "the gap check changed nothing here";
+}
+
+// A gap of up to bridge_odometry_gap_s (2 s) while tracking is bridged: the frame and the state are kept (no loss, no
+// search), the detections inside it are still refused, and the poses after it are as good as a lock's.
+TEST_F(StreamingInput, AnOdometryGapOfUpToTwoSecondsIsBridgedWithoutALoss) {
+  const double from = 9.0, to = 10.8;
+  const Sequence holed = withOdometryHole(*flight_, from, to);
+  const SerialRun run = streamSerially(holed, SequenceRunParams{});
+  const PipelineCounters& c = run.results.pipeline_counters;
+  EXPECT_EQ(c.odometry_gaps, 1);
+  EXPECT_EQ(c.odometry_gaps_bridged, 1);
+  EXPECT_GT(c.detections_in_gap, 0);
+  EXPECT_EQ(run.results.localizer_counters.losses, 0);
+  for (const PoseUpdate& update : run.updates) {
+    if (update.pose.t >= to) {
+      EXPECT_EQ(update.pose.state, TrackingState::kTracking) << update.pose.t;
+    }
+  }
+  EXPECT_LT(worstTrackingError(holed, run, to), 0.6) << "worst error after the gap [m]";
+
+  SequenceRunParams unbridged;
+  unbridged.bridge_odometry_gap_s = 0.0;  // the control: the same gap lost until the frame is confirmed again
+  const SerialRun lost = streamSerially(holed, unbridged);
+  EXPECT_EQ(lost.results.pipeline_counters.odometry_gaps_bridged, 0);
+  EXPECT_EQ(lost.results.localizer_counters.losses, 1);
 }
 
 TEST_F(StreamingInput, EachSampleReportsWhatItDid) {
