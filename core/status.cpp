@@ -32,6 +32,14 @@ std::string formatNumber(double value) {
   return text;
 }
 
+std::string formatFixed(double value, int digits) {
+  std::ostringstream text;
+  text.setf(std::ios::fixed);
+  text.precision(digits);
+  text << value;
+  return text.str();
+}
+
 std::string formatTimestamp(double t) {
   std::ostringstream text;
   text.precision(17);

@@ -29,6 +29,8 @@ const char* statusCodeName(StatusCode code);
 std::string formatTimestamp(double t);
 /// A value for messages with 6 significant digits (printf's %.6g: 0.005, 1e+06, 50).
 std::string formatNumber(double value);
+/// `value` with exactly `digits` digits after the point (std::fixed), for tables and messages.
+std::string formatFixed(double value, int digits);
 
 /// Result of a fallible call: a code and a human-readable message naming the file, line, tag or
 /// id at fault. Library code returns these instead of printing, throwing on input errors or aborting.

@@ -63,14 +63,6 @@ std::string slug(const std::string& name) {
   return out;
 }
 
-std::string fixed(double v, int digits) {
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(digits);
-  s << v;
-  return s.str();
-}
-
 }  // namespace
 
 int runAblationCommand(const AblationOptions& o) {
@@ -124,10 +116,10 @@ int runAblationCommand(const AblationOptions& o) {
       if (!o.quiet) {
         const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
         const double left_s = elapsed_s / static_cast<double>(rows.size()) * static_cast<double>(total_runs - rows.size());
-        std::cerr << "ablation: run " << rows.size() << " of " << total_runs << ", about " << fixed(left_s, 0)
+        std::cerr << "ablation: run " << rows.size() << " of " << total_runs << ", about " << formatFixed(left_s, 0)
                   << " s left: " << profile << " " << track_name << (seed > 0 ? " seed " + std::to_string(seed) : "")
-                  << " " << v.name << ": ATE " << fixed(metrics->estimate.ate_se3_m, 3) << " m (VIO "
-                  << fixed(metrics->vio.ate_se3_m, 3) << "), P95 " << fixed(metrics->opt_ms_p95, 2) << " ms, "
+                  << " " << v.name << ": ATE " << formatFixed(metrics->estimate.ate_se3_m, 3) << " m (VIO "
+                  << formatFixed(metrics->vio.ate_se3_m, 3) << "), P95 " << formatFixed(metrics->opt_ms_p95, 2) << " ms, "
                   << run->wall_seconds << " s\n";
       }
     }

@@ -11,14 +11,6 @@
 namespace dualgraph::tools {
 namespace {
 
-std::string fixed(double v, int digits) {
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(digits);
-  s << v;
-  return s.str();
-}
-
 /// Mean and sample standard deviation.
 std::pair<double, double> meanStd(const std::vector<double>& v) {
   double sum = 0.0, sq = 0.0;
@@ -38,9 +30,9 @@ std::string csvNumber(double v) {
 
 /// "mean ± std", or "mean (1 run)" where a spread cannot be had.
 std::string pm(const std::vector<double>& v, int digits) {
-  if (v.size() == 1) return fixed(v.front(), digits) + " (1 run)";
+  if (v.size() == 1) return formatFixed(v.front(), digits) + " (1 run)";
   const auto [mean, sd] = meanStd(v);
-  return fixed(mean, digits) + " ± " + fixed(sd, digits);
+  return formatFixed(mean, digits) + " ± " + formatFixed(sd, digits);
 }
 
 Status writeText(const std::filesystem::path& path, const std::string& text) {
@@ -84,13 +76,13 @@ Status writeAblationTables(const std::filesystem::path& out, const std::vector<A
     for (const AblationRow& r : rows) {
       if (r.profile != first_profile || r.track != track || r.seed != seed) continue;
       if (!vio_row) {
-        md << "| VIO | " << fixed(r.metrics.vio.ate_se3_m, 3) << " | | | |\n";
+        md << "| VIO | " << formatFixed(r.metrics.vio.ate_se3_m, 3) << " | | | |\n";
         t1 << track << ",VIO," << r.metrics.vio.ate_se3_m << ",,,\n";
         vio_row = true;
       }
       const RunMetrics& m = r.metrics;
-      md << "| " << r.variant << " | " << fixed(m.estimate.ate_se3_m, 3) << " | " << m.nodes << " | " << m.edges << " | "
-         << fixed(m.opt_ms_p95, 2) << " |\n";
+      md << "| " << r.variant << " | " << formatFixed(m.estimate.ate_se3_m, 3) << " | " << m.nodes << " | " << m.edges << " | "
+         << formatFixed(m.opt_ms_p95, 2) << " |\n";
       t1 << track << ',' << r.variant << ',' << m.estimate.ate_se3_m << ',' << m.nodes << ',' << m.edges << ','
          << m.opt_ms_p95 << '\n';
     }
@@ -141,7 +133,7 @@ Status writeAblationTables(const std::filesystem::path& out, const std::vector<A
   md << '\n';
   t3 << "flight,lap,crossings,mean_m,std_m\n";
   auto cell = [](const LapCorrection& c) {
-    return c.crossings > 0 ? fixed(c.mean_m, 3) + " ± " + fixed(c.std_m, 3) : std::string("–");
+    return c.crossings > 0 ? formatFixed(c.mean_m, 3) + " ± " + formatFixed(c.std_m, 3) : std::string("–");
   };
   std::vector<std::vector<double>> column_means(laps + 1);  // per lap, then the full track
   for (const AblationRow* r : flights) {
@@ -182,7 +174,7 @@ Status writeAblationTables(const std::filesystem::path& out, const std::vector<A
         }
         const auto [am, as] = meanStd(ate);
         const double rm = meanStd(reduction).first;
-        md << ' ' << pm(ate, 3) << " (" << fixed(rm, 1) << " %) |";
+        md << ' ' << pm(ate, 3) << " (" << formatFixed(rm, 1) << " %) |";
         t4 << track << ',' << variant << ',' << profile << ',' << am << ',' << csvNumber(as) << ',' << rm << ',' << ate.size() << '\n';
       }
       md << '\n';

@@ -57,14 +57,6 @@ double pathLength(const SampledTrajectory& truth) {
   return length;
 }
 
-std::string fixed(double value, int digits) {
-  std::ostringstream out;
-  out.setf(std::ios::fixed);
-  out.precision(digits);
-  out << value;
-  return out.str();
-}
-
 // A spot on the path where a gate could go: the body's position then, and how long its approach is in view.
 struct GateSpot {
   double t = 0.0;
@@ -172,7 +164,7 @@ std::string degenerateLayout(const Track& track) {
                std::abs(std::remainder(a.yaw + turn - b.yaw, 2.0 * M_PI)) < kYaw;
       });
     });
-    if (symmetric) return "one pattern under a turn of " + fixed(turn * 180.0 / M_PI, 0) + " deg";
+    if (symmetric) return "one pattern under a turn of " + formatFixed(turn * 180.0 / M_PI, 0) + " deg";
   }
   return "";
 }
@@ -224,10 +216,10 @@ Result<Track> placeGatesOnPath(const SampledTrajectory& truth, const CameraModel
   if (static_cast<int>(placed.size()) < params.min_gates) {
     return recordedFlightError(
         "only " + std::to_string(placed.size()) + " place(s) on this flight where the drone flies through a gate (within " +
-        fixed(params.max_crossing_angle_deg, 0) + " deg of its direction of travel, at >= " + fixed(params.min_speed, 2) +
-        " m/s) that its camera sees whole for " + fixed(params.min_approach_view, 2) + " s on the approach, at least " +
-        fixed(params.min_separation, 1) + " m apart (" + std::to_string(params.min_gates) + " needed to find the VIO's frame; " +
-        fixed(flown, 1) + " m flown, " + std::to_string(moving_spots) + " moving spots looked at): give the gates with --track");
+        formatFixed(params.max_crossing_angle_deg, 0) + " deg of its direction of travel, at >= " + formatFixed(params.min_speed, 2) +
+        " m/s) that its camera sees whole for " + formatFixed(params.min_approach_view, 2) + " s on the approach, at least " +
+        formatFixed(params.min_separation, 1) + " m apart (" + std::to_string(params.min_gates) + " needed to find the VIO's frame; " +
+        formatFixed(flown, 1) + " m flown, " + std::to_string(moving_spots) + " moving spots looked at): give the gates with --track");
   }
   if (approaches != nullptr) approaches->clear();
   for (const GateSpot& spot : placed) {
