@@ -121,6 +121,8 @@ const FrontendField kFrontendFields[] = {
      [](Text s, Text f, Node v, SequenceRunParams& p) {
        return readNonNegativeInt(s, f, v, p.initialization.min_inliers, 1);
      }},
+    {"initialization_memory_m",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.initialization.memory_m); }},
     {"initialization_corner_fit",
      [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.initialization.refine_on_corners); }},
     {"pose_detection_sigma_t",
@@ -197,6 +199,9 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
   if (!(params.max_odometry_gap_s >= 0.0) || !std::isfinite(params.max_odometry_gap_s)) {
     return fieldError(source, markOf("max_odometry_gap_s"), "frontend.max_odometry_gap_s", "must be >= 0 [s] (0: off)");
   }
+  if (!(params.initialization.memory_m >= 0.0) || !std::isfinite(params.initialization.memory_m)) {
+    return fieldError(source, markOf("initialization_memory_m"), "frontend.initialization_memory_m", "must be >= 0 [m] (0: off)");
+  }
   if (!(params.bridge_odometry_gap_s >= 0.0) || !std::isfinite(params.bridge_odometry_gap_s)) {
     return fieldError(source, markOf("bridge_odometry_gap_s"), "frontend.bridge_odometry_gap_s", "must be >= 0 [s] (0: never)");
   }
@@ -261,6 +266,19 @@ Result<SequenceRunParams> loadRunConfig(const std::string& path) {
   auto text = readText(path);
   if (!text.ok()) return text.status();
   return parseRunConfig(*text, path);
+}
+
+Status validatePipelineLimits(const SequenceRunParams& params) {
+  const auto limit = [](double value) { return value >= 0.0 && std::isfinite(value); };
+  if (params.max_detection_lead_s > 0.0 && limit(params.max_odometry_gap_s) && limit(params.max_odometry_jump_s) &&
+      limit(params.max_odometry_speed_mps) && limit(params.max_odometry_turn_rate_radps) &&
+      limit(params.bridge_odometry_gap_s) && limit(params.initialization.memory_m)) {
+    return Status();
+  }
+  return Status(StatusCode::kInvalidArgument, "pipeline: max_detection_lead_s must be > 0 [s]; max_odometry_gap_s, "
+                                              "bridge_odometry_gap_s, max_odometry_jump_s [s], max_odometry_speed_mps "
+                                              "[m/s], max_odometry_turn_rate_radps [rad/s] and initialization.memory_m "
+                                              "[m] finite and >= 0");
 }
 
 }  // namespace dualgraph

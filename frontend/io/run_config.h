@@ -115,6 +115,11 @@ struct SequenceRunParams {
 /// for an unknown or duplicate key, a wrong type, NaN or a `frontend:` value out of range;
 /// kInvalidArgument for a `localizer:` value out of range (validateLocalizerParams, as
 /// localizer_params_yaml.h documents); kIoError for an unreadable file.
+/// kInvalidArgument naming the limits when the pipeline's own (max_detection_lead_s > 0; max_odometry_gap_s,
+/// bridge_odometry_gap_s, max_odometry_jump_s, max_odometry_speed_mps, max_odometry_turn_rate_radps and
+/// initialization.memory_m finite and ≥ 0) are not: what PipelineCore::create checks of a configuration built in code.
+Status validatePipelineLimits(const SequenceRunParams& params);
+
 Result<SequenceRunParams> parseRunConfig(const std::string& yaml_text, const std::string& source_name);
 /// Every key the `frontend:` section accepts, in the reader's order (data/config/default.yaml lists each, tested).
 const std::vector<std::string>& runConfigFrontendKeys();

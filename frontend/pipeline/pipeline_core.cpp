@@ -38,13 +38,7 @@ Result<std::unique_ptr<PipelineCore>> PipelineCore::create(const SequenceRunPara
     const Status switched = params.camera_switch->camera.validate();
     if (!switched.ok()) return Status(switched.code(), "the camera switched to: " + switched.message());
   }
-  const auto limit = [](double value) { return value >= 0.0 && std::isfinite(value); };
-  if (!(params.max_detection_lead_s > 0.0) || !(params.max_odometry_gap_s >= 0.0) || !limit(params.max_odometry_jump_s) ||
-      !limit(params.max_odometry_speed_mps) || !limit(params.max_odometry_turn_rate_radps)) {
-    return Status(StatusCode::kInvalidArgument, "pipeline: max_detection_lead_s must be > 0 [s]; max_odometry_gap_s, "
-                                                "max_odometry_jump_s [s], max_odometry_speed_mps [m/s] and "
-                                                "max_odometry_turn_rate_radps [rad/s] finite and >= 0");
-  }
+  DG_RETURN_IF_ERROR(validatePipelineLimits(params));
   auto known_map = map.gateMap();
   if (!known_map.ok()) return known_map.status();
   GateFrontendParams frontend_params = params.frontend;
@@ -252,10 +246,9 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
     DG_RETURN_IF_ERROR(handUpTo(input.t - latency, nullptr));
     corrected->state = localizer_->trackingState();
   }
-  const bool bridged = gap && params_.bridge_odometry_gap_s > 0.0 &&
-                       !elapsedMoreThan(input.t, gap_->first, params_.bridge_odometry_gap_s) &&
+  const bool bridged = gap && !elapsedMoreThan(input.t, gap_->first, params_.bridge_odometry_gap_s) &&
                        localizer_->trackingState() == TrackingState::kTracking && localizer_->frameConfirmed();
-  if (bridged) ++counters_.odometry_gaps_bridged;
+  counters_.odometry_gaps_bridged += bridged ? 1 : 0;
   if (gap && !bridged) {  // the odometry across the gap may have jumped: the frame is confirmed again before it is trusted
     const Eigen::Isometry3d world_T_body = localizer_->mapTOdom() * sample.odom_T_body;
     if (localizer_->trackingState() == TrackingState::kTracking) localizer_->distrustFrame();

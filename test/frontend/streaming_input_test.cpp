@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "dualgraph/frontend/sequence_run.h"
@@ -313,6 +314,23 @@ TEST_F(StreamingInput, AnOdometryGapLongerThanTheBridgeMarksTheSamplesAfterItUnt
   const SerialRun blind = streamSerially(holed, unguarded);
   EXPECT_EQ(blind.results.pipeline_counters.odometry_gaps, 0);
   EXPECT_GT(worstTrackingError(holed, blind, to), worst) << "the gap check changed nothing here";
+}
+
+// A configuration built in code gets the checks a YAML file gets: a negative or NaN bridge or memory is refused by
+// name, not taken as "never" or "forever".
+TEST_F(StreamingInput, TheGapBridgeAndTheSearchMemoryOutOfRangeAreRefused) {
+  for (const double bad : {-1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    SequenceRunParams bridge;
+    bridge.bridge_odometry_gap_s = bad;
+    const auto refused = StreamingLocalizer::create(bridge, flight_->map, flight_->camera);
+    ASSERT_EQ(refused.status().code(), StatusCode::kInvalidArgument) << bad;
+    EXPECT_NE(refused.status().message().find("bridge_odometry_gap_s"), std::string::npos) << refused.status().message();
+    SequenceRunParams memory;
+    memory.initialization.memory_m = bad;
+    const auto also = StreamingLocalizer::create(memory, flight_->map, flight_->camera);
+    ASSERT_EQ(also.status().code(), StatusCode::kInvalidArgument) << bad;
+    EXPECT_NE(also.status().message().find("initialization.memory_m"), std::string::npos) << also.status().message();
+  }
 }
 
 // A gap of up to bridge_odometry_gap_s (2 s) while tracking is bridged: the frame and the state are kept (no loss, no
