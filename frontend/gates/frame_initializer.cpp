@@ -28,6 +28,9 @@ const FrameInitialization& FrameInitializer::addSightings(double t, const Eigen:
                                                           const std::vector<GateObservation>& observations) {
   if (state_.locked || observations.empty()) return state_;
   if (!start_odom_T_body_) start_odom_T_body_ = odom_T_body;
+  newest_t_ = t;
+  if (last_odom_position_) path_m_ += (odom_T_body.translation() - *last_odom_position_).norm();
+  last_odom_position_ = odom_T_body.translation();
   for (const GateObservation& observation : observations) {
     if (observation.kind != ObservationKind::kPose) continue;
     const Eigen::Isometry3d odom_T_gate = odom_T_body * observation.body_T_gate;
@@ -39,16 +42,54 @@ const FrameInitialization& FrameInitializer::addSightings(double t, const Eigen:
       sighting.p_in_use = world_T_gate.translation();
       sighting.yaw_in_use = headingOf(world_T_gate.linear());
     }
+    sighting.path_m = path_m_;
     window_.push_back(sighting);
   }
-  window_.erase(window_.begin(), std::find_if(window_.begin(), window_.end(), [&](const Sighting& s) {
-                  return !elapsedMoreThan(t, s.t, params_.window_s);
-                }));
+  age(t);
   if (!elapsedAtLeast(t, last_search_t_, 0.2)) return state_;
   last_search_t_ = t;
   search();
   if (state_.locked) state_.locked_at = t;
   return state_;
+}
+
+int FrameInitializer::distinctGates(const std::vector<std::pair<size_t, int>>& matches) {
+  std::vector<int> ids;
+  for (const auto& match : matches) {
+    if (std::find(ids.begin(), ids.end(), match.second) == ids.end()) ids.push_back(match.second);
+  }
+  return static_cast<int>(ids.size());
+}
+
+void FrameInitializer::age(double t) {
+  const auto recent = std::find_if(window_.begin(), window_.end(), [&](const Sighting& s) {
+    return !elapsedMoreThan(t, s.t, params_.window_s);
+  });
+  if (params_.memory_m <= 0.0) {
+    window_.erase(window_.begin(), recent);
+    return;
+  }
+  // The older part: kept while the odometry moved less than memory_m since, one per gate per second, and of each
+  // gate only its last memory_gate_s before its newest sighting (its views nearest the odometry's present frame).
+  std::map<int, double> newest_of_gate;
+  for (const Sighting& s : window_) newest_of_gate[s.gate_id] = s.t;
+  std::vector<Sighting> kept;
+  std::map<int, size_t> newest_kept;  // gate id -> index in kept
+  for (auto it = window_.begin(); it != recent; ++it) {
+    if (path_m_ - it->path_m > params_.memory_m || elapsedMoreThan(t, it->t, params_.memory_max_s) ||
+        elapsedMoreThan(newest_of_gate[it->gate_id], it->t, params_.memory_gate_s)) {
+      continue;
+    }
+    const auto same = newest_kept.find(it->gate_id);
+    if (same != newest_kept.end() && !elapsedAtLeast(it->t, kept[same->second].t, 1.0)) {
+      kept[same->second].weight += it->weight;
+      continue;
+    }
+    newest_kept[it->gate_id] = kept.size();
+    kept.push_back(*it);
+  }
+  kept.insert(kept.end(), recent, window_.end());
+  window_ = std::move(kept);
 }
 
 const FrameInitialization& FrameInitializer::addInUse(double t, const Eigen::Isometry3d& odom_T_body,
@@ -79,24 +120,29 @@ int FrameInitializer::explainedBy(const Eigen::Vector3d& p_world, double yaw_wor
 int FrameInitializer::score(Hypothesis& h, std::vector<std::pair<size_t, int>>* matches) const {
   const Eigen::Matrix3d rotation = Eigen::AngleAxisd(h.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   int inliers = 0;
-  std::vector<int> gates;
+  bool remembered = false;      // an inlier older than the window (memory_m)
+  std::map<int, int> per_gate;  // map gate id -> detections it explains
   for (size_t k = 0; k < window_.size(); ++k) {
     const Sighting& s = window_[k];
     const int id = explainedBy(rotation * s.p_odom + h.translation, s.yaw_odom + h.yaw, s.gate_id);
     if (id < 0) continue;
-    ++inliers;
-    if (std::find(gates.begin(), gates.end(), id) == gates.end()) gates.push_back(id);
+    inliers += s.weight;
+    per_gate[id] += s.weight;
+    remembered = remembered || elapsedMoreThan(newest_t_, s.t, params_.window_s);
     if (matches != nullptr) matches->emplace_back(k, id);
   }
   h.inliers = inliers;
-  h.gates = static_cast<int>(gates.size());
+  const int per_gate_needed = remembered ? params_.min_gate_inliers : 1;
+  h.gates = static_cast<int>(std::count_if(per_gate.begin(), per_gate.end(), [&](const std::pair<const int, int>& gate) {
+    return gate.second >= per_gate_needed;
+  }));
   return inliers;
 }
 
 int FrameInitializer::inUseInliers() const {
   int inliers = 0;
   for (const Sighting& s : window_) {
-    if (s.has_in_use && explainedBy(s.p_in_use, s.yaw_in_use, s.gate_id) >= 0) ++inliers;
+    if (s.has_in_use && explainedBy(s.p_in_use, s.yaw_in_use, s.gate_id) >= 0) inliers += s.weight;
   }
   return inliers;
 }
@@ -107,6 +153,13 @@ FrameInitializer::Hypothesis FrameInitializer::refine(const Hypothesis& h) const
   std::vector<std::pair<size_t, int>> matches;
   Hypothesis copy = h;
   score(copy, &matches);
+  // Fitted on the window's own detections when they hold two gates or more: the remembered ones (memory_m) tell
+  // which frame it is, but the odometry may have moved its frame since (a VIO still initialising).
+  std::vector<std::pair<size_t, int>> recent;
+  std::copy_if(matches.begin(), matches.end(), std::back_inserter(recent), [&](const std::pair<size_t, int>& m) {
+    return !elapsedMoreThan(newest_t_, window_[m.first].t, params_.window_s);
+  });
+  if (distinctGates(recent) >= 2) matches = std::move(recent);
   if (matches.size() < 2) return h;
   Eigen::Vector3d mean_odom = Eigen::Vector3d::Zero(), mean_world = Eigen::Vector3d::Zero();
   for (const auto& [k, id] : matches) {
@@ -175,7 +228,7 @@ double FrameInitializer::truncatedCost(const Hypothesis& h) const {
   for (const Sighting& s : window_) {
     const Eigen::Vector3d p_world = rotation * s.p_odom + h.translation;
     const int id = explainedBy(p_world, s.yaw_odom + h.yaw, s.gate_id);
-    cost += id < 0 ? threshold : std::min(threshold, (p_world - map_.world_T_gate.at(id).translation()).squaredNorm());
+    cost += s.weight * (id < 0 ? threshold : std::min(threshold, (p_world - map_.world_T_gate.at(id).translation()).squaredNorm()));
   }
   return cost;
 }

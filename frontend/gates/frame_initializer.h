@@ -13,7 +13,20 @@ namespace dualgraph {
 
 /// How FrameInitializer searches (units: m, rad, s).
 struct FrameInitializerParams {
-  double window_s = 4.0;            ///< detections older than this before the newest are forgotten [s]
+  double window_s = 4.0;            ///< detections older than this before the newest are thinned or forgotten [s]
+  /// A slow flight sees its gates minutes apart: detections older than window_s are kept, thinned to one per gate
+  /// per second that counts for the detections it stands for, while the odometry has moved less than this since
+  /// them (its positions at the detection instants, chord by chord) and for at most memory_max_s; 0: forgotten at
+  /// window_s. A racing flight moves this far within window_s (unchanged there); drift grows with path, not time [m].
+  double memory_m = 20.0;
+  double memory_max_s = 120.0;      ///< [s]
+  /// Of each gate, only the sightings within this of its newest are remembered: a VIO still initialising moves its
+  /// own frame by degrees in its first seconds, so a gate's newest views are those nearest the present frame [s].
+  double memory_gate_s = 5.0;
+  /// When a hypothesis leans on remembered detections, a gate counts towards the two a lock needs only with at
+  /// least this many (one sighting of a new gate beside hundreds remembered of another cannot tell the other's
+  /// side); within the window alone every gate counts from its first [count], ≥ 1.
+  int min_gate_inliers = 3;
   int min_inliers = 8;              ///< detections that must agree with a hypothesis before it locks
   double inlier_distance = 1.0;     ///< a detection's gate centre within this of its map gate, in the map [m]
   double inlier_normal_angle = 0.5; ///< and its normal within this of the gate's (either side) [rad]
@@ -98,6 +111,8 @@ class FrameInitializer {
     bool has_in_use = false;          ///< added with the estimate in use (addInUse)
     Eigen::Vector3d p_in_use = Eigen::Vector3d::Zero();  ///< gate centre where that estimate put it [m, world]
     double yaw_in_use = 0.0;          ///< its normal's heading there [rad]
+    int weight = 1;                   ///< detections it stands for (thinned beyond window_s)
+    double path_m = 0.0;              ///< the odometry's path length at its instant [m]
   };
   struct Hypothesis {
     double yaw = 0.0;
@@ -126,7 +141,15 @@ class FrameInitializer {
 
   FrameInitializerParams params_;
   GateMap map_;
+  /// Ages the window at t: forgets or thins what is older than window_s (memory_m).
+  void age(double t);
+  /// The distinct map gates among (sighting, gate id) matches.
+  static int distinctGates(const std::vector<std::pair<size_t, int>>& matches);
+
   std::vector<Sighting> window_;
+  double path_m_ = 0.0;  ///< odometry path length over the instants added, chord by chord [m]
+  double newest_t_ = 0.0;  ///< the newest instant added [s]
+  std::optional<Eigen::Vector3d> last_odom_position_;
   std::optional<Eigen::Isometry3d> start_odom_T_body_;
   double last_search_t_ = -1e300;  ///< searches at most every 0.2 s of detections
   FrameInitialization state_;

@@ -25,9 +25,15 @@ void FrameSearch::startInitial(const Eigen::Isometry3d& first_odom_T_body) {
   if (!initialization_) initialization_ = FrameInitialization{};
 }
 
+FrameInitializerParams FrameSearch::relocalizationSearch() const {
+  FrameInitializerParams search = params_.initialization;
+  search.memory_m = 0.0;  // what was seen before the loss is what the lost frame misplaced
+  return search;
+}
+
 void FrameSearch::startRelocalization(double t, const Eigen::Isometry3d& world_T_body,
                                       const Eigen::Isometry3d& odom_T_body) {
-  FrameInitializerParams search = params_.initialization;
+  FrameInitializerParams search = relocalizationSearch();
   search.start_world_T_body = world_T_body;
   search.start_sigma_t = params_.relocalization.sigma_t;
   search.start_sigma_r = params_.relocalization.sigma_r;
@@ -37,7 +43,7 @@ void FrameSearch::startRelocalization(double t, const Eigen::Isometry3d& world_T
 }
 
 void FrameSearch::startRelocalizationAnywhere(const Eigen::Isometry3d& odom_T_body) {
-  start(params_.initialization, odom_T_body, -1.0);  // the whole map already: nothing to widen after global_after_s
+  start(relocalizationSearch(), odom_T_body, -1.0);  // the whole map already: nothing to widen after global_after_s
   initial_ = false;
   checking_ = false;
 }
@@ -53,6 +59,7 @@ void FrameSearch::restartAfterGap(double t, const Eigen::Isometry3d& world_T_bod
   if (initial_) {
     const FrameInitialization so_far = initialization_.value_or(FrameInitialization{});
     seen_.clear();
+    remembered_.clear();
     startInitial(first_odom_T_body_.value_or(odom_T_body));
     initialization_ = so_far;
     return;
@@ -65,6 +72,7 @@ void FrameSearch::restartAfterGap(double t, const Eigen::Isometry3d& world_T_bod
 void FrameSearch::stop() {
   initializer_.reset();
   seen_.clear();
+  remembered_.clear();
 }
 
 Result<FrameSearch::Outcome> FrameSearch::add(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body,
@@ -74,8 +82,10 @@ Result<FrameSearch::Outcome> FrameSearch::add(const DetectionInstant& instant, c
   if (!initializer_) return outcome;
   placed_ += solved.poses.size();
   if (initial_) {
+    if (last_position_) path_m_ += (odom_T_body.translation() - *last_position_).norm();
+    last_position_ = odom_T_body.translation();
     seen_.push_back(Seen{instant, odom_T_body, solved});
-    while (elapsedMoreThan(instant.t, seen_.front().instant.t, params_.initialization.window_s)) seen_.pop_front();
+    remember(instant.t);
   }
   // A relocalisation or check also records where the estimate in use put each detection, to weigh it.
   const FrameInitialization& found = initial_ ? initializer_->add(instant.t, odom_T_body, solved.poses)
@@ -131,7 +141,7 @@ Result<FrameSearch::Outcome> FrameSearch::add(const DetectionInstant& instant, c
     return outcome;
   }
   if (!initial_ && !checking_ && started_t_ >= 0.0 && elapsedMoreThan(instant.t, started_t_, params_.relocalization.global_after_s)) {
-    start(params_.initialization, odom_T_body, -1.0);  // the estimate was no guide: anywhere in the map
+    start(relocalizationSearch(), odom_T_body, -1.0);  // the estimate was no guide: anywhere in the map
   }
   return outcome;
 }
@@ -166,8 +176,17 @@ double FrameSearch::foundSigmaT(const FrameInitialization& found, const Eigen::I
 
 void FrameSearch::refineOnCorners(const Eigen::Isometry3d& anchor_odom_T_body, Eigen::Isometry3d& frame, double& sigma_t) {
   std::vector<FrameFitDetection, Eigen::aligned_allocator<FrameFitDetection>> detections;
+  std::vector<int> recent_gates;
   for (const Seen& seen : seen_) {
-    for (const GateObservation& pose : seen.solved.poses) detections.push_back(FrameFitDetection{seen.odom_T_body, pose});
+    for (const GateObservation& pose : seen.solved.poses) {
+      detections.push_back(FrameFitDetection{seen.odom_T_body, pose});
+      if (std::find(recent_gates.begin(), recent_gates.end(), pose.gate_id) == recent_gates.end()) recent_gates.push_back(pose.gate_id);
+    }
+  }
+  // The remembered detections only when the window alone holds one gate (ids unknown: -1 counts as one): they tell
+  // the frame, but the odometry may have moved its frame since (the initializer's refine does the same).
+  if (recent_gates.size() < 2) {
+    for (const Remembered& old : remembered_) detections.push_back(old.detection);
   }
   const FrameCornerFit fit = fitFrameOnCorners(detections, map_, frame, params_.initialization.inlier_distance);
   if (!fit.refined) return;
@@ -176,6 +195,25 @@ void FrameSearch::refineOnCorners(const Eigen::Isometry3d& anchor_odom_T_body, E
   if (initialization_) {
     initialization_->world_T_odom = frame;
     initialization_->refined_on_corners = true;
+  }
+}
+
+void FrameSearch::remember(double t) {
+  const FrameInitializerParams& p = params_.initialization;
+  while (elapsedMoreThan(t, seen_.front().instant.t, p.window_s)) {
+    const Seen& old = seen_.front();
+    for (const GateObservation& pose : old.solved.poses) {
+      if (p.memory_m <= 0.0) break;
+      const bool thinned = std::any_of(remembered_.begin(), remembered_.end(), [&](const Remembered& r) {
+        return r.detection.observation.gate_id == pose.gate_id && !elapsedAtLeast(old.instant.t, r.t, 1.0);
+      });
+      if (!thinned) remembered_.push_back(Remembered{old.instant.t, path_m_, FrameFitDetection{old.odom_T_body, pose}});
+    }
+    seen_.pop_front();
+  }
+  while (!remembered_.empty() && (path_m_ - remembered_.front().path_m > p.memory_m ||
+                                  elapsedMoreThan(t, remembered_.front().t, p.memory_max_s))) {
+    remembered_.pop_front();
   }
 }
 

@@ -8,6 +8,7 @@
 
 #include "dualgraph/core/status.h"
 #include "dualgraph/dual_graph/localizer.h"
+#include "dualgraph/frontend/gates/frame_corner_fit.h"
 #include "dualgraph/frontend/gates/frame_initializer.h"
 #include "dualgraph/frontend/gates/gate_frontend.h"
 #include "dualgraph/frontend/io/run_config.h"
@@ -87,6 +88,9 @@ class FrameSearch {
   void explainNothingPlaced(size_t skipped);
 
  private:
+  /// The initialization's parameters without its long memory (a relocalisation's detections from before the loss
+  /// were placed by the frame that failed).
+  FrameInitializerParams relocalizationSearch() const;
   static bool sameFrame(const FrameInitialization& found, const Eigen::Isometry3d& current,
                         const Eigen::Isometry3d& odom_T_body);
   double foundSigmaT(const FrameInitialization& found, const Eigen::Isometry3d& odom_T_body) const;
@@ -99,6 +103,19 @@ class FrameSearch {
   const GateMap& map_;
   std::optional<FrameInitializer> initializer_;
   std::deque<Seen> seen_;
+  /// A first search's detections older than the window, thinned as the initializer keeps them (one per gate per
+  /// second while the odometry moved less than memory_m since): the corner fit's view of the gates seen before.
+  struct Remembered {
+    double t = 0.0;
+    double path_m = 0.0;
+    FrameFitDetection detection;
+    EIGEN_MAKE_ALIGNED_OPERATOR_NEW
+  };
+  std::deque<Remembered, Eigen::aligned_allocator<Remembered>> remembered_;
+  double path_m_ = 0.0;  ///< the odometry's path over the instants seen, chord by chord [m]
+  std::optional<Eigen::Vector3d> last_position_;
+  /// Moves what leaves the window at `t` into remembered_ and forgets what is beyond memory_m / memory_max_s.
+  void remember(double t);
   bool initial_ = false;
   bool checking_ = false;         ///< a check of the frame in use while tracking, not a relocalisation
   bool initial_started_ = false;  ///< the run looks for the frame (auto_initialize): it reports how that went

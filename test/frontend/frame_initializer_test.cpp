@@ -123,6 +123,43 @@ TEST(FrameInitializer, ASymmetricLayoutIsAmbiguousWithoutIdsOrAStartPose) {
   expectFrame(run(ellipseGates(true), truth, false, 10.0, with_start), truth);
 }
 
+// A slow flight (a room, 0.3 m/s) that sees gate 1 for 3 s, then nothing for 25 s, then gate 2: the gates are
+// seen half a minute apart. With the memory (detections older than the 4 s window kept, thinned, while the odometry
+// moved less than memory_m) the frame locks within a second of gate 2; without it, never.
+TEST(FrameInitializer, GatesSeenHalfAMinuteApartOnASlowFlightLockWithTheMemory) {
+  const GateMap map = ellipseGates(false);
+  const Eigen::Isometry3d truth = gravityAligned(0.7, {2.0, -1.0, 0.0});
+  const auto lockAt = [&](double memory_m) -> std::optional<double> {
+    FrameInitializerParams params;
+    params.memory_m = memory_m;
+    FrameInitializer initializer(params, map);
+    std::optional<double> locked;
+    for (double t = 0.0; t <= 40.0; t += 0.05) {
+      // From (1, 1.3) towards gate 1 at (4, 1.3) for 3 s, facing it; then across to face gate 2 from (1, -1.3).
+      const bool first = t < 3.0;
+      const bool second = t >= 28.0;
+      const Eigen::Isometry3d world_T_body =
+          first ? gravityAligned(0.0, {1.0 + 0.3 * t, 1.3, 1.2})
+                : gravityAligned(0.0, {1.9 - 0.9 * std::min(1.0, (t - 3.0) / 25.0), 1.3 - 2.6 * std::min(1.0, (t - 3.0) / 25.0), 1.2});
+      std::vector<GateObservation> seen;
+      const int gate = first ? 1 : (second ? 2 : 0);
+      if (gate != 0) {
+        const Eigen::Isometry3d body_T_gate = world_T_body.inverse() * map.world_T_gate.at(gate);
+        seen.push_back(GateObservation::pose(t, gate, body_T_gate, Matrix6d::Identity()));
+      }
+      initializer.add(t, truth.inverse() * world_T_body, seen);
+      if (!locked && initializer.state().locked) locked = t;
+    }
+    if (locked) expectFrame(initializer.state(), truth);
+    return locked;
+  };
+  const std::optional<double> with_memory = lockAt(20.0);
+  ASSERT_TRUE(with_memory.has_value());
+  EXPECT_GE(*with_memory, 28.0);
+  EXPECT_LE(*with_memory, 29.0);
+  EXPECT_FALSE(lockAt(0.0).has_value());
+}
+
 TEST(FrameInitializer, TooFewDetectionsSayHowMany) {
   const FrameInitialization early = run(ellipseGates(false), Eigen::Isometry3d::Identity(), false, 0.2);
   EXPECT_FALSE(early.locked);
