@@ -9,7 +9,8 @@
 # Per run: the placed gates, the VIO's ATE, the causal floor over the run's span (bench/gate_coverage_bound.py:
 # perfect fixes at every detection, the VIO in between), the run's ATE, the share of the floor's reduction kept
 # = (VIO - run) / (VIO - floor) where the floor is at least 10 % below the VIO (else the run against the VIO),
-# the lock after the first detection and the share of time lost.
+# the lock after the first detection against the earliest time the detections could tell the frame
+# (bench/frame_identifiability.py) and the share of time lost.
 # Usage: bench/real_vio_table.sh [BUILD_DIR] [OUT_DIR] [DATA_DIR]   (prints a Markdown table; keeps the runs)
 # CONFIG=FILE runs with that configuration instead of the default; SEEDS="1 2 3" and FLIGHTS="V1_03_difficult ..."
 # select rows; PROFILE=clean (default, 2 px) or realistic.
@@ -24,7 +25,7 @@ profile_args=(--profile "$profile")
 [ "$profile" = clean ] && profile_args+=(--pixel-sigma 2)
 python=python3
 [ -x /usr/bin/python3 ] && python=/usr/bin/python3   # numpy is Debian's
-echo "| flight | VIO | seed | gates | VIO ATE [m] | floor [m] | run ATE [m] | kept of the floor's reduction | lock after the first detection [s] | lost | exit |"
+echo "| flight | VIO | seed | gates | VIO ATE [m] | floor [m] | run ATE [m] | kept of the floor's reduction | lock / earliest identification, after the first detection [s] | lost | exit |"
 echo "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|"
 for gt in "$data"/*.gt.tum; do
   flight="$(basename "$gt" .gt.tum)"
@@ -54,10 +55,12 @@ for gt in "$data"/*.gt.tum; do
       if [ -s "$dir/run/estimate.tum" ]; then
         floor="$("$python" "$here/bench/gate_coverage_bound.py" "$dir/sequence" "$dir/run" --json 2>/dev/null || echo '{}')"
       fi
-      "$python" - "$dir" "$flight" "$vio" "$seed" "$code" "$floor" <<'PY'
+      told="$("$python" "$here/bench/frame_identifiability.py" "$dir/sequence" "$dir/run" --json 2>/dev/null || echo '{}')"
+      "$python" - "$dir" "$flight" "$vio" "$seed" "$code" "$floor" "$told" <<'PY'
 import json, re, sys
-d, flight, vio, seed, code, floor = sys.argv[1:]
+d, flight, vio, seed, code, floor, told = sys.argv[1:]
 floor = json.loads(floor)
+told = json.loads(told)
 gates = re.search(r'gates: (\d+)', open(d + '/sequence/sequence.yaml').read().split('summary:')[1]).group(1)
 try:
     m = json.load(open(d + '/run/metrics.json'))
@@ -75,10 +78,13 @@ elif floor_ate <= 0.9 * vio_ate:
     kept = f"{100 * (vio_ate - run_ate) / (vio_ate - floor_ate):.0f} %"
 else:
     kept = f"floor not 10 % below; run {100 * (run_ate / vio_ate - 1):+.0f} % of the VIO"
-lock = "never" if m.get('initialized_at_s') is None or 'first_detection' not in floor else \
-    f"{m['initialized_at_s'] - floor['first_detection']:.1f}"
+earliest = told.get('identified_after_s')
+lock = "never" if m.get('initialized_at_s') is None or 'first_detection' not in told else \
+    f"{m['initialized_at_s'] - told['first_detection']:.1f}"
+lock += " / " + ("never" if earliest is None else f"{earliest:.1f}")
+lost_s = (m.get('time_lost_s') or 0.0)
 print(f"| {flight} | {vio} | {seed} | {gates} | {f(vio_ate)} | {f(floor_ate)} | {f(run_ate)} | {kept} | {lock} | "
-      f"{f(m.get('lost_share_pct'), 1)} % | {code} |")
+      f"{f(m.get('lost_share_pct'), 1)} % ({lost_s:.1f} s) | {code} |")
 PY
     done
   done
