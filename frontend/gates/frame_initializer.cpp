@@ -71,21 +71,22 @@ void FrameInitializer::age(double t) {
   }
   // The older part: kept while the odometry moved less than memory_m since, one per gate per second, and of each
   // gate only its last memory_gate_s before its newest sighting (its views nearest the odometry's present frame).
-  std::map<int, double> newest_of_gate;
-  for (const Sighting& s : window_) newest_of_gate[s.gate_id] = s.t;
+  // A gate is its id, or without one the place it was seen at (within inlier_distance, odometry frame).
+  const auto sameGate = [&](const Sighting& a, const Sighting& b) {
+    return a.gate_id == b.gate_id && (a.gate_id >= 0 || (a.p_odom - b.p_odom).norm() <= params_.inlier_distance);
+  };
   std::vector<Sighting> kept;
-  std::map<int, size_t> newest_kept;  // gate id -> index in kept
   for (auto it = window_.begin(); it != recent; ++it) {
-    if (path_m_ - it->path_m > params_.memory_m || elapsedMoreThan(t, it->t, params_.memory_max_s) ||
-        elapsedMoreThan(newest_of_gate[it->gate_id], it->t, params_.memory_gate_s)) {
+    if (path_m_ - it->path_m > params_.memory_m || elapsedMoreThan(t, it->t, params_.memory_max_s)) continue;
+    const bool superseded = std::any_of(it + 1, window_.end(), [&](const Sighting& later) {
+      return sameGate(later, *it) && elapsedMoreThan(later.t, it->t, params_.memory_gate_s);
+    });
+    if (superseded) continue;
+    const auto same = std::find_if(kept.rbegin(), kept.rend(), [&](const Sighting& k) { return sameGate(k, *it); });
+    if (same != kept.rend() && !elapsedAtLeast(it->t, same->t, 1.0)) {
+      same->weight += it->weight;
       continue;
     }
-    const auto same = newest_kept.find(it->gate_id);
-    if (same != newest_kept.end() && !elapsedAtLeast(it->t, kept[same->second].t, 1.0)) {
-      kept[same->second].weight += it->weight;
-      continue;
-    }
-    newest_kept[it->gate_id] = kept.size();
     kept.push_back(*it);
   }
   kept.insert(kept.end(), recent, window_.end());

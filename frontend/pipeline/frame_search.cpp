@@ -84,7 +84,7 @@ Result<FrameSearch::Outcome> FrameSearch::add(const DetectionInstant& instant, c
   if (initial_) {
     if (last_position_) path_m_ += (odom_T_body.translation() - *last_position_).norm();
     last_position_ = odom_T_body.translation();
-    seen_.push_back(Seen{instant, odom_T_body, solved});
+    seen_.push_back(Seen{instant, odom_T_body, solved, path_m_});
     remember(instant.t);
   }
   // A relocalisation or check also records where the estimate in use put each detection, to weigh it.
@@ -200,14 +200,23 @@ void FrameSearch::refineOnCorners(const Eigen::Isometry3d& anchor_odom_T_body, E
 
 void FrameSearch::remember(double t) {
   const FrameInitializerParams& p = params_.initialization;
+  // As the initializer keeps its sightings (FrameInitializer::age): a gate is its id, or without one its place.
+  const auto sameGate = [&](int id, const Eigen::Vector3d& at, const Remembered& r) {
+    return r.detection.observation.gate_id == id && (id >= 0 || (r.p_odom - at).norm() <= p.inlier_distance);
+  };
   while (elapsedMoreThan(t, seen_.front().instant.t, p.window_s)) {
     const Seen& old = seen_.front();
     for (const GateObservation& pose : old.solved.poses) {
       if (p.memory_m <= 0.0) break;
+      const Eigen::Vector3d at = (old.odom_T_body * pose.body_T_gate).translation();
+      // Of each gate, its last memory_gate_s only; one per second.
+      remembered_.erase(std::remove_if(remembered_.begin(), remembered_.end(), [&](const Remembered& r) {
+                          return sameGate(pose.gate_id, at, r) && elapsedMoreThan(old.instant.t, r.t, p.memory_gate_s);
+                        }), remembered_.end());
       const bool thinned = std::any_of(remembered_.begin(), remembered_.end(), [&](const Remembered& r) {
-        return r.detection.observation.gate_id == pose.gate_id && !elapsedAtLeast(old.instant.t, r.t, 1.0);
+        return sameGate(pose.gate_id, at, r) && !elapsedAtLeast(old.instant.t, r.t, 1.0);
       });
-      if (!thinned) remembered_.push_back(Remembered{old.instant.t, path_m_, FrameFitDetection{old.odom_T_body, pose}});
+      if (!thinned) remembered_.push_back(Remembered{old.instant.t, old.path_m, at, FrameFitDetection{old.odom_T_body, pose}});
     }
     seen_.pop_front();
   }

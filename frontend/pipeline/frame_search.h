@@ -44,6 +44,7 @@ class FrameSearch {
     DetectionInstant instant;            ///< on the odometry clock
     Eigen::Isometry3d odom_T_body;       ///< the odometry at its instant
     SolvedDetections solved;             ///< its PnP solutions (reused on replay: PnP runs once per instant)
+    double path_m = 0.0;                 ///< the odometry's path at its instant (a first search's) [m]
     EIGEN_MAKE_ALIGNED_OPERATOR_NEW
   };
   struct Outcome {
@@ -108,6 +109,7 @@ class FrameSearch {
   struct Remembered {
     double t = 0.0;
     double path_m = 0.0;
+    Eigen::Vector3d p_odom = Eigen::Vector3d::Zero();  ///< the gate's centre in the odometry frame [m]
     FrameFitDetection detection;
     EIGEN_MAKE_ALIGNED_OPERATOR_NEW
   };

@@ -160,6 +160,27 @@ TEST(FrameInitializer, GatesSeenHalfAMinuteApartOnASlowFlightLockWithTheMemory) 
   EXPECT_FALSE(lockAt(0.0).has_value());
 }
 
+// Without ids, the remembered detections are thinned per place, not per id: two gates seen in the same second stay
+// two (merged by their common id −1, the second gate would vanish from the memory).
+TEST(FrameInitializer, WithoutIdsTwoGatesSeenTogetherAreRememberedApart) {
+  const GateMap map = ellipseGates(false);
+  FrameInitializerParams params;
+  params.use_ids = false;
+  FrameInitializer initializer(params, map);
+  const Eigen::Isometry3d world_T_body = gravityAligned(0.0, {1.0, 0.0, 1.2});  // both gates 1 and 2 ahead
+  for (double t = 0.0; t <= 7.5; t += 0.05) {
+    std::vector<GateObservation> seen;
+    for (const int gate : {1, 2}) {
+      if (t > 3.0 && !(t > 7.4 && gate == 1)) continue;  // 3 s of both, then gate 1 once more at 7.5 s
+      seen.push_back(GateObservation::pose(t, -1, world_T_body.inverse() * map.world_T_gate.at(gate), Matrix6d::Identity()));
+    }
+    initializer.add(t, world_T_body, seen);
+  }
+  // Gate 2's 3 s and gate 1's last 0.5 s before its newest minus memory_gate_s (5 s), plus that newest.
+  EXPECT_EQ(initializer.state().gates, 2) << initializer.state().why_not;
+  EXPECT_GE(initializer.state().inliers, 60 + 10) << initializer.state().why_not;
+}
+
 TEST(FrameInitializer, TooFewDetectionsSayHowMany) {
   const FrameInitialization early = run(ellipseGates(false), Eigen::Isometry3d::Identity(), false, 0.2);
   EXPECT_FALSE(early.locked);
