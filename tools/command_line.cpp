@@ -250,7 +250,9 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
   flight->needs(vio);
   vio->needs(flight);
   for (const std::string& name : simulatedFlightOnlyOptions()) flight->excludes(cmd->get_option(name));
-  for (const char* name : {"--gate-spacing", "--gate-separation", "--gate-size", "--gate-approach-view", "--min-gates"}) cmd->get_option(name)->needs(flight);
+  for (const char* name : {"--gate-spacing", "--gate-separation", "--gate-size", "--gate-approach-view", "--min-gates"}) {
+    cmd->get_option(name)->needs(flight);
+  }
   cmd->final_callback([cmd, &o] {
     for (const CLI::Option* option : cmd->get_options()) {
       if (option->count() > 0) o.given.insert(option->get_name());

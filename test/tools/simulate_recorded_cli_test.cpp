@@ -94,6 +94,19 @@ TEST(SimulateRecordedCli, OptionsOfASimulatedFlightAndAHalfPairAreUsageErrors) {
   EXPECT_FALSE(std::filesystem::exists(tempDir() + "/x"));
 }
 
+// A flight with fewer places for a gate than a lock needs says how many instead of writing a sequence that can never
+// lock: exit 1, the count in the message, no folder.
+TEST(SimulateRecordedCli, TooFewPlacesForGatesAreRefusedWithTheirCount) {
+  const std::string& source = recordedPair();
+  const testing::CommandRun refused =
+      runDualgraph("simulate --flight " + source + "/gt.tum --vio " + source + "/vio.tum --camera " + ratmCamera() +
+                   " --no-plot --min-gates 500 --out " + tempDir() + "/too_few");
+  EXPECT_EQ(refused.exit_code, 1) << refused.err;
+  EXPECT_NE(refused.err.find("place(s) on this flight where the drone flies through a gate"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("500 needed"), std::string::npos) << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(tempDir() + "/too_few"));
+}
+
 TEST(SimulateRecordedCli, APairFromTwoClocksIsRefusedNamingTheSpans) {
   const std::string& source = recordedPair();
   // The VIO restamped 1000 s later: no overlap with the ground truth.
