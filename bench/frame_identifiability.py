@@ -19,7 +19,8 @@ the truth. The odometry's drift plays no part: it is what a causal lock must liv
 Prints the earliest time (seconds after the first detection) and the alternative refuted last; with RUN_DIR, the
 run's lock (metrics.json's initialized_at_s) against it.
 
-Usage: bench/frame_identifiability.py SEQUENCE_DIR [RUN_DIR] [--json]
+Usage: bench/frame_identifiability.py SEQUENCE_DIR [RUN_DIR] [--json]   (numpy and PyYAML: Debian's python3-numpy,
+python3-yaml)
 SEQUENCE_DIR holds gt.tum, corners.csv, gates.yaml, camera.yaml (and sequence.yaml for σ and unknown ids).
 """
 import csv
