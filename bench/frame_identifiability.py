@@ -33,7 +33,7 @@ import numpy as np
 import yaml
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gate_coverage_bound import read_tum, rotation  # noqa: E402
+from gate_coverage_bound import pose_at, read_tum, rotation  # noqa: E402
 
 MIN_EXPLAINED = 8   # detections the truth must explain
 MARGIN = 5          # detections every alternative must explain fewer than the truth
@@ -114,13 +114,6 @@ def read_detections(sequence):
     return rows
 
 
-def pose_at(truth, t):
-    p = np.array([np.interp(t, truth[:, 0], truth[:, k]) for k in (1, 2, 3)])
-    i = int(np.clip(np.searchsorted(truth[:, 0], t), 1, len(truth) - 1))
-    i = i if abs(truth[i, 0] - t) < abs(truth[i - 1, 0] - t) else i - 1
-    return rotation(truth[i, 4:8]), p
-
-
 def main(argv):
     args = [a for a in argv if not a.startswith('--')]
     if not 1 <= len(args) <= 2:
@@ -144,7 +137,7 @@ def main(argv):
     # Camera poses at the detections (the stamp less the camera's clock offset), from the ground truth.
     cameras = []
     for t, _, _ in detections:
-        r_b, p_b = pose_at(truth, t - camera.time_offset)
+        p_b, r_b = pose_at(truth, t - camera.time_offset)
         cameras.append((r_b @ camera.r, r_b @ camera.t + p_b))
 
     def residuals(transform):
