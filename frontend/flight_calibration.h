@@ -20,7 +20,7 @@ using CalibrationObserver = std::function<void(const CalibrationIteration&, cons
 /// repeat { runSequence with the current camera (δ as run_params.time_offset) → the VIO's drift correction
 /// from the run's keyframes (VioDriftTrack::knotsFromKeyframes) → matchGateCorners → solveCameraCalibration
 /// (δ, mount rotation and the drift correction together) → the camera updated } until δ moved less than
-/// converged_time_offset and the rotation less than converged_rotation_deg, or max_iterations.
+/// its tolerance and the rotation less than its (CalibrationParams::converged_*), or max_iterations.
 /// The start: run_params.time_offset when set, else the camera's time_offset.
 /// Errors: kFailedPrecondition naming the folder for a sequence without corner detections or camera, a run
 /// that found no frame, fewer than min_matches matched detections; kInvalidArgument for bad params;

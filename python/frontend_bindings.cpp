@@ -296,13 +296,19 @@ void bindRun(py::module_& m) {
             out["why_not_time_offset"] = c.why_not_time_offset;
             out["why_not_mount"] = c.why_not_mount;
             out["why_not"] = c.why_not;
+            out["parts"] = c.parts;
+            out["clock_offset_first_at_s"] = c.clock_offset_first_at_s;
+            out["clock_offset_first_applied"] = c.clock_offset_first_applied;
+            out["clock_offset_first_s"] = c.clock_offset_first_s;
             return out;
           },
           "the onboard self-calibration (`self_calibration_after_s`): attempted, attempts [count], applied, at_s [s], "
           "time_offset_before_s / time_offset_s / time_offset_sigma_s [s], mount_change_deg [deg], "
           "first_half_mount_change_deg / second_half_mount_change_deg / halves_mount_change_deg / halves_mount_sigma_deg "
           "[deg] (each half apart, what they show together), iterations [count], "
-          "time_offset_applied, mount_applied, why_not_time_offset, why_not_mount, why_not; metrics.json self_calibration_*")
+          "time_offset_applied, mount_applied, why_not_time_offset, why_not_mount, why_not, parts (what the last "
+          "calibration estimated), clock_offset_first_at_s [s] / clock_offset_first_applied / clock_offset_first_s [s] "
+          "(the clock offset calibrated alone first); metrics.json self_calibration_*")
       .def("__repr__", [](const SequenceRunResult& r) {
         char text[64];
         std::snprintf(text, sizeof(text), ", wall_seconds=%.3f)", r.wall_seconds);

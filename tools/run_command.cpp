@@ -254,7 +254,13 @@ int runRunCommand(const RunOptions& o) {
               << (self_calibration.time_offset_applied ? "applied" : "kept: " + self_calibration.why_not_time_offset)
               << "; mount correction " << self_calibration.mount_change_deg << " deg "
               << (self_calibration.mount_applied ? "applied" : "kept: " + self_calibration.why_not_mount)
-              << "; used from " << std::round(10.0 * elapsed) / 10.0 << " s\n";
+              << "; used from " << std::round(10.0 * elapsed) / 10.0 << " s (" << self_calibration.parts << ")\n";
+  }
+  if (self_calibration.clock_offset_first_at_s > 0.0) {
+    std::cout << "  clock offset calibrated alone first at t0 + "
+              << std::round(10.0 * (self_calibration.clock_offset_first_at_s - sequence->odometry.samples.front().t)) / 10.0
+              << " s: " << 1e3 * self_calibration.clock_offset_first_s << " ms "
+              << (self_calibration.clock_offset_first_applied ? "applied" : "kept") << "\n";
   }
   std::cout << "  tracking " << metrics->time_tracking_s << " s, lost " << metrics->time_lost_s << " s ("
             << metrics->lost_share_pct << " %), initialising " << metrics->time_initialising_s << " s; "

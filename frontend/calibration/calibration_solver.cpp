@@ -31,7 +31,24 @@ Status validateSolverParams(const CalibrationSolverParams& p) {
   if (!(std::isfinite(p.gate_sigma_yaw) && p.gate_sigma_yaw > 0.0)) return bad("gate_sigma_yaw");
   if (p.max_iterations < 1) return bad("max_iterations");
   if (p.robust_passes < 1) return bad("robust_passes");
+  if (!p.estimate_time_offset && !p.estimate_mount) {
+    return Status(StatusCode::kInvalidArgument,
+                  "calibration solver: fields 'estimate_time_offset' and 'estimate_mount' are both false: nothing to estimate");
+  }
   return Status();
+}
+
+// The normal equations with the held camera parts removed: their rows and columns zero, a unit diagonal, so the
+// step leaves them where they are and the covariance of the rest is conditional on them.
+void holdParts(const CalibrationSolverParams& p, Eigen::MatrixXd& H, Eigen::VectorXd& g) {
+  const auto hold = [&](int first, int count) {
+    H.middleRows(first, count).setZero();
+    H.middleCols(first, count).setZero();
+    H.diagonal().segment(first, count).setOnes();
+    g.segment(first, count).setZero();
+  };
+  if (!p.estimate_time_offset) hold(0, 1);
+  if (!p.estimate_mount) hold(1, 3);
 }
 
 }  // namespace
@@ -64,6 +81,7 @@ Result<CalibrationSolution> solveCameraCalibration(const std::vector<GateCornerM
       Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, n);
       Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
       const double cost = problem.evaluate(state, scale, &H, &g);
+      holdParts(params, H, g);
       ++solution.iterations;
       bool accepted = false;
       while (!accepted && lambda < 1e10) {
@@ -75,6 +93,9 @@ Result<CalibrationSolution> solveCameraCalibration(const std::vector<GateCornerM
           return Status(StatusCode::kNumericalError, "calibration solver: singular normal equations");
         }
         CalibrationState candidate = problem.plus(state, dx);
+        // Held parts exactly as given (the solve and the re-orthonormalisation leave rounding).
+        if (!params.estimate_time_offset) candidate.time_offset = time_offset;
+        if (!params.estimate_mount) candidate.body_R_camera = camera.body_T_camera.linear();
         if (problem.evaluate(candidate, scale, nullptr, nullptr) <= cost) {
           state = std::move(candidate);
           lambda = std::max(lambda / 3.0, 1e-12);
@@ -90,12 +111,15 @@ Result<CalibrationSolution> solveCameraCalibration(const std::vector<GateCornerM
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, n);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
   problem.evaluate(state, scale, &H, &g, &solution);
+  holdParts(params, H, g);
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
   const int global = kCalibrationGlobalUnknowns;
   const Eigen::MatrixXd covariance = ldlt.solve(Eigen::MatrixXd::Identity(n, global)).topRows(global);
   const double variance = solution.robust_sigma_px * solution.robust_sigma_px;
-  solution.time_offset_sigma = std::sqrt(variance * covariance(0, 0));
-  for (int a = 0; a < 3; ++a) solution.rotation_sigma[a] = std::sqrt(variance * covariance(a + 1, a + 1));
+  solution.time_offset_sigma = params.estimate_time_offset ? std::sqrt(variance * covariance(0, 0)) : 0.0;
+  for (int a = 0; a < 3; ++a) {
+    solution.rotation_sigma[a] = params.estimate_mount ? std::sqrt(variance * covariance(a + 1, a + 1)) : 0.0;
+  }
   solution.time_offset = state.time_offset;
   solution.body_R_camera = state.body_R_camera;
   solution.knots = std::move(state.knots);

@@ -28,6 +28,10 @@ struct CalibrationSolverParams {
   bool refine_gates = true;
   double gate_sigma_position = 0.05;  ///< [m] per axis
   double gate_sigma_yaw = 0.026;      ///< [rad] (1.5°)
+  /// Which of the camera's parts are unknowns; a part not estimated is held at its given value (its σ then 0): the
+  /// step-down of a calibration that cannot carry both (SelfCalibrator). At least one must be estimated.
+  bool estimate_time_offset = true;
+  bool estimate_mount = true;
   int max_iterations = 50;            ///< Levenberg–Marquardt steps per robust pass
   int robust_passes = 2;              ///< each pass re-estimates the Cauchy scale from the residuals, ≥ 1
   double min_robust_sigma_px = 0.1;   ///< floor of the estimated corner noise [px]

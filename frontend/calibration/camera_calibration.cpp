@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/frontend/calibration/camera_calibration.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "dualgraph/types/se3_math.h"
@@ -16,6 +17,8 @@ Status validateCalibrationParams(const CalibrationParams& p) {
     return bad("converged_time_offset", "must be >= 0");
   if (!(std::isfinite(p.converged_rotation_deg) && p.converged_rotation_deg >= 0.0))
     return bad("converged_rotation_deg", "must be >= 0");
+  if (!(std::isfinite(p.converged_sigma_fraction) && p.converged_sigma_fraction >= 0.0))
+    return bad("converged_sigma_fraction", "must be >= 0");
   if (!(std::isfinite(p.knot_spacing) && p.knot_spacing > 0.0)) return bad("knot_spacing", "must be > 0");
   if (!(std::isfinite(p.max_match_rms_px) && p.max_match_rms_px > 0.0)) return bad("max_match_rms_px", "must be > 0");
   if (p.min_matches < 8) return bad("min_matches", "must be >= 8");
@@ -71,8 +74,14 @@ Result<CalibrationSolution> calibrationStep(const std::vector<CornerDetection>& 
 }
 
 bool calibrationStepConverged(const CalibrationIteration& record, const CalibrationParams& params) {
-  return record.time_offset_step < params.converged_time_offset &&
-         record.rotation_step_deg < params.converged_rotation_deg;
+  // A step of a tenth of the part's own 1σ changes nothing the estimate can tell (the matches it re-made can move
+  // it that much); a part held is not judged.
+  const double fraction = params.converged_sigma_fraction;
+  const double time_tolerance = std::max(params.converged_time_offset, fraction * record.time_offset_sigma);
+  const double rotation_tolerance =
+      std::max(params.converged_rotation_deg, fraction * record.rotation_sigma.norm() * 180.0 / M_PI);
+  return (!params.solver.estimate_time_offset || record.time_offset_step < time_tolerance) &&
+         (!params.solver.estimate_mount || record.rotation_step_deg < rotation_tolerance);
 }
 
 void finishCameraCalibration(const CameraModel& camera, CameraCalibration& result) {

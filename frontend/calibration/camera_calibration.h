@@ -19,8 +19,13 @@ namespace dualgraph {
 /// What calibrateCamera does (frontend/calibration/README.md).
 struct CalibrationParams {
   int max_iterations = 6;                ///< runs (each: run → match → solve → update), ≥ 1
-  double converged_time_offset = 1e-4;   ///< stop when δ moved less than this [s] ...
-  double converged_rotation_deg = 0.01;  ///< ... and the mount rotation less than this [deg]
+  /// Stop when δ moved less than this or converged_sigma_fraction of its 1σ [s] ...
+  double converged_time_offset = 1e-4;
+  /// ... and the mount rotation less than this or converged_sigma_fraction of its 1σ [deg] (a part the solver
+  /// holds is not judged).
+  double converged_rotation_deg = 0.01;
+  /// A step this share of a part's own 1σ changes nothing the estimate can tell (re-made matches move it that much).
+  double converged_sigma_fraction = 0.1;
   double knot_spacing = 4.0;             ///< of the VIO's drift correction, VioDriftTrack [s]
   /// A detection matches a map gate when its corners lie within this RMS distance of the gate's projection [px].
   /// Measured on the realistic profile: a 3° mount error with 100 ms of offset still converges (fewer matches in
@@ -75,7 +80,7 @@ Result<CalibrationSolution> calibrationStep(const std::vector<CornerDetection>& 
                                             const std::vector<OdometrySample>& odometry, const DriftKnots& knots,
                                             const Eigen::Matrix3d& input_body_R_camera, const CalibrationParams& params,
                                             const std::string& source, CameraModel& camera, CalibrationIteration& record);
-/// Whether a step moved less than the tolerances.
+/// Whether a step moved less than the tolerances (CalibrationParams::converged_*).
 bool calibrationStepConverged(const CalibrationIteration& record, const CalibrationParams& params);
 /// `result` completed from its last iteration and the final `camera`.
 void finishCameraCalibration(const CameraModel& camera, CameraCalibration& result);

@@ -202,7 +202,11 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
         .add("self_calibration_why_not_mount", self->why_not_mount)
         .add("self_calibration_iterations", static_cast<long>(self->iterations))
         .add("self_calibration_attempts", static_cast<long>(self->attempts))
-        .add("self_calibration_why_not", self->why_not);
+        .add("self_calibration_why_not", self->why_not)
+        .add("self_calibration_parts", self->parts)
+        .add("self_calibration_clock_offset_first_at_s", self->clock_offset_first_at_s)
+        .add("self_calibration_clock_offset_first_applied", self->clock_offset_first_applied ? 1L : 0L)
+        .add("self_calibration_clock_offset_first_s", self->clock_offset_first_s);
   }
   return json;
 }

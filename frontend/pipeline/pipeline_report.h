@@ -19,7 +19,7 @@ struct SelfCalibrationReport {
   /// The last attempt found too little to go on (failed, did not converge, or a significant part could not be
   /// checked on both halves); another follows while attempts remain.
   bool evidence_missing = false;
-  bool applied = false;              ///< the rest of the run used the calibrated camera
+  bool applied = false;              ///< the rest of the run used a calibrated camera (either calibration's)
   double at_s = 0.0;                 ///< t_c: the flight so far ends there; the camera switched there [s]
   double time_offset_before = 0.0;   ///< the clock offset the run started with [s]
   double time_offset_after = 0.0;    ///< the calibrated one [s]
@@ -37,6 +37,14 @@ struct SelfCalibrationReport {
   std::string why_not_time_offset;   ///< why the clock offset was kept (empty when applied)
   std::string why_not_mount;         ///< why the mount was kept (empty when applied)
   std::string why_not;               ///< when nothing was applied: why (empty when applied)
+  /// What the last calibration estimated (SelfCalibrator's step-down): "clock offset and mount", "clock offset
+  /// alone" or "mount alone" — the other part held at its value then.
+  std::string parts;
+  /// The clock offset calibrated alone first, on fewer corners than the whole calibration needs
+  /// (SelfCalibrator::kMinCornersClockOffset): when it ran [s] (0: it did not), whether it was applied, its value [s].
+  double clock_offset_first_at_s = 0.0;
+  bool clock_offset_first_applied = false;
+  double clock_offset_first_s = 0.0;
 };
 
 /// What one odometry sample did inside the pipeline (the work of that call, synchronous mode; in worker mode the

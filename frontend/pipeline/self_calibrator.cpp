@@ -12,8 +12,9 @@
 
 namespace dualgraph {
 
-SelfCalibrator::SelfCalibrator(double after_s, double time_offset_before, std::string why_off)
-    : after_s_(after_s), pending_(why_off.empty()) {
+SelfCalibrator::SelfCalibrator(double after_s, double time_offset_before, std::string why_off,
+                               CalibrationParams calibration)
+    : after_s_(after_s), calibration_(std::move(calibration)), pending_(why_off.empty()) {
   report_.time_offset_before = time_offset_before;
   report_.why_not = std::move(why_off);
 }
@@ -63,23 +64,56 @@ void SelfCalibrator::addOdometry(const OdometrySample& sample) {
 }
 
 bool SelfCalibrator::due(double t, bool tracking) const {
-  return pending_ && started_ && notAfter(report_.at_s, t) && tracking && corners_.size() >= kMinCorners;
+  return pending_ && started_ && notAfter(report_.at_s, t) && tracking && corners_.size() >= next_corners_;
 }
+
+namespace {
+
+const char* partsName(bool time_offset, bool mount) {
+  if (time_offset && mount) return "clock offset and mount";
+  return time_offset ? "clock offset alone" : "mount alone";
+}
+
+}  // namespace
 
 std::optional<CameraModel> SelfCalibrator::run(double t, const CameraModel& camera, const Track& track,
                                                const std::vector<CorrectedPose>& keyframes) {
   SelfCalibrationReport fresh;
   fresh.time_offset_before = report_.time_offset_before;
+  fresh.clock_offset_first_at_s = report_.clock_offset_first_at_s;
+  fresh.clock_offset_first_applied = report_.clock_offset_first_applied;
+  fresh.clock_offset_first_s = report_.clock_offset_first_s;
   report_ = fresh;
   report_.at_s = t;
   report_.attempted = true;
-  report_.attempts = ++attempts_;
-  last_attempt_t_ = t;
   // The flight so far; kept for a later attempt when this one finds too little to go on.
   std::vector<CornerDetection> corners;
   std::copy_if(corners_.begin(), corners_.end(), std::back_inserter(corners),
                [&](const CornerDetection& d) { return d.t <= t; });
-  const std::optional<CameraModel> camera_to_use = attempt(camera, track, keyframes, corners);
+  if (corners.size() < kMinCorners) {  // the clock offset alone, first: the whole calibration follows
+    clock_offset_first_done_ = true;
+    Outcome outcome;
+    std::optional<CameraModel> camera_to_use =
+        calibrateParts(Parts::kTimeOffset, camera, track, keyframes, corners, report_, outcome);
+    report_.clock_offset_first_at_s = t;
+    report_.clock_offset_first_applied = camera_to_use.has_value();
+    report_.clock_offset_first_s = report_.time_offset_after;
+    // Too little to go on: again on twice the corners (the whole calibration at kMinCorners in any case).
+    next_corners_ = camera_to_use || outcome.nothing_to_correct ? kMinCorners : std::min(2 * corners.size(), kMinCorners);
+    if (!camera_to_use) {
+      report_.why_not = "the clock offset alone, first, on " + std::to_string(corners.size()) +
+                        " corner detections: " + report_.why_not + "; the next step at " + std::to_string(next_corners_);
+    }
+    return camera_to_use;
+  }
+  report_.attempts = ++attempts_;
+  last_attempt_t_ = t;
+  std::optional<CameraModel> camera_to_use = attempt(camera, track, keyframes, corners);
+  if (!camera_to_use && report_.clock_offset_first_applied) {  // the first step's offset stays in use
+    report_.applied = true;
+    report_.time_offset_applied = true;
+    report_.why_not = "the whole calibration applied nothing (the clock offset calibrated first stays): " + report_.why_not;
+  }
   pending_ = !camera_to_use && report_.evidence_missing && attempts_ < kMaxAttempts;
   if (pending_) {
     report_.at_s = t + after_s_;  // the next attempt, on a longer flight so far
@@ -99,10 +133,48 @@ std::optional<CameraModel> SelfCalibrator::run(double t, const CameraModel& came
 std::optional<CameraModel> SelfCalibrator::attempt(const CameraModel& camera, const Track& track,
                                                    const std::vector<CorrectedPose>& keyframes,
                                                    const std::vector<CornerDetection>& corners) {
+  // Both parts first.
+  SelfCalibrationReport whole = report_;
+  Outcome outcome;
+  std::optional<CameraModel> whole_camera = calibrateParts(Parts::kBoth, camera, track, keyframes, corners, whole, outcome);
+  // Nothing applied, and not merely nothing to correct: each part alone (the other held).
+  if (whole_camera || outcome.nothing_to_correct) {
+    report_ = whole;
+    return whole_camera;
+  }
+  std::string why_not = whole.parts + ": " + whole.why_not;
+  bool evidence_missing = whole.evidence_missing;
+  for (const Parts parts : {Parts::kTimeOffset, Parts::kMount}) {
+    SelfCalibrationReport alone = report_;
+    Outcome unused;
+    std::optional<CameraModel> alone_camera = calibrateParts(parts, camera, track, keyframes, corners, alone, unused);
+    why_not += "; " + alone.parts + ": " + alone.why_not;
+    evidence_missing = evidence_missing || alone.evidence_missing;
+    if (alone_camera) {
+      report_ = alone;
+      // The part held says why: what the calibrations before this one found.
+      (parts == Parts::kTimeOffset ? report_.why_not_mount : report_.why_not_time_offset) = "held: " + why_not;
+      return alone_camera;
+    }
+  }
+  report_ = whole;
+  report_.evidence_missing = evidence_missing;
+  report_.why_not = why_not;
+  return std::nullopt;
+}
+
+std::optional<CameraModel> SelfCalibrator::calibrateParts(Parts parts, const CameraModel& camera, const Track& track,
+                                                          const std::vector<CorrectedPose>& keyframes,
+                                                          const std::vector<CornerDetection>& corners,
+                                                          SelfCalibrationReport& self, Outcome& outcome) const {
   const std::vector<OdometrySample>& odometry = odometry_;
-  SelfCalibrationReport& self = report_;
+  CalibrationParams params = calibration_;
+  params.solver.estimate_time_offset = parts != Parts::kMount;
+  params.solver.estimate_mount = parts != Parts::kTimeOffset;
+  self.parts = partsName(params.solver.estimate_time_offset, params.solver.estimate_mount);
+  outcome = Outcome{};
   Result<CameraCalibration> calibrated =
-      calibrateCameraOnRun(corners, track, camera, odometry, keyframes, CalibrationParams{}, "the flight so far");
+      calibrateCameraOnRun(corners, track, camera, odometry, keyframes, params, "the flight so far");
   if (!calibrated.ok()) {
     self.why_not = "the calibration failed: " + calibrated.status().message();
     self.evidence_missing = true;
@@ -124,7 +196,7 @@ std::optional<CameraModel> SelfCalibrator::attempt(const CameraModel& camera, co
   std::optional<CameraCalibration> half_calibrations[2];
   std::string half_failed;
   for (int h = 0; h < 2; ++h) {
-    Result<CameraCalibration> half = calibrateCameraOnRun(halves[h], track, camera, odometry, keyframes, CalibrationParams{},
+    Result<CameraCalibration> half = calibrateCameraOnRun(halves[h], track, camera, odometry, keyframes, params,
                                                           h == 0 ? "its first half" : "its second half");
     if (half.ok()) {
       half_calibrations[h] = std::move(half).value();
@@ -141,20 +213,26 @@ std::optional<CameraModel> SelfCalibrator::attempt(const CameraModel& camera, co
                        half_calibrations[1] ? &*half_calibrations[1] : nullptr, half_failed);
   self.time_offset_applied = accepted.time_offset;
   self.mount_applied = accepted.mount;
-  self.why_not_time_offset = accepted.why_not_time_offset;
-  self.why_not_mount = accepted.why_not_mount;
+  self.why_not_time_offset = params.solver.estimate_time_offset ? accepted.why_not_time_offset : "held (" + self.parts + ")";
+  self.why_not_mount = params.solver.estimate_mount ? accepted.why_not_mount : "held (" + self.parts + ")";
   self.half_mount_change_deg[0] = accepted.half_mount_change_deg[0];
   self.half_mount_change_deg[1] = accepted.half_mount_change_deg[1];
   self.halves_mount_change_deg = accepted.halves_mount_change_deg;
   self.halves_mount_sigma_deg = accepted.halves_mount_sigma_deg;
   if (!accepted.time_offset && !accepted.mount) {
-    self.why_not = "neither part cleared the bar: " + accepted.why_not_time_offset + "; " + accepted.why_not_mount;
+    const bool time_significant = params.solver.estimate_time_offset && accepted.time_offset_significant;
+    const bool mount_significant = params.solver.estimate_mount && accepted.mount_significant;
+    self.why_not = "nothing cleared the bar: ";
+    if (params.solver.estimate_time_offset) self.why_not += accepted.why_not_time_offset;
+    if (params.solver.estimate_time_offset && params.solver.estimate_mount) self.why_not += "; ";
+    if (params.solver.estimate_mount) self.why_not += accepted.why_not_mount;
+    outcome.nothing_to_correct = !time_significant && !mount_significant;
     // A part that was significant but could not be checked on both halves: the flight so far was too short for it.
-    self.evidence_missing =
-        !accepted.halves_calibrated && (accepted.time_offset_significant || accepted.mount_significant);
+    self.evidence_missing = !accepted.halves_calibrated && !outcome.nothing_to_correct;
     return std::nullopt;
   }
   self.applied = true;
+  self.why_not.clear();
   return acceptedCamera(camera, *calibrated, accepted);
 }
 
@@ -164,6 +242,12 @@ void SelfCalibrator::finish(std::optional<double> newest_t) {
   if (attempts_ > 0) {  // a later attempt was due: the last one's figures and reasons stand
     report_.why_not += "; the flight ended before the next attempt";
     report_.at_s = last_attempt_t_;
+    return;
+  }
+  if (clock_offset_first_done_) {  // the clock offset alone ran; the whole calibration never did
+    if (!report_.why_not.empty()) report_.why_not += "; ";
+    report_.why_not += "the whole calibration never ran: the flight ended with " + std::to_string(corners_.size()) +
+                       " corner detections kept while tracking, " + std::to_string(kMinCorners) + " needed";
     return;
   }
   if (corners_.empty() && pose_detections_seen_) {

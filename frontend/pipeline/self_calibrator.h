@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "dualgraph/dual_graph/localizer.h"
+#include "dualgraph/frontend/calibration/camera_calibration.h"
 #include "dualgraph/frontend/gates/camera_model.h"
 #include "dualgraph/frontend/gates/corner_detection.h"
 #include "dualgraph/frontend/gates/track.h"
@@ -19,21 +20,33 @@ namespace dualgraph {
 /// The camera's clock offset and mount rotation calibrated on the flight so far, onboard (PipelineCore's). From the
 /// first odometry sample t0 it keeps the odometry and the corner detections (camera clock) stamped while the
 /// localizer was tracking (judged by stamp against the states after each sample, so the answer does not depend on
-/// how far ahead of the odometry a detection arrived); at the first sample at or after t_c = t0 + after_s at which
-/// it is tracking and at least kMinCorners such corners are in, it runs calibrateCameraOnRun on them and on each
-/// half apart, and hands back the camera with the parts judgeCalibration accepts
-/// (frontend/calibration/calibration_acceptance.h), or none; the report says what happened. Once, unless that
-/// attempt found too little to go on (the calibration failed or did not converge, or a significant part could not
-/// be checked on both halves): then again after_s later on the longer flight so far, kMaxAttempts in all.
-/// Not thread-safe (the pipeline's thread).
+/// how far ahead of the odometry a detection arrived). From t_c = t0 + after_s on, at a sample at which it is
+/// tracking:
+/// - with kMinCornersClockOffset such corners but fewer than kMinCorners, the **clock offset alone** (mount held)
+///   is calibrated first: an offset shows in every moving image, a mount needs many views of several gates (a real
+///   VI-SLAM's 50 ms offset cost one real flight 5 cm of ATE: it never had 200). When that finds too little to go
+///   on, again on twice the corners, until the whole calibration is due;
+/// - with kMinCorners corners, the whole calibration (offset and mount, from the camera the first step left). It
+///   **steps down** when it applies nothing and not because both parts are insignificant (it failed, did not
+///   converge, a half could not be calibrated, the halves disagree): the clock offset alone, then the mount alone.
+///   When it applies one part and refuses the other, its part stands: held at its value, a mount-like VIO attitude
+///   error goes into the offset instead (a roll drifting 0-6° over a flight: the offset's halves then 5 ms apart).
+/// Each calibration runs calibrateCameraOnRun on the corners and on each half apart, and the camera changes only by
+/// the parts judgeCalibration accepts (frontend/calibration/calibration_acceptance.h); the report says which parts
+/// were estimated (`parts`), what was applied, and why not the rest. The whole calibration runs once, unless it found
+/// too little to go on (evidence_missing): then again after_s later on the longer flight so far, kMaxAttempts in
+/// all. Not thread-safe (the pipeline's thread).
 class SelfCalibrator {
  public:
   static constexpr size_t kMinCorners = 200;
+  /// Corners for the clock offset alone, first [count].
+  static constexpr size_t kMinCornersClockOffset = 50;
   /// Attempts at most: a later one only when the one before found too little to go on (evidence_missing).
   static constexpr int kMaxAttempts = 3;
 
   /// `why_off` non-empty: never runs, the report says so. `time_offset_before`: the camera's offset at the start [s].
-  SelfCalibrator(double after_s, double time_offset_before, std::string why_off);
+  /// `calibration`: how each calibration runs (its solver's parts are set by the step).
+  SelfCalibrator(double after_s, double time_offset_before, std::string why_off, CalibrationParams calibration = {});
 
   bool pending() const { return pending_; }
   /// Corners kept so far (stamped while tracking) [count].
@@ -48,7 +61,7 @@ class SelfCalibrator {
   void notePoseDetections() { pose_detections_seen_ = true; }
   /// Every accepted odometry sample; the first sets t_c.
   void addOdometry(const OdometrySample& sample);
-  /// t_c passed (t ≥ t_c, to core/stamp_tolerance.h), tracking, and enough corners: run() now.
+  /// t_c passed (t ≥ t_c, to core/stamp_tolerance.h), tracking, and enough corners for the next step: run() now.
   bool due(double t, bool tracking) const;
   /// Calibrates on the flight so far (its corners up to t) from `camera` (its time_offset the one in use) against
   /// `track` with the run's `keyframes`; the camera to use from t on, or none (report().why_not says why).
@@ -59,13 +72,28 @@ class SelfCalibrator {
   const SelfCalibrationReport& report() const { return report_; }
 
  private:
-  /// One calibration of `corners` (the flight so far) into report_; the camera to use, or none.
+  /// Which parts a calibration estimates (the rest held).
+  enum class Parts { kBoth, kTimeOffset, kMount };
+  /// The whole calibration of `corners` (the flight so far), stepping down when it cannot carry both parts, into
+  /// report_; the camera to use, or none.
   std::optional<CameraModel> attempt(const CameraModel& camera, const Track& track,
                                      const std::vector<CorrectedPose>& keyframes,
                                      const std::vector<CornerDetection>& corners);
+  /// What a calibration's judgement means for the step-down.
+  struct Outcome {
+    bool nothing_to_correct = false;  ///< every estimated part within its bar: no reason to step down
+  };
+  /// One calibration of `parts` into `report` (its figures, what was applied, why not); the camera to use, or none.
+  std::optional<CameraModel> calibrateParts(Parts parts, const CameraModel& camera, const Track& track,
+                                            const std::vector<CorrectedPose>& keyframes,
+                                            const std::vector<CornerDetection>& corners, SelfCalibrationReport& report,
+                                            Outcome& outcome) const;
 
   double after_s_;
+  CalibrationParams calibration_;
   int attempts_ = 0;
+  bool clock_offset_first_done_ = false;
+  size_t next_corners_ = kMinCornersClockOffset;  ///< corners the next step needs
   double last_attempt_t_ = 0.0;
   bool pending_;
   bool started_ = false;

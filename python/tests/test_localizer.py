@@ -154,12 +154,12 @@ class SameAsTheCli(unittest.TestCase):
         self.assertEqual(calibration["applied"], metrics["self_calibration_applied"] == 1)
         for key in ("at_s", "time_offset_before_s", "time_offset_s", "time_offset_sigma_s", "mount_change_deg",
                     "first_half_mount_change_deg", "second_half_mount_change_deg", "halves_mount_change_deg",
-                    "halves_mount_sigma_deg"):
+                    "halves_mount_sigma_deg", "clock_offset_first_at_s", "clock_offset_first_s"):
             self.assertEqual(calibration[key], metrics["self_calibration_" + key], key)
         self.assertGreater(calibration["halves_mount_sigma_deg"], 0.0)  # both halves were calibrated
-        for key in ("attempts", "iterations", "why_not", "why_not_time_offset", "why_not_mount"):
+        for key in ("attempts", "iterations", "why_not", "why_not_time_offset", "why_not_mount", "parts"):
             self.assertEqual(calibration[key], metrics["self_calibration_" + key], key)
-        for key in ("time_offset_applied", "mount_applied"):
+        for key in ("time_offset_applied", "mount_applied", "clock_offset_first_applied"):
             self.assertEqual(calibration[key], metrics["self_calibration_" + key] == 1, key)
         given = dualgraph.run_sequence(self.sequence, self.config)
         self.assertIsNone(given.initialization)  # `initialization: given`: no search

@@ -150,6 +150,44 @@ TEST(CalibrationSolver, StaysWithinItsUncertaintyThroughNoiseAndDisplacedCorners
   EXPECT_NEAR(solution->robust_sigma_px, 2.0, 0.3);
 }
 
+// The step-down's parts: a part not estimated stays exactly where it was given (its σ 0) and the other is
+// recovered from it — the offset with the mount held at the truth, the mount with the offset held at the truth;
+// held at a wrong value, the other part does not come back exactly. Both held is refused.
+TEST(CalibrationSolver, APartNotEstimatedIsHeldAndTheOtherRecovered) {
+  const CameraModel truth = caltest::trueCamera();
+  const SyntheticFlight flight = syntheticFlight(truth, 0.021);
+  CalibrationSolverParams offset_alone;
+  offset_alone.estimate_mount = false;
+  auto offset = solveCameraCalibration(flight.matches, flight.odometry, truth, 0.0, startKnots(flight), offset_alone);
+  ASSERT_TRUE(offset.ok()) << offset.status().toString();
+  EXPECT_NEAR(offset->time_offset, 0.021, 1e-5);
+  EXPECT_TRUE(offset->body_R_camera == truth.body_T_camera.linear());
+  EXPECT_EQ(offset->rotation_sigma, Eigen::Vector3d::Zero());
+  EXPECT_GT(offset->time_offset_sigma, 0.0);
+  CalibrationSolverParams mount_alone;
+  mount_alone.estimate_time_offset = false;
+  const CameraModel wrong = mountedWrong(truth, 1.5);
+  auto mount = solveCameraCalibration(flight.matches, flight.odometry, wrong, 0.021, startKnots(flight), mount_alone);
+  ASSERT_TRUE(mount.ok()) << mount.status().toString();
+  EXPECT_EQ(mount->time_offset, 0.021);
+  EXPECT_EQ(mount->time_offset_sigma, 0.0);
+  CameraModel estimated = truth;
+  estimated.body_T_camera.linear() = mount->body_R_camera;
+  EXPECT_LT(caltest::mountErrorDeg(estimated, truth), 1e-3);
+  EXPECT_GT(mount->rotation_sigma.minCoeff(), 0.0);
+  // The mount held 1.5° off: the offset alone cannot explain the images to the pixel.
+  auto held_wrong = solveCameraCalibration(flight.matches, flight.odometry, wrong, 0.0, startKnots(flight), offset_alone);
+  ASSERT_TRUE(held_wrong.ok());
+  EXPECT_TRUE(held_wrong->body_R_camera == wrong.body_T_camera.linear());
+  EXPECT_GT(held_wrong->inlier_rms_px, 0.1);
+  CalibrationSolverParams neither = offset_alone;
+  neither.estimate_time_offset = false;
+  auto refused = solveCameraCalibration(flight.matches, flight.odometry, truth, 0.0, startKnots(flight), neither);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(refused.status().message().find("estimate_time_offset"), std::string::npos) << refused.status().message();
+}
+
 TEST(CalibrationSolver, TooFewMatchesAreAPreconditionError) {
   const CameraModel truth = caltest::trueCamera();
   SyntheticFlight flight = syntheticFlight(truth, 0.0);

@@ -73,6 +73,57 @@ TEST(SelfCalibration, RecoversOffsetAndMountFromTheFlightSoFarAndImprovesTheRest
   EXPECT_LT(self_after, 0.9 * plain_after);
 }
 
+// A flight whose detector sees few gates (one image in six here: 156 corner detections while tracking) cannot carry the
+// whole calibration (SelfCalibrator::kMinCorners) for a long time, or ever: its clock offset, which shows in every
+// moving image, is calibrated alone first, the mount held as given, and the rest of the run uses it. Before, such a
+// flight kept a 30 ms offset until 200 corner detections were in.
+TEST(SelfCalibration, OnFewCornersTheClockOffsetAloneIsCalibratedFirst) {
+  Sequence sequence = caltest::realisticFlight("ratm_ellipse.yaml", 1, 3, 0.030);
+  std::vector<CornerDetection> thinned;
+  for (size_t k = 0; k < sequence.corners.size(); k += 6) thinned.push_back(sequence.corners[k]);
+  sequence.corners = thinned;
+  SequenceRunParams params;
+  params.self_calibration_after_s = 6.0;
+  SelfCalibrationReport report;
+  auto run = runSequenceSelfCalibrating(sequence, params, {}, &report);
+  ASSERT_TRUE(run.ok()) << run.status().toString();
+  const double t_c = sequence.odometry.samples.front().t + 6.0;
+  ASSERT_TRUE(report.clock_offset_first_applied) << report.why_not;
+  EXPECT_GE(report.clock_offset_first_at_s, t_c);
+  EXPECT_EQ(report.attempts, 0);  // the whole calibration never had its corners: before, nothing was calibrated
+  EXPECT_NEAR(report.clock_offset_first_s, 0.030, 0.004);
+  ASSERT_TRUE(run->camera_switched_at.has_value());
+  EXPECT_TRUE(report.applied);
+  EXPECT_TRUE(report.time_offset_applied);
+  std::printf("[ measured ] one image in six, 3 laps: clock offset alone at t_c + %.2f s: %.2f ms; then %s (%d "
+              "attempts): %s\n", report.clock_offset_first_at_s - t_c, 1e3 * report.clock_offset_first_s,
+              report.parts.c_str(), report.attempts, report.why_not.c_str());
+}
+
+// A VIO whose attitude drifts (roll 0 → 6° over the flight) looks like a mount error to the whole calibration, a
+// different one in each half: it refuses the mount and keeps its offset, which the mount protected — held at its
+// value instead, the roll goes into the offset (its halves then 32 and 37 ms): no step-down when a part holds.
+TEST(SelfCalibration, AMountTheHalvesDoNotShowIsRefusedAndTheWholesOffsetKept) {
+  Sequence sequence = caltest::realisticFlight("ratm_ellipse.yaml", 2, 4, 0.030);
+  sequence.camera = caltest::trueCamera();  // the mount as built: what looks like one is the VIO's attitude
+  const double t0 = sequence.odometry.samples.front().t, span = sequence.odometry.samples.back().t - t0;
+  for (OdometrySample& sample : sequence.odometry.samples) {
+    const double roll = 6.0 * M_PI / 180.0 * (sample.t - t0) / span;
+    sample.odom_T_body.linear() = sample.odom_T_body.linear() * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()).matrix();
+  }
+  SequenceRunParams params;
+  params.self_calibration_after_s = 16.0;
+  SelfCalibrationReport report;
+  auto run = runSequenceSelfCalibrating(sequence, params, {}, &report);
+  ASSERT_TRUE(run.ok()) << run.status().toString();
+  ASSERT_EQ(report.attempts, 1) << report.why_not;
+  EXPECT_EQ(report.parts, "clock offset and mount");
+  EXPECT_TRUE(report.time_offset_applied);
+  EXPECT_FALSE(report.mount_applied);
+  EXPECT_NEAR(report.time_offset_after, 0.030, 0.002);
+  EXPECT_NE(report.why_not_mount.find("a VIO attitude error, not the mount"), std::string::npos) << report.why_not_mount;
+}
+
 // Nothing after t_c is used before it: up to the switch the run is the uncalibrated one, pose for pose.
 TEST(SelfCalibration, IsCausalTheRunBeforeTheSwitchIsTheUncalibratedRun) {
   const Sequence sequence = caltest::realisticFlight("ratm_ellipse.yaml", 1, 4, 0.015);
@@ -173,8 +224,9 @@ namespace {
 /// A SelfCalibrator fed a flight's odometry, the localizer `tracking` from `lock` [s] on (after the sample at or
 /// after it), and its corners: all of them before the odometry (arriving far ahead of it), or each just before the
 /// first sample at or after its stamp (`interleaved`). Due at 5 s.
-SelfCalibrator fedCalibrator(const Sequence& sequence, bool tracking, double lock = -1e9, bool interleaved = false) {
-  SelfCalibrator calibrator(5.0, 0.0, "");
+SelfCalibrator fedCalibrator(const Sequence& sequence, bool tracking, double lock = -1e9, bool interleaved = false,
+                             const CalibrationParams& calibration = {}) {
+  SelfCalibrator calibrator(5.0, 0.0, "", calibration);
   size_t next = 0;
   if (!interleaved) calibrator.addCorners(sequence.corners, 0.0);
   for (const OdometrySample& sample : sequence.odometry.samples) {
@@ -264,6 +316,37 @@ TEST(SelfCalibrator, TriesAgainWhenTheFlightSoFarCouldNotCarryIt) {
   EXPECT_FALSE(ended.pending());
   EXPECT_EQ(ended.report().at_s, t0 + 5.0);
   EXPECT_NE(ended.report().why_not.find("the flight ended before the next attempt"), std::string::npos);
+}
+
+// A whole calibration that cannot be carried (here it never converges: its mount is asked to stop moving entirely)
+// steps down: the clock offset alone, the mount held as given, is calibrated and applied, and the report says which
+// part and why the other was held. Before, nothing was applied. With the usual tolerance the whole converges.
+TEST(SelfCalibrator, AWholeCalibrationThatCannotBeCarriedStepsDownToTheClockOffsetAlone) {
+  const Sequence sequence = caltest::realisticFlight("ratm_ellipse.yaml", 1, 2, 0.030);
+  std::vector<CorrectedPose> keyframes;  // the run's keyframes, as a perfect one would have them
+  for (size_t k = 0; k < sequence.ground_truth->samples.size(); k += 100) {
+    keyframes.push_back(CorrectedPose{sequence.ground_truth->samples[k].t, sequence.ground_truth->samples[k].odom_T_body,
+                                      TrackingState::kTracking, std::nullopt});
+  }
+  const double t = sequence.odometry.samples.back().t;
+  CalibrationParams strict;
+  strict.converged_rotation_deg = 0.0;  // a rotation step is never below 0
+  strict.converged_sigma_fraction = 0.0;
+  SelfCalibrator calibrator = fedCalibrator(sequence, true, -1e9, false, strict);
+  ASSERT_TRUE(calibrator.due(t, true));
+  const std::optional<CameraModel> camera = calibrator.run(t, caltest::trueCamera(), sequence.map, keyframes);
+  const SelfCalibrationReport& report = calibrator.report();
+  ASSERT_TRUE(camera.has_value()) << report.why_not;
+  EXPECT_EQ(report.parts, "clock offset alone");
+  EXPECT_TRUE(report.time_offset_applied);
+  EXPECT_FALSE(report.mount_applied);
+  EXPECT_NEAR(camera->time_offset, 0.030, 0.002);
+  EXPECT_TRUE(camera->body_T_camera.linear() == caltest::trueCamera().body_T_camera.linear());
+  EXPECT_NE(report.why_not_mount.find("held: clock offset and mount: the calibration did not converge"), std::string::npos)
+      << report.why_not_mount;
+  SelfCalibrator usual = fedCalibrator(sequence, true);
+  ASSERT_TRUE(usual.run(t, caltest::trueCamera(), sequence.map, keyframes).has_value()) << usual.report().why_not;
+  EXPECT_EQ(usual.report().parts, "clock offset and mount");
 }
 
 }  // namespace
