@@ -10,7 +10,9 @@
 # perfect fixes at every detection, the VIO in between), the run's ATE, the share of the floor's reduction kept
 # = (VIO - run) / (VIO - floor) where the floor is at least 10 % below the VIO (else the run against the VIO),
 # the lock after the first detection against the earliest time the detections could tell the frame
-# (bench/frame_identifiability.py) and the share of time lost.
+# (bench/frame_identifiability.py) and the share of time lost. Beside the floor, the floors whose fixes are what each
+# instant's detections measure (bench/detection_fix_floor.py: their PnP pose, and its position with the true
+# attitude; needs BUILD_DIR/python).
 # Usage: bench/real_vio_table.sh [BUILD_DIR] [OUT_DIR] [DATA_DIR]   (prints a Markdown table; keeps the runs)
 # CONFIG=FILE runs with that configuration instead of the default; SEEDS="1 2 3" and FLIGHTS="V1_03_difficult ..."
 # select rows; PROFILE=clean (default, 2 px) or realistic.
@@ -25,8 +27,8 @@ profile_args=(--profile "$profile")
 [ "$profile" = clean ] && profile_args+=(--pixel-sigma 2)
 python=python3
 [ -x /usr/bin/python3 ] && python=/usr/bin/python3   # numpy is Debian's
-echo "| flight | VIO | seed | gates | VIO ATE [m] | floor [m] | run ATE [m] | kept of the floor's reduction | lock / earliest identification, after the first detection [s] | lost | exit |"
-echo "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|"
+echo "| flight | VIO | seed | gates | VIO ATE [m] | floor [m] | floors from the detections: PnP / position, true attitude [m] | run ATE [m] | kept of the floor's reduction | lock / earliest identification, after the first detection [s] | lost | exit |"
+echo "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"
 for gt in "$data"/*.gt.tum; do
   flight="$(basename "$gt" .gt.tum)"
   if [ -n "${FLIGHTS:-}" ] && [[ " $FLIGHTS " != *" $flight "* ]]; then continue; fi
@@ -45,7 +47,7 @@ for gt in "$data"/*.gt.tum; do
       mkdir -p "$dir"
       if ! "$dualgraph" simulate --flight "$gt" --vio "$data/$flight.$vio.tum" "${profile_args[@]}" --seed "$seed" \
           --no-plot --out "$dir/sequence" >"$dir/simulate.txt" 2>&1; then
-        echo "| $flight | $vio | $seed | $(grep -o 'only [0-9]* place' "$dir/simulate.txt" | head -1 || echo '?') | | | | | | | simulate refused |"
+        echo "| $flight | $vio | $seed | $(grep -o 'only [0-9]* place' "$dir/simulate.txt" | head -1 || echo '?') | | | | | | | | simulate refused |"
         continue
       fi
       code=0
@@ -56,16 +58,18 @@ for gt in "$data"/*.gt.tum; do
         floor="$("$python" "$here/bench/gate_coverage_bound.py" "$dir/sequence" "$dir/run" --json 2>/dev/null || echo '{}')"
       fi
       told="$("$python" "$here/bench/frame_identifiability.py" "$dir/sequence" "$dir/run" --json 2>/dev/null || echo '{}')"
-      "$python" - "$dir" "$flight" "$vio" "$seed" "$code" "$floor" "$told" <<'PY'
+      fixes="$(PYTHONPATH="$build/python" "$python" "$here/bench/detection_fix_floor.py" "$dir/sequence" --json 2>/dev/null || echo '{}')"
+      "$python" - "$dir" "$flight" "$vio" "$seed" "$code" "$floor" "$told" "$fixes" <<'PY'
 import json, re, sys
-d, flight, vio, seed, code, floor, told = sys.argv[1:]
+d, flight, vio, seed, code, floor, told, fixes = sys.argv[1:]
 floor = json.loads(floor)
 told = json.loads(told)
+fixes = json.loads(fixes)
 gates = re.search(r'gates: (\d+)', open(d + '/sequence/sequence.yaml').read().split('summary:')[1]).group(1)
 try:
     m = json.load(open(d + '/run/metrics.json'))
 except (OSError, ValueError):
-    print(f"| {flight} | {vio} | {seed} | {gates} | | | | | | | {code} (no metrics) |")
+    print(f"| {flight} | {vio} | {seed} | {gates} | | | | | | | | {code} (no metrics) |")
     sys.exit()
 vio_ate, run_ate, floor_ate = floor.get('vio_ate_m'), floor.get('run_ate_m'), floor.get('floor_ate_m')
 def f(v, digits=3):
@@ -83,7 +87,8 @@ lock = "never" if m.get('initialized_at_s') is None or 'first_detection' not in 
     f"{m['initialized_at_s'] - told['first_detection']:.1f}"
 lock += " / " + ("never" if earliest is None else f"{earliest:.1f}")
 lost_s = (m.get('time_lost_s') or 0.0)
-print(f"| {flight} | {vio} | {seed} | {gates} | {f(vio_ate)} | {f(floor_ate)} | {f(run_ate)} | {kept} | {lock} | "
+second = f"{f(fixes.get('detection_floor_ate_m'))} / {f(fixes.get('detection_floor_given_attitude_ate_m'))}"
+print(f"| {flight} | {vio} | {seed} | {gates} | {f(vio_ate)} | {f(floor_ate)} | {second} | {f(run_ate)} | {kept} | {lock} | "
       f"{f(m.get('lost_share_pct'), 1)} % ({lost_s:.1f} s) | {code} |")
 PY
     done

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "dualgraph/frontend/pipeline/pipeline_core.h"
 
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -168,11 +169,8 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
   const size_t updates_before = localizer.keyframeStats().size();
   const int failed_before = localizer.counters().keyframes_failed;
   const std::optional<SequenceRunParams::CameraSwitch>& camera_switch = params_.camera_switch;
-  if (camera_switch && !camera_switched_at_ && input.t >= camera_switch->t) {  // what arrives from now on, with it
-    frontend_->setCamera(camera_switch->camera);
-    time_offset_ = camera_switch->camera.time_offset;
-    camera_switched_at_ = input.t;
-    report_.camera_switched = true;
+  if (camera_switch && !camera_switched_at_ && input.t >= camera_switch->t) {
+    switchCamera(camera_switch->camera, input.t);
   }
   OdometrySample sample{input.t, input.odom_T_body, input.relative_covariance};
   const Status valid = localizer.checkOdometry(sample);
@@ -203,17 +201,12 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
     covariances_.reset();
   }
   const bool first = !newest_odometry_t_;
-  if (self_calibrator_ && self_calibrator_->due(input.t, localizer_->trackingState() == TrackingState::kTracking)) {
+  if (self_calibrator_ && self_calibrator_->due(input.t, frameTrusted())) {
     CameraModel camera = *frontend_->camera();
     camera.time_offset = time_offset_;
     const std::optional<CameraModel> calibrated =
         self_calibrator_->run(input.t, camera, track_, localizer_->keyframeTrajectory());
-    if (calibrated) {  // what arrives from now on, with it
-      frontend_->setCamera(*calibrated);
-      time_offset_ = calibrated->time_offset;
-      camera_switched_at_ = input.t;
-      report_.camera_switched = true;
-    }
+    if (calibrated) switchCamera(*calibrated, input.t);
   }
   const bool gap =
       !first && params_.max_odometry_gap_s > 0.0 && elapsedMoreThan(input.t, *newest_odometry_t_, params_.max_odometry_gap_s);
@@ -261,7 +254,7 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
   report_.keyframe_failed = localizer_->counters().keyframes_failed > failed_before;
   if (corrected->state != TrackingState::kTracking) corrected->covariance.reset();  // a gap made it lost
   report_.state = corrected->state;
-  if (self_calibrator_) self_calibrator_->noteState(input.t, corrected->state == TrackingState::kTracking);
+  if (self_calibrator_) self_calibrator_->noteState(input.t, corrected->state == TrackingState::kTracking && frameTrusted());
   return PoseUpdate{*corrected, report_};
 }
 
@@ -391,6 +384,13 @@ Status PipelineCore::finish() {
     search_->explainNothingPlaced(static_cast<size_t>(counters_.detections_before_odometry + counters_.detections_after_odometry));
   }
   return localizer_->finish();
+}
+
+void PipelineCore::switchCamera(const CameraModel& camera, double t) {  // what arrives from now on, with it
+  frontend_->setCamera(camera);
+  time_offset_ = camera.time_offset;
+  camera_switched_at_ = t;
+  report_.camera_switched = true;
 }
 
 }  // namespace dualgraph

@@ -22,10 +22,11 @@ namespace dualgraph {
 /// localizer was tracking (judged by stamp against the states after each sample, so the answer does not depend on
 /// how far ahead of the odometry a detection arrived). From t_c = t0 + after_s on, at a sample at which it is
 /// tracking:
-/// - with kMinCornersClockOffset such corners but fewer than kMinCorners, the **clock offset alone** (mount held)
-///   is calibrated first: an offset shows in every moving image, a mount needs many views of several gates (a real
-///   VI-SLAM's 50 ms offset cost one real flight 5 cm of ATE: it never had 200). When that finds too little to go
-///   on, again on twice the corners, until the whole calibration is due;
+/// - with kMinCornersClockOffset such corners but fewer than kMinCorners at t_c + after_s (the whole calibration
+///   waited that long for its corners), the **clock offset alone** (mount held) is calibrated first: an offset
+///   shows in every moving image, a mount needs many views of several gates (a real VI-SLAM's 50 ms offset cost
+///   one real flight 5 cm of ATE: it never had 200). When that finds too little to go on, again on twice the
+///   corners, until the whole calibration is due;
 /// - with kMinCorners corners, the whole calibration (offset and mount, from the camera the first step left). It
 ///   **steps down** when it applies nothing and not because both parts are insignificant (it failed, did not
 ///   converge, a half could not be calibrated, the halves disagree): the clock offset alone, then the mount alone.

@@ -3,13 +3,14 @@
 import json
 import os
 import subprocess
+import sys
 import tempfile
 import unittest
 
 import numpy as np
 
 import dualgraph
-from common import CLI
+from common import CLI, SOURCE_DIR, run_cli
 
 ALIGNMENTS = ("se3", "4dof", "none", "sim3", "origin")  # those the library lacks must fail in both
 
@@ -202,6 +203,36 @@ class Inputs(unittest.TestCase):
             dualgraph.evaluate_trajectory(gt, mostly_after, rpe_distances_m=[])
         with self.assertRaisesRegex(dualgraph.InvalidArgumentError, "min_associated"):
             dualgraph.evaluate_trajectory(gt, est, min_associated=1.5)
+
+
+class DetectionFixFloor(unittest.TestCase):
+    """bench/detection_fix_floor.py: fixes from the detections themselves, through the library's PnP."""
+
+    def floors(self, pixel_sigma):
+        folder = tempfile.mkdtemp(prefix="dualgraph_fix_floor_")
+        run_cli("simulate", "--profile", "clean", "--pixel-sigma", str(pixel_sigma), "--track",
+                os.path.join(SOURCE_DIR, "data", "tracks", "ratm_ellipse.yaml"), "--seed", "1", "--laps", "1",
+                "--no-plot", "--out", folder)
+        bench = os.path.join(SOURCE_DIR, "bench")
+        done = subprocess.run([sys.executable, os.path.join(bench, "detection_fix_floor.py"), folder, "--json"],
+                              capture_output=True, text=True)
+        self.assertEqual(done.returncode, 0, done.stderr)
+        perfect = subprocess.run([sys.executable, os.path.join(bench, "gate_coverage_bound.py"), folder, "--json"],
+                                 capture_output=True, text=True)
+        self.assertEqual(perfect.returncode, 0, perfect.stderr)
+        return json.loads(done.stdout), json.loads(perfect.stdout)
+
+    def test_exact_corners_give_the_perfect_fixes_and_noisy_ones_worse(self):
+        exact, perfect = self.floors(0.01)
+        self.assertLess(exact["fix_error_median_m"], 0.01)
+        self.assertLess(exact["fix_error_given_attitude_median_m"], 0.01)
+        self.assertLess(abs(exact["detection_floor_ate_m"] - perfect["floor_ate_m"]), 0.01)
+        self.assertAlmostEqual(exact["vio_ate_m"], perfect["vio_ate_m"], places=9)
+        noisy, _ = self.floors(4.0)
+        self.assertGreater(noisy["fix_error_median_m"], 20 * exact["fix_error_median_m"])
+        self.assertGreater(noisy["detection_floor_ate_m"], exact["detection_floor_ate_m"])
+        # the attitude is what a single far detection measures worst: its position alone is far better
+        self.assertLess(noisy["fix_error_given_attitude_median_m"], noisy["fix_error_median_m"])
 
 
 if __name__ == "__main__":
