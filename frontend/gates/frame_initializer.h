@@ -20,8 +20,9 @@ struct FrameInitializerParams {
   /// window_s. A racing flight moves this far within window_s (unchanged there); drift grows with path, not time [m].
   double memory_m = 20.0;
   double memory_max_s = 120.0;      ///< [s]
-  /// Of each gate, only the sightings within this of its newest are remembered: a VIO still initialising moves its
-  /// own frame by degrees in its first seconds, so a gate's newest views are those nearest the present frame [s].
+  /// Of each gate, only the sightings within this of its newest views are remembered (older ones once
+  /// min_gate_inliers views came later than this after them): a VIO still initialising moves its own frame by
+  /// degrees in its first seconds, so a gate's newest views are those nearest the present frame [s].
   double memory_gate_s = 5.0;
   /// When a hypothesis leans on remembered detections, a gate counts towards the two a lock needs only with at
   /// least this many (one sighting of a new gate beside hundreds remembered of another cannot tell the other's

@@ -201,7 +201,7 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
     covariances_.reset();
   }
   const bool first = !newest_odometry_t_;
-  if (self_calibrator_ && self_calibrator_->due(input.t, frameTrusted())) {
+  if (self_calibrator_ && self_calibrator_->due(input.t, localizer_->trackingState() == TrackingState::kTracking)) {
     CameraModel camera = *frontend_->camera();
     camera.time_offset = time_offset_;
     const std::optional<CameraModel> calibrated =
@@ -254,7 +254,7 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
   report_.keyframe_failed = localizer_->counters().keyframes_failed > failed_before;
   if (corrected->state != TrackingState::kTracking) corrected->covariance.reset();  // a gap made it lost
   report_.state = corrected->state;
-  if (self_calibrator_) self_calibrator_->noteState(input.t, corrected->state == TrackingState::kTracking && frameTrusted());
+  if (self_calibrator_) self_calibrator_->noteState(input.t, corrected->state == TrackingState::kTracking);
   return PoseUpdate{*corrected, report_};
 }
 

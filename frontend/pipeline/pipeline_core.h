@@ -83,12 +83,6 @@ class PipelineCore {
   Status searchWith(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body,
                     const SolvedDetections& solved);
   void refuse(int& counter, size_t detections);
-  /// Tracking in a frame no check doubts (the self-calibration's corners and its start: a VIO that jumped leaves
-  /// the run tracking in a wrong frame until a check replaces it, and a calibration then fits that).
-  bool frameTrusted() const {
-    return localizer_->trackingState() == TrackingState::kTracking && localizer_->frameConfirmed() &&
-           !localizer_->frameSuspicious() && !(search_ && search_->checking());
-  }
   /// The camera from `t` [s] on (the detections handed over from then on are solved with it).
   void switchCamera(const CameraModel& camera, double t);
   /// An odometry sample refused after the Localizer's own checks passed (it never sees it): counted as invalid here.

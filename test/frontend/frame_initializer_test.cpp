@@ -160,6 +160,34 @@ TEST(FrameInitializer, GatesSeenHalfAMinuteApartOnASlowFlightLockWithTheMemory) 
   EXPECT_FALSE(lockAt(0.0).has_value());
 }
 
+// The same slow flight with one glimpse of gate 1 in between (at 15 s, from where the drone is then): that lone
+// sighting does not replace gate 1's 3 s of views in the memory, so gate 2 still locks the frame at once. Before,
+// the glimpse superseded them (a gate's views older than memory_gate_s before its newest were dropped) and, one
+// sighting of gate 1 counting for nothing beside gate 2's many (min_gate_inliers), the frame never locked.
+TEST(FrameInitializer, ALoneLaterGlimpseOfAGateDoesNotReplaceItsViewsInTheMemory) {
+  const GateMap map = ellipseGates(false);
+  const Eigen::Isometry3d truth = gravityAligned(0.7, {2.0, -1.0, 0.0});
+  FrameInitializer initializer(FrameInitializerParams{}, map);
+  std::optional<double> locked;
+  for (double t = 0.0; t <= 40.0; t += 0.05) {
+    const bool first = t < 3.0, glimpse = std::abs(t - 15.0) < 0.01, second = t >= 28.0;
+    const Eigen::Isometry3d world_T_body =
+        first ? gravityAligned(0.0, {1.0 + 0.3 * t, 1.3, 1.2})
+              : gravityAligned(0.0, {1.9 - 0.9 * std::min(1.0, (t - 3.0) / 25.0), 1.3 - 2.6 * std::min(1.0, (t - 3.0) / 25.0), 1.2});
+    std::vector<GateObservation> seen;
+    const int gate = first || glimpse ? 1 : (second ? 2 : 0);
+    if (gate != 0) {
+      seen.push_back(GateObservation::pose(t, gate, world_T_body.inverse() * map.world_T_gate.at(gate), Matrix6d::Identity()));
+    }
+    initializer.add(t, truth.inverse() * world_T_body, seen);
+    if (!locked && initializer.state().locked) locked = t;
+  }
+  ASSERT_TRUE(locked.has_value()) << initializer.state().why_not;
+  EXPECT_GE(*locked, 28.0);
+  EXPECT_LE(*locked, 29.0);
+  expectFrame(initializer.state(), truth);
+}
+
 // Without ids, the remembered detections are thinned per place, not per id: two gates seen in the same second stay
 // two (merged by their common id −1, the second gate would vanish from the memory).
 TEST(FrameInitializer, WithoutIdsTwoGatesSeenTogetherAreRememberedApart) {
