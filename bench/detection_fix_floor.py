@@ -6,7 +6,7 @@ gate_coverage_bound.py fixes the pose perfectly at every detection (the ground t
 corners are noisy and far gates are small in the image, so no estimator gets such fixes from them. Here each
 detection instant's fix is what that instant's detections alone measure: every detection solved by the library's
 own gate PnP (dualgraph.GateFrontend with the default configuration, the sequence's camera and map; the ground
-truth only chooses which map gate a detection is, as the known ids do), the pose of the instant's most precise
+truth only chooses which map gate a detection is, as the known ids do; partial gates are left out), the pose of the instant's most precise
 one (smallest position covariance) taken as world_T_body = world_T_gate · body_T_gate⁻¹; between fixes the VIO's
 own motion from the last one, as in the first floor. An instant whose detections give no pose keeps the last fix.
 Also the same fixes' positions with the ground truth's attitude (the gate's centre as the detection puts it in the
@@ -59,8 +59,9 @@ def detection_fixes(sequence_dir, truth):
         p, r = bound.pose_at(truth, t)
         world_T_body = np.eye(4)
         world_T_body[:3, :3], world_T_body[:3, 3] = r, p
-        observations = frontend.process_corners(t, np.asarray(ids[start:end]), np.asarray(pixels[start:end]),
-                                                world_T_body)
+        whole = np.isfinite(np.asarray(pixels[start:end])).all(axis=(1, 2))  # partial gates give no pose
+        observations = [] if not whole.any() else frontend.process_corners(
+            t, np.asarray(ids[start:end])[whole], np.asarray(pixels[start:end])[whole], world_T_body)
         best = None
         for observation in observations:
             if observation.kind != 'pose' or observation.gate_id not in world_T_gate:
