@@ -125,6 +125,12 @@ Status Localizer::checkObservation(const GateObservation& observation) const {
   DG_RETURN_IF_ERROR(validateGateObservation(observation));
   const std::string what = "observation of gate " + std::to_string(observation.gate_id) + " at t=" + formatTimestamp(observation.t);
   if (history_.empty()) return Status(StatusCode::kFailedPrecondition, what + " arrived before any odometry");
+  if (tooFarAhead(observation)) {
+    return Status(StatusCode::kInvalidArgument, what + " is more than " + formatTimestamp(params_.max_observation_lead_s) +
+                                                    " s beyond the newest odometry sample at t=" +
+                                                    formatTimestamp(history_.newest().t) +
+                                                    " (another clock? localizer.max_observation_lead_s)");
+  }
   if (monitor_.state() == TrackingState::kInitialising) {
     return Status(StatusCode::kFailedPrecondition, what + ": initialising, the odometry's frame in the map is not known yet");
   }
@@ -140,6 +146,11 @@ Status Localizer::checkObservation(const GateObservation& observation) const {
   return Status();
 }
 
+bool Localizer::tooFarAhead(const GateObservation& observation) const {
+  return !history_.empty() && params_.max_observation_lead_s > 0.0 &&
+         elapsedMoreThan(observation.t, history_.newest().t, params_.max_observation_lead_s);
+}
+
 bool Localizer::tooLate(const GateObservation& observation) const {
   return !history_.empty() && (observation.t < openIntervalStart() || observation.t < history_.oldestTime());
 }
@@ -149,6 +160,7 @@ Status Localizer::addObservation(const GateObservation& observation) {
   if (!valid.ok()) {
     ++counters_.observations_rejected;
     if (valid.code() == StatusCode::kFailedPrecondition && tooLate(observation)) ++counters_.observations_too_late;
+    if (tooFarAhead(observation)) ++counters_.observations_too_far_ahead;
     if (monitor_.state() == TrackingState::kInitialising && !history_.empty()) ++counters_.observations_without_frame;
     counters_.last_error = valid.message();
     return valid;

@@ -71,6 +71,7 @@ struct LocalizerCounters {
   /// Of the rejected: older than the keyframe (or node) that had already closed their interval. A caller
   /// that hands each observation over before the odometry sample that covers it never sees one.
   int observations_too_late = 0;
+  int observations_too_far_ahead = 0;  ///< stamped beyond the newest odometry by max_observation_lead_s
   int observations_failed = 0;         ///< accepted but could not be attached when processed
   int observations_never_processed = 0;///< newer than the last odometry sample at `finish`
   /// Single mode with `single_all_detections` false: detections after a node's instant that did not start
@@ -203,6 +204,8 @@ class Localizer {
   Status checkObservation(const GateObservation& observation) const;
   /// True when the interval `observation` belongs to was closed already (checkObservation's last check).
   bool tooLate(const GateObservation& observation) const;
+  /// Stamped beyond the newest odometry sample by more than max_observation_lead_s.
+  bool tooFarAhead(const GateObservation& observation) const;
   /// Hands a covered observation to the feed (after the keyframe it makes due, if any).
   Status processObservation(const GateObservation& observation);
   /// Closes the open keyframe interval (dual) or node (single): a keyframe at `new_keyframe` unless it is null or

@@ -129,6 +129,7 @@ Status validateOptimisation(const LocalizerParams& params) {
   DG_RETURN_IF_ERROR(requireNonNegativeFinite("chi2_gate_point", params.chi2_gate_point));
   DG_RETURN_IF_ERROR(requirePositiveFinite("lost_after_s", params.lost_after_s));
   DG_RETURN_IF_ERROR(requireNonNegativeFinite("detection_latency", params.detection_latency));
+  DG_RETURN_IF_ERROR(requireNonNegativeFinite("max_observation_lead_s", params.max_observation_lead_s));
   return requireAtLeastOne("lost_min_failures", params.lost_min_failures);
 }
 

@@ -166,6 +166,11 @@ struct LocalizerParams {
   /// keyframe decided at t waits until odometry reaches t + detection_latency before its interval is closed,
   /// so detections up to that late still enter their interval; the correction lags by as much. 0: at once.
   double detection_latency = 0.0;
+  /// An observation stamped more than this beyond the newest odometry sample is refused (kInvalidArgument, counted
+  /// `observations_too_far_ahead`) [s]: taken, a stamp from another clock or a glitch would make every later one
+  /// "older than the previous observation" while the Localizer said tracking. 0: no limit. The pipeline refuses
+  /// such detections before the Localizer (`frontend.max_detection_lead_s`); this guards a direct caller.
+  double max_observation_lead_s = 1.0;
 };
 
 /// OK when every field is in its domain (positive spacings and σ where required, finite numbers, a rigid

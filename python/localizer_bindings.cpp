@@ -137,6 +137,8 @@ void bindParams(py::module_& m) {
   DG_FIELD(lost_min_failures, "... while at least this many detections failed [count]");
   DG_FIELD(detection_latency, "dual mode: how late a detection may reach the Localizer after its image; a keyframe waits "
                               "this long before its interval is closed [s]");
+  DG_FIELD(max_observation_lead_s, "an observation stamped more than this beyond the newest odometry sample is refused "
+                                   "(counted observations_too_far_ahead) [s]; 0: no limit");
 #undef DG_FIELD
 
   m.def("load_localizer_params", [](const std::string& path) { return unwrap(loadLocalizerParams(path)); }, "path"_a,

@@ -78,6 +78,7 @@ py::dict PyLocalizer::countersToDict(const LocalizerCounters& c) {
   out["observations_accepted"] = c.observations_accepted;
   out["observations_rejected"] = c.observations_rejected;
   out["observations_too_late"] = c.observations_too_late;
+  out["observations_too_far_ahead"] = c.observations_too_far_ahead;
   out["observations_failed"] = c.observations_failed;
   out["observations_never_processed"] = c.observations_never_processed;
   out["observations_between_nodes"] = c.observations_between_nodes;

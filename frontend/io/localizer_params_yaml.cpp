@@ -70,6 +70,7 @@ constexpr FieldSlot<double> kNumberFields[] = {
     {"distilled_floor_rotation", &LocalizerParams::distilled_floor_rotation},
     {"lost_after_s", &LocalizerParams::lost_after_s},
     {"detection_latency", &LocalizerParams::detection_latency},
+    {"max_observation_lead_s", &LocalizerParams::max_observation_lead_s},
 };
 constexpr FieldSlot<int> kIntegerFields[] = {
     {"main_max_iterations", &LocalizerParams::main_max_iterations},

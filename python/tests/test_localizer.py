@@ -247,6 +247,24 @@ class Synthetic(unittest.TestCase):
         self.assertEqual(localizer.stats()[-1]["main_vertices"], len(times) + len(gates))
         self.assertEqual(localizer.counters()["observations_rejected"], 0)
 
+    def test_an_observation_stamped_far_ahead_is_refused_and_holds_nothing_back(self):
+        gates = {0: np.eye(4)}
+        gates[0][:3, 3] = [5.0, 0.0, 1.0]
+        localizer = dualgraph.Localizer(dualgraph.LocalizerParams(), gates)
+        covariance = np.diag([0.05 ** 2] * 3 + [0.02 ** 2] * 3)
+        body_T_gate = gates[0].copy()
+        for k in range(50):
+            localizer.add_odometry(0.02 * k, np.eye(4), as_matrix=True)
+        with self.assertRaises(dualgraph.InvalidArgumentError) as refused:
+            localizer.add_pose_observation(1000.0, 0, body_T_gate, covariance)
+        self.assertIn("beyond the newest odometry", str(refused.exception))
+        for k in range(50):
+            localizer.add_pose_observation(0.02 * k, 0, body_T_gate, covariance)  # none "older than the previous"
+        counters = localizer.counters()
+        self.assertEqual(counters["observations_too_far_ahead"], 1)
+        self.assertEqual(counters["observations_rejected"], 1)
+        self.assertEqual(counters["observations_accepted"], 50)
+
 
 if __name__ == "__main__":
     unittest.main()

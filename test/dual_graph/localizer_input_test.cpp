@@ -124,16 +124,19 @@ TEST(LocalizerInput, EachBadObservationIsRejectedWithAClearStatus) {
   cases.push_back({"position for an SE(3) landmark",
                    GateObservation::position(0.6, 0, Eigen::Vector3d(5, 0, 0), 0.01 * Eigen::Matrix3d::Identity()),
                    StatusCode::kInvalidArgument, "landmark: point"});
+  // Stamped far beyond the odometry (another clock, a glitch): refused, so it cannot hold back every later one.
+  cases.push_back({"1000 s ahead", validObservation(1000.0), StatusCode::kInvalidArgument, "beyond the newest odometry"});
   for (const Case& c : cases) {
     const Status status = localizer->addObservation(c.observation);
     EXPECT_EQ(status.code(), c.code) << c.name << ": " << status.toString();
     EXPECT_NE(status.message().find(c.says), std::string::npos) << c.name << ": " << status.message();
   }
   EXPECT_EQ(localizer->counters().observations_rejected, static_cast<int>(cases.size()));
+  EXPECT_EQ(localizer->counters().observations_too_far_ahead, 1);
   EXPECT_EQ(localizer->counters().observations_accepted, 1);
-  EXPECT_TRUE(localizer->addObservation(validObservation(0.7)).ok());
-  // Newer than the last odometry: waits, and is counted as unused when input ends first.
-  EXPECT_TRUE(localizer->addObservation(validObservation(5.0)).ok());
+  EXPECT_TRUE(localizer->addObservation(validObservation(0.7)).ok());  // the far one held nothing back
+  // Newer than the last odometry, within max_observation_lead_s: waits, and is counted as unused when input ends first.
+  EXPECT_TRUE(localizer->addObservation(validObservation(1.9)).ok());
   EXPECT_TRUE(localizer->finish().ok());
   EXPECT_EQ(localizer->counters().observations_never_processed, 1);
 }

@@ -47,6 +47,7 @@ inline void expectSameLocalizerParams(const LocalizerParams& a, const LocalizerP
   EXPECT_EQ(a.lm_damping, b.lm_damping);
   EXPECT_EQ(a.lost_after_s, b.lost_after_s);
   EXPECT_EQ(a.detection_latency, b.detection_latency);
+  EXPECT_EQ(a.max_observation_lead_s, b.max_observation_lead_s);
   EXPECT_EQ(a.lost_min_failures, b.lost_min_failures);
   EXPECT_EQ(a.temp_solver, b.temp_solver);
   EXPECT_EQ(a.robust_kernel, b.robust_kernel);
