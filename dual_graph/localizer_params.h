@@ -66,9 +66,10 @@ struct LocalizerParams {
   bool use_input_covariance = true;
   double odom_sigma_t = 0.03;       ///< translation σ per √metre [m/√m] (bench/README.md, "The per-metre model")
   double odom_sigma_r = 0.01;       ///< yaw σ per √metre (about the VIO frame's vertical) [rad/√m]
-  /// Roll and pitch σ per √metre (about the VIO frame's horizontal axes) [rad/√m]: a gravity-aligned VIO's tilt
-  /// does not drift as its yaw does.
-  double odom_sigma_tilt = 0.001;
+  /// Roll and pitch σ per √metre (about the VIO frame's horizontal axes) [rad/√m]. A gravity-aligned VIO's tilt
+  /// does not drift, but its error wanders: real VIOs' moved 0.9–1.8° between poses 5 m apart (0.005–0.009 rad/√m
+  /// per axis; bench/README.md, "Hard real flights").
+  double odom_sigma_tilt = 0.01;
   double odom_min_distance = 0.05;  ///< floor of d, so hovering still has a usable covariance [m]
   /// Dual mode with pose landmarks: the odometry covariance above (whichever it is) scaled by σ factors learnt in
   /// flight from gates seen again, and the distilled gate edges' covariances by range (OdometryNoiseLearner); the
