@@ -22,7 +22,7 @@ struct SelfCalibrationReport {
   bool applied = false;              ///< the rest of the run used a calibrated camera (either calibration's)
   double at_s = 0.0;                 ///< t_c: the flight so far ends there; the camera switched there [s]
   double time_offset_before = 0.0;   ///< the clock offset the run started with [s]
-  double time_offset_after = 0.0;    ///< the calibrated one [s]
+  double time_offset_after = 0.0;    ///< the calibrated one [s] (applied: the one in use from at_s on)
   double time_offset_sigma = 0.0;    ///< its formal 1σ [s]
   double mount_change_deg = 0.0;     ///< the angle of the mount rotation's correction, as estimated [deg]
   /// The mount correction of each half of the flight so far, calibrated apart, and what they show together (their

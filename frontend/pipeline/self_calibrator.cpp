@@ -121,6 +121,7 @@ std::optional<CameraModel> SelfCalibrator::run(double t, const CameraModel& came
   if (!camera_to_use && report_.clock_offset_first_applied) {  // the first step's offset stays in use
     report_.applied = true;
     report_.time_offset_applied = true;
+    report_.time_offset_after = report_.clock_offset_first_s;  // the offset in use, not the whole's estimate
     report_.why_not = "the whole calibration applied nothing (the clock offset calibrated first stays): " + report_.why_not;
   }
   pending_ = !camera_to_use && report_.evidence_missing && attempts_ < kMaxAttempts;
