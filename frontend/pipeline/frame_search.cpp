@@ -209,14 +209,33 @@ void FrameSearch::remember(double t) {
     for (const GateObservation& pose : old.solved.poses) {
       if (p.memory_m <= 0.0) break;
       const Eigen::Vector3d at = (old.odom_T_body * pose.body_T_gate).translation();
-      // Of each gate, its last memory_gate_s only; one per second.
-      remembered_.erase(std::remove_if(remembered_.begin(), remembered_.end(), [&](const Remembered& r) {
-                          return sameGate(pose.gate_id, at, r) && elapsedMoreThan(old.instant.t, r.t, p.memory_gate_s);
-                        }), remembered_.end());
-      const bool thinned = std::any_of(remembered_.begin(), remembered_.end(), [&](const Remembered& r) {
+      // One per gate per second, counting the views it stands for.
+      const auto same = std::find_if(remembered_.rbegin(), remembered_.rend(), [&](const Remembered& r) {
         return sameGate(pose.gate_id, at, r) && !elapsedAtLeast(old.instant.t, r.t, 1.0);
       });
-      if (!thinned) remembered_.push_back(Remembered{old.instant.t, old.path_m, at, FrameFitDetection{old.odom_T_body, pose}});
+      if (same != remembered_.rend()) {
+        ++same->weight;
+      } else {
+        remembered_.push_back(Remembered{old.instant.t, old.path_m, at, FrameFitDetection{old.odom_T_body, pose}});
+      }
+      // A gate's older views go once min_gate_inliers views came more than memory_gate_s after them, not for a lone
+      // glimpse (the initializer's rule, FrameInitializer::age).
+      std::vector<bool> superseded(remembered_.size(), false);
+      for (size_t i = 0; i < remembered_.size(); ++i) {
+        if (!sameGate(pose.gate_id, at, remembered_[i])) continue;
+        int later = 0;
+        for (const Remembered& other : remembered_) {
+          if (sameGate(pose.gate_id, at, other) && elapsedMoreThan(other.t, remembered_[i].t, p.memory_gate_s)) {
+            later += other.weight;
+          }
+        }
+        superseded[i] = later >= p.min_gate_inliers;
+      }
+      std::deque<Remembered, Eigen::aligned_allocator<Remembered>> kept;
+      for (size_t i = 0; i < remembered_.size(); ++i) {
+        if (!superseded[i]) kept.push_back(remembered_[i]);
+      }
+      remembered_ = std::move(kept);
     }
     seen_.pop_front();
   }

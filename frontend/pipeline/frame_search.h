@@ -111,6 +111,7 @@ class FrameSearch {
     double path_m = 0.0;
     Eigen::Vector3d p_odom = Eigen::Vector3d::Zero();  ///< the gate's centre in the odometry frame [m]
     FrameFitDetection detection;
+    int weight = 1;  ///< detections of its gate it stands for (thinned to one per second)
     EIGEN_MAKE_ALIGNED_OPERATOR_NEW
   };
   std::deque<Remembered, Eigen::aligned_allocator<Remembered>> remembered_;
