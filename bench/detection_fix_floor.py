@@ -33,21 +33,13 @@ except ImportError:
     sys.exit("detection_fix_floor.py needs the dualgraph Python module: PYTHONPATH=BUILD/python")
 
 
-def pose_matrix(pose):
-    """[x y z qx qy qz qw] → 4×4."""
-    out = np.eye(4)
-    out[:3, :3] = bound.rotation(np.asarray(pose[3:7], dtype=float))
-    out[:3, 3] = pose[:3]
-    return out
-
-
 def detection_fixes(sequence_dir, truth):
     """{t: 4×4 world_T_body} from each instant's most precise PnP pose, and the same with the ground truth's attitude
     (the detection's position content alone: the gate's centre in the body put at the map gate)."""
     sequence = dualgraph.load_sequence(sequence_dir)
     config_path = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'data', 'config', 'default.yaml')
     frontend = dualgraph.GateFrontend(sequence, dualgraph.load_run_config(config_path))
-    world_T_gate = {gate: pose_matrix(pose) for gate, pose in sequence.gates.items()}
+    world_T_gate = {gate: dualgraph.pose_to_matrix(pose) for gate, pose in sequence.gates.items()}
     stamps, ids, pixels = sequence.corners[:3]
     fixes, fixes_given_attitude = {}, {}
     start = 0
@@ -104,12 +96,8 @@ def main(argv):
     truth_positions = bound.positions_at(truth, stamps)
 
     def floor_with(chosen):
-        floor = np.empty_like(vio_positions)
-        for fix in np.unique(last_fix):
-            rows = last_fix == fix
-            v_p, v_r = bound.pose_at(vio, fix)
-            world_T_body = chosen[fix]
-            floor[rows] = world_T_body[:3, 3] + (world_T_body[:3, :3] @ v_r.T @ (vio_positions[rows] - v_p).T).T
+        floor = bound.follow_vio_from_fixes(vio, vio_positions, last_fix,
+                                            lambda fix: (chosen[fix][:3, 3], chosen[fix][:3, :3]))
         return bound.aligned_ate(floor, truth_positions)
 
     def median_error(chosen):

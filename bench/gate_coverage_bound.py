@@ -67,6 +67,18 @@ def positions_at(trajectory, stamps):
     return np.stack([np.interp(stamps, trajectory[:, 0], trajectory[:, k]) for k in (1, 2, 3)], axis=1)
 
 
+def follow_vio_from_fixes(vio, vio_positions, last_fix, fix_pose):
+    """The positions at the stamps whose last fix is `last_fix`, each following the VIO's motion since that fix;
+    fix_pose(t) gives the fix's (position, rotation) in the map."""
+    positions = np.empty_like(vio_positions)
+    for fix in np.unique(last_fix):
+        rows = last_fix == fix
+        p_fix, r_fix = fix_pose(fix)
+        v_p, v_r = pose_at(vio, fix)
+        positions[rows] = p_fix + (r_fix @ v_r.T @ (vio_positions[rows] - v_p).T).T
+    return positions
+
+
 def aligned_ate(positions, truth):
     mu_e, mu_g = positions.mean(0), truth.mean(0)
     u, _, vt = np.linalg.svd((truth - mu_g).T @ (positions - mu_e) / len(positions))
@@ -100,12 +112,8 @@ def main(argv):
     gap = int(((stamps - last_fix) > 1.0).sum())
     vio_positions = positions_at(vio, stamps)
     truth_positions = positions_at(truth, stamps)
-    floor = np.empty_like(vio_positions)
-    for fix in np.unique(last_fix):  # the poses after one fix follow the VIO's motion since it
-        rows = last_fix == fix
-        p_fix, r_fix = pose_at(truth, fix)  # world_T_body at the fix, perfect
-        v_fix_p, v_fix_r = pose_at(vio, fix)
-        floor[rows] = p_fix + (r_fix @ v_fix_r.T @ (vio_positions[rows] - v_fix_p).T).T
+    # world_T_body at each fix, perfect; the poses after it follow the VIO's motion since it
+    floor = follow_vio_from_fixes(vio, vio_positions, last_fix, lambda fix: pose_at(truth, fix))
     vio_ate = aligned_ate(vio_positions, truth_positions)
     floor_ate = aligned_ate(floor, truth_positions)
     run_ate = None

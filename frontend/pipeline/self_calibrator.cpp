@@ -64,11 +64,13 @@ void SelfCalibrator::addOdometry(const OdometrySample& sample) {
 }
 
 bool SelfCalibrator::due(double t, bool tracking) const {
-  if (!(pending_ && started_ && tracking)) return false;
-  // The corners run() would use: those stamped by t (a detector ahead of the odometry delivers later ones early).
-  const size_t usable = static_cast<size_t>(
-      std::count_if(corners_.begin(), corners_.end(), [&](const CornerDetection& d) { return d.t <= t; }));
-  if (usable >= kMinCorners) return notAfter(report_.at_s, t);
+  if (!(pending_ && started_ && tracking && notAfter(report_.at_s, t))) return false;
+  // The corners run() would use: those stamped by t (a detector ahead of the odometry delivers later ones early),
+  // counted up to what is needed (this runs at every sample while a calibration is pending).
+  size_t usable = 0;
+  for (const CornerDetection& corner : corners_) {
+    if (corner.t <= t && ++usable >= kMinCorners) return true;
+  }
   // The clock offset alone only once the whole calibration has waited after_s past t_c for its corners: a flight
   // that has them by then calibrates both parts together, as the offset alone leans on a mount error (2° put
   // 3 ms into it on a harsh flight, whose jump recovery it then delayed by 8 s).
