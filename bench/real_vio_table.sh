@@ -12,7 +12,7 @@
 # the lock after the first detection against the earliest time the detections could tell the frame
 # (bench/frame_identifiability.py) and the share of time lost. Beside the floor, the floors whose fixes are what each
 # instant's detections measure (bench/detection_fix_floor.py: their PnP pose, and its position with the true
-# attitude; needs BUILD_DIR/python).
+# attitude), and the VIO taken as exact in the frame those fixes fit so far (needs BUILD_DIR/python).
 # Usage: bench/real_vio_table.sh [BUILD_DIR] [OUT_DIR] [DATA_DIR]   (prints a Markdown table; keeps the runs)
 # CONFIG=FILE runs with that configuration instead of the default; SEEDS="1 2 3" and FLIGHTS="V1_03_difficult ..."
 # select rows; PROFILE=clean (default, 2 px) or realistic.
@@ -27,7 +27,7 @@ profile_args=(--profile "$profile")
 [ "$profile" = clean ] && profile_args+=(--pixel-sigma 2)
 python=python3
 [ -x /usr/bin/python3 ] && python=/usr/bin/python3   # numpy is Debian's
-echo "| flight | VIO | seed | gates | VIO ATE [m] | floor [m] | floors from the detections: PnP / position, true attitude [m] | run ATE [m] | kept of the floor's reduction | lock / earliest identification, after the first detection [s] | lost | exit |"
+echo "| flight | VIO | seed | gates | VIO ATE [m] | floor [m] | floors from the detections: PnP / position, true attitude / VIO as exact in the frame they fit [m] | run ATE [m] | kept of the floor's reduction | lock / earliest identification, after the first detection [s] | lost | exit |"
 echo "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"
 for gt in "$data"/*.gt.tum; do
   flight="$(basename "$gt" .gt.tum)"
@@ -58,7 +58,9 @@ for gt in "$data"/*.gt.tum; do
         floor="$("$python" "$here/bench/gate_coverage_bound.py" "$dir/sequence" "$dir/run" --json 2>/dev/null || echo '{}')"
       fi
       told="$("$python" "$here/bench/frame_identifiability.py" "$dir/sequence" "$dir/run" --json 2>/dev/null || echo '{}')"
-      fixes="$(PYTHONPATH="$build/python" "$python" "$here/bench/detection_fix_floor.py" "$dir/sequence" --json 2>/dev/null || echo '{}')"
+      run_dir=()
+      [ -s "$dir/run/estimate.tum" ] && run_dir=("$dir/run")  # over the run's span, as the other columns
+      fixes="$(PYTHONPATH="$build/python" "$python" "$here/bench/detection_fix_floor.py" "$dir/sequence" "${run_dir[@]}" --json 2>/dev/null || echo '{}')"
       "$python" - "$dir" "$flight" "$vio" "$seed" "$code" "$floor" "$told" "$fixes" <<'PY'
 import json, re, sys
 d, flight, vio, seed, code, floor, told, fixes = sys.argv[1:]
@@ -87,7 +89,8 @@ lock = "never" if m.get('initialized_at_s') is None or 'first_detection' not in 
     f"{m['initialized_at_s'] - told['first_detection']:.1f}"
 lock += " / " + ("never" if earliest is None else f"{earliest:.1f}")
 lost_s = (m.get('time_lost_s') or 0.0)
-second = f"{f(fixes.get('detection_floor_ate_m'))} / {f(fixes.get('detection_floor_given_attitude_ate_m'))}"
+second = f"{f(fixes.get('detection_floor_ate_m'))} / {f(fixes.get('detection_floor_given_attitude_ate_m'))} / " \
+    f"{f(fixes.get('frame_fit_ate_m'))}"
 print(f"| {flight} | {vio} | {seed} | {gates} | {f(vio_ate)} | {f(floor_ate)} | {second} | {f(run_ate)} | {kept} | {lock} | "
       f"{f(m.get('lost_share_pct'), 1)} % ({lost_s:.1f} s) | {code} |")
 PY

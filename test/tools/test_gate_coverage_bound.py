@@ -118,5 +118,40 @@ class VioHybrid(unittest.TestCase):
             self.assertGreater(max(vertical) - min(vertical), 0.19)
 
 
+class FrameFromFixes(unittest.TestCase):
+    """bench/detection_fix_floor.py's third figure: the VIO taken as exact in the frame the fixes so far fit."""
+
+    def setUp(self):
+        import types
+        sys.modules.setdefault('dualgraph', types.ModuleType('dualgraph'))  # only the fit is used: no bindings needed
+        sys.path.insert(0, BENCH)
+        import detection_fix_floor
+        import numpy
+        self.floor, self.np = detection_fix_floor, numpy
+
+    def test_exact_fixes_give_the_truth_once_they_span_a_plane_and_a_line_is_refused(self):
+        np = self.np
+        stamps = np.arange(0.0, 20.0, 0.05)
+        truth = np.stack([np.cos(0.3 * stamps) * 5, np.sin(0.3 * stamps) * 5, 1.0 + 0.1 * stamps], 1)
+        yaw, offset = 0.4, np.array([3.0, -2.0, 0.5])  # the VIO's frame in the map: world = Rz(yaw)·odom + offset
+        rz = np.array([[math.cos(yaw), -math.sin(yaw), 0], [math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]])
+        odom = (rz.T @ (truth - offset).T).T
+        q = [0.0, 0.0, math.sin(-yaw / 2), math.cos(-yaw / 2)]  # the body level and along the map's x, seen in odom
+        vio = np.column_stack([stamps, odom, np.tile(q, (len(stamps), 1))])
+        fix_times = stamps[::20]
+        fixes = {}
+        for t in fix_times:
+            pose = np.eye(4)
+            pose[:3, 3] = truth[np.searchsorted(stamps, t)]
+            fixes[t] = pose
+        placed = self.floor.frame_from_fixes(vio, fixes, fix_times, stamps)
+        self.assertLess(np.abs(placed - truth).max(), 1e-6)  # one exact pose fix already tells the frame
+        line = np.column_stack([np.arange(5.0), np.zeros(5), np.zeros(5)])
+        self.assertIsNone(self.floor.rigid_fit(line, line))
+        r, p = self.floor.rigid_fit(odom[::37], truth[::37])
+        self.assertLess(np.abs(r - rz).max(), 1e-9)
+        self.assertLess(np.abs(p - offset).max(), 1e-9)
+
+
 if __name__ == '__main__':
     unittest.main()
