@@ -127,6 +127,11 @@ class Localizer {
   Result<Eigen::Isometry3d> odometryPoseAt(double t, const OdometrySample* next = nullptr) const {
     return history_.poseAt(t, next);
   }
+  /// The oldest odometry time the Localizer holds [s] (odometryPoseAt's span starts there; an observation older than
+  /// it can no longer be placed); nullopt before the first sample.
+  std::optional<double> oldestOdometryTime() const {
+    return history_.empty() ? std::nullopt : std::optional<double>(history_.oldestTime());
+  }
   /// OK when accepted (used now or queued until odometry covers its time).
   Status addObservation(const GateObservation& observation);
   // Loss and the frame: the evidence the TrackingMonitor judges, and a frame search's result applied. The onboard

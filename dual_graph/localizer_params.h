@@ -165,8 +165,10 @@ struct LocalizerParams {
 
   /// Dual mode: how late a detection may reach the Localizer after its image [s] (a detector's latency). A
   /// keyframe decided at t waits until odometry reaches t + detection_latency before its interval is closed,
-  /// so detections up to that late still enter their interval; the correction lags by as much. 0: at once.
-  double detection_latency = 0.0;
+  /// so detections up to that late still enter their interval; the correction lags by as much. 0: at once (a
+  /// detector that is never late). Default 0.1: a real detector delivers 20–100 ms after its image (bench/README.md,
+  /// "Late detectors": what the wait costs on time).
+  double detection_latency = 0.1;
   /// An observation stamped more than this beyond the newest odometry sample is refused (kInvalidArgument, counted
   /// `observations_too_far_ahead`) [s]: taken, a stamp from another clock or a glitch would make every later one
   /// "older than the previous observation" while the Localizer said tracking. 0: no limit. The pipeline refuses

@@ -185,11 +185,15 @@ dualgraph.Error naming why and are counted (finish().localizer_counters / the ru
              out["samples"] = now.samples;
              out["updates"] = now.updates;
              out["last_gate_update_t"] = now.last_gate_update_t;
+             out["placeable_from_t"] = now.placeable_from_t;
+             out["detections_too_late"] = now.detections_too_late;
              return out;
            },
            "The last published view (any thread): {'t', 'map_T_odom' (7,), 'world_T_body' (7,), 'state', 'covariance', "
            "'samples', 'updates', 'last_gate_update_t'} (the newest keyframe whose update took a gate edge, -inf before "
-           "any: t minus it is how long the pose has gone on the odometry alone).")
+           "any: t minus it is how long the pose has gone on the odometry alone), 'placeable_from_t' (camera clock: older "
+           "detections are refused as too late) and 'detections_too_late' (so far: a detector slower than "
+           "localizer.detection_latency).")
       .def_property_readonly("time_offset",
                              [](PyStreaming& s) {
                                if (s.worker) {

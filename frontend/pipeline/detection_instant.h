@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "dualgraph/core/status.h"
 #include "dualgraph/dual_graph/measurements.h"
 #include "dualgraph/frontend/gates/corner_detection.h"
 
@@ -27,5 +28,10 @@ struct DetectionInstant {
     return moved;
   }
 };
+
+/// The checks of an instant that need no pipeline state, made once where it enters (StreamingLocalizer, PipelineCore):
+/// finite values (an unseen corner is NaN, NaN), one detector per instant, every detection at the instant's stamp,
+/// valid pose detections. kInvalidArgument naming what is wrong.
+Status validateDetectionInstant(const DetectionInstant& instant);
 
 }  // namespace dualgraph

@@ -15,10 +15,6 @@ namespace {
 /// Instants waiting for the odometry that covers them (a detector ahead of a stalled VIO fills it).
 constexpr size_t kMaxWaitingInstants = 4096;
 
-bool finiteCorner(const Eigen::Vector2d& corner) {
-  return (std::isfinite(corner.x()) && std::isfinite(corner.y())) || (std::isnan(corner.x()) && std::isnan(corner.y()));
-}
-
 /// An instant through PnP (pose detections as they are), the noise learning from it.
 Result<SolvedDetections> solveInstant(GateFrontend& frontend, const DetectionInstant& instant,
                                       const Eigen::Isometry3d& odom_T_body) {
@@ -97,29 +93,6 @@ void PipelineCore::refuse(int& counter, size_t detections) {
   report_.detections_refused += static_cast<int>(detections);
 }
 
-Status PipelineCore::checkInstant(const DetectionInstant& instant) {
-  const std::string what = "detection instant at t=" + formatTimestamp(instant.t);
-  if (!std::isfinite(instant.t)) return Status(StatusCode::kInvalidArgument, what + ": time is not finite");
-  if (!instant.corners.empty() && !instant.poses.empty()) {
-    return Status(StatusCode::kInvalidArgument, what + ": corners and poses in one instant (one detector each)");
-  }
-  for (const CornerDetection& detection : instant.corners) {
-    if (detection.t != instant.t) return Status(StatusCode::kInvalidArgument, what + ": a detection stamped otherwise");
-    for (const Eigen::Vector2d& corner : detection.corners) {
-      if (!finiteCorner(corner)) {
-        return Status(StatusCode::kInvalidArgument, what + ": a corner of gate " + std::to_string(detection.gate_id) +
-                                                        " is infinite or half NaN (an unseen corner is NaN, NaN)");
-      }
-    }
-  }
-  for (const GateObservation& detection : instant.poses) {
-    if (detection.t != instant.t) return Status(StatusCode::kInvalidArgument, what + ": a detection stamped otherwise");
-    const Status valid = validateGateObservation(detection);
-    if (!valid.ok()) return Status(valid.code(), what + ": " + valid.message());
-  }
-  return Status();
-}
-
 Status PipelineCore::addDetections(const DetectionInstant& instant) {
   if (finished_) return Status(StatusCode::kFailedPrecondition, "pipeline: detections after finish");
   if (instant.size() == 0) return Status();
@@ -128,7 +101,7 @@ Status PipelineCore::addDetections(const DetectionInstant& instant) {
     return Status(StatusCode::kFailedPrecondition, "detection instant at t=" + formatTimestamp(instant.t) +
                                                        ": corner detections need a camera (none was given)");
   }
-  const Status valid = checkInstant(instant);
+  const Status valid = validateDetectionInstant(instant);
   if (!valid.ok()) {
     counters_.detections_invalid += static_cast<int>(instant.size());
     return valid;
@@ -145,6 +118,16 @@ Status PipelineCore::addDetections(const DetectionInstant& instant) {
                   "detection instant at t=" + formatTimestamp(t) + " (odometry clock) is more than " +
                       formatTimestamp(params_.max_detection_lead_s) + " s beyond the newest odometry sample at t=" +
                       formatTimestamp(*newest_odometry_t_) + " (another clock? frontend.max_detection_lead_s)");
+  }
+  // Too late: the odometry at its time was already used (a keyframe interval closed over it), so it can never be placed.
+  const std::optional<double> held_from = localizer_->oldestOdometryTime();
+  if (held_from && first_odometry_t_ && !clearlyBefore(t, *first_odometry_t_) && clearlyBefore(t, *held_from)) {
+    counters_.detections_unplaced += static_cast<int>(instant.size());
+    return Status(StatusCode::kFailedPrecondition,
+                  "detection instant at t=" + formatTimestamp(t) + " (odometry clock) arrived " +
+                      formatNumber(newest_odometry_t_.value_or(*held_from) - t) + " s after its image, when the odometry at its time was " +
+                      "used already (held from t=" + formatTimestamp(*held_from) + "): localizer.detection_latency (" +
+                      formatNumber(localizer_->params().detection_latency) + " s) must cover the detector's delay");
   }
   if (waiting_.size() >= kMaxWaitingInstants) {
     counters_.detections_queue_full += static_cast<int>(instant.size());

@@ -35,9 +35,6 @@ class PipelineCore {
   /// no frame search, the frame is the Localizer's. Both must outlive the core.
   static Result<std::unique_ptr<PipelineCore>> borrow(Localizer& localizer, GateFrontend& frontend, double time_offset);
 
-  /// The checks of an instant that need no pipeline state: finite values (an unseen corner is NaN, NaN), one
-  /// detector per instant, every detection at the instant's stamp. kInvalidArgument naming what is wrong.
-  static Status checkInstant(const DetectionInstant& instant);
   /// Queues one instant (camera clock). Refused (and counted): non-finite values, corners and poses mixed,
   /// older than an instant given before, more than max_detection_lead_s beyond the newest odometry
   /// (kInvalidArgument), or a full queue (kFailedPrecondition). An empty instant is accepted and ignored.

@@ -2,6 +2,9 @@
 #include "dualgraph/frontend/pipeline/streaming_localizer.h"
 
 #include <algorithm>
+#include <limits>
+
+#include "dualgraph/core/stamp_tolerance.h"
 
 namespace dualgraph {
 namespace {
@@ -70,6 +73,10 @@ void StreamingLocalizer::publish(const PoseUpdate& update) {
   next.state = update.pose.state;
   next.covariance = update.pose.covariance;
   next.updates = static_cast<long>(localizer.keyframeStats().size());
+  const std::optional<double> held_from = localizer.oldestOdometryTime();
+  if (held_from) next.placeable_from_t = *held_from + core_->timeOffset();
+  next.detections_too_late = static_cast<long>(carried_.detections_unplaced) + core_->counters().detections_unplaced +
+                             detections_late_on_submit_.load();
   std::lock_guard<std::mutex> lock(snapshot_mutex_);
   if (core_generation_ < announced_generation_) {  // the worker's flight before a restart already announced
     ++snapshot_.samples;
@@ -118,10 +125,22 @@ Status StreamingLocalizer::addDetections(const DetectionInstant& instant) {
     return core_->addDetections(instant);
   }
   if (instant.size() == 0) return Status();
-  const Status valid = PipelineCore::checkInstant(instant);
+  const Status valid = validateDetectionInstant(instant);
   if (!valid.ok()) {  // counted as the core counts it in caller-thread mode
     detections_invalid_on_submit_ += static_cast<int>(instant.size());
     return valid;
+  }
+  double placeable_from_t = -std::numeric_limits<double>::infinity();
+  {
+    std::lock_guard<std::mutex> lock(snapshot_mutex_);
+    placeable_from_t = snapshot_.placeable_from_t;
+  }
+  if (clearlyBefore(instant.t, placeable_from_t)) {
+    detections_late_on_submit_ += static_cast<int>(instant.size());
+    return Status(StatusCode::kFailedPrecondition,
+                  "detection instant at t=" + formatTimestamp(instant.t) + " (camera clock) arrived after the odometry " +
+                      "at its time was used (placeable from t=" + formatTimestamp(placeable_from_t) +
+                      "): localizer.detection_latency must cover the detector's delay");
   }
   Event event;
   event.detections = instant;
@@ -306,6 +325,7 @@ Result<PipelineResults> StreamingLocalizer::finish() {
   results.pipeline_counters.odometry_not_after_previous += refused_on_submit_;
   results.pipeline_counters.detections_invalid += detections_invalid_on_submit_.load();
   results.pipeline_counters.detections_queue_full += detections_queue_full_on_submit_.load();
+  results.pipeline_counters.detections_unplaced += detections_late_on_submit_.load();
   results.pipeline_counters.odometry_queue_full += odometry_queue_full_;
   results.pipeline_counters.odometry_held_at_clock_jump = clock_guard_.held();
   results.pipeline_counters.odometry_clock_jumps = clock_guard_.jumps();
@@ -320,6 +340,10 @@ Result<PipelineResults> StreamingLocalizer::finish() {
   results.camera_switched_at = core_->cameraSwitchedAt();
   results.self_calibration = core_->selfCalibration();
   results.odometry_scale = core_->odometryScale().report();
+  {
+    std::lock_guard<std::mutex> snapshot_lock(snapshot_mutex_);
+    snapshot_.detections_too_late = results.pipeline_counters.detections_unplaced;  // the final count
+  }
   return results;
 }
 

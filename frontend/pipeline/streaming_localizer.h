@@ -46,6 +46,12 @@ struct PipelineSnapshot {
   /// The newest keyframe time [s] whose main-graph update took at least one gate edge: t − this is how long the pose
   /// has gone on the odometry alone (a detector that stopped, a camera clock the pipeline refuses). −∞ before any.
   double last_gate_update_t = -std::numeric_limits<double>::infinity();
+  /// The oldest detection time [s, camera clock] that can still be placed: the odometry before it was used already
+  /// (a keyframe interval closed over it), so an instant older than this is refused as too late. −∞ before any.
+  double placeable_from_t = -std::numeric_limits<double>::infinity();
+  /// Detections refused as too late so far (PipelineCounters::detections_unplaced: a detector slower than
+  /// localizer.detection_latency), in both modes; after finish(), the run's total.
+  long detections_too_late = 0;
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
@@ -96,8 +102,10 @@ class StreamingLocalizer {
   StreamingLocalizer& operator=(const StreamingLocalizer&) = delete;
 
   /// One detection instant (camera clock). Caller-thread mode: the PipelineCore's checks and their Status. Worker
-  /// mode: the checks that need no pipeline state (finite values, one detector per instant) answered here; the
-  /// others (order, lead over the odometry) counted when the worker takes it.
+  /// mode: the checks that need no pipeline state (finite values, one detector per instant) answered here, and an
+  /// instant older than the last published PipelineSnapshot::placeable_from_t refused as too late
+  /// (kFailedPrecondition, as the core says it in caller-thread mode); the others (order, lead over the odometry, too
+  /// late by what the worker has done since) counted when the worker takes it.
   Status addDetections(const DetectionInstant& instant);
   /// One odometry sample; kInvalidArgument (counted) for a non-finite or non-rigid sample, one not after the
   /// previous, one held at a clock jump (more than `frontend.max_odometry_jump_s` from the newest accepted sample,
@@ -181,6 +189,7 @@ class StreamingLocalizer {
   int invalid_on_submit_ = 0;  ///< odometry invalid before the core or the queue, and malformed (odometry thread only)
   /// Detections refused before they reached the core: worker mode's checks, and malformed ones (detector thread).
   std::atomic<int> detections_invalid_on_submit_{0};
+  std::atomic<int> detections_late_on_submit_{0};  ///< worker mode: older than the snapshot's placeable_from_t
   std::atomic<int> detections_queue_full_on_submit_{0};  ///< worker mode: refused with the queue full (detector thread)
   int odometry_queue_full_ = 0;  ///< worker mode: refused with the queue full (odometry thread only)
   std::thread worker_;

@@ -37,11 +37,31 @@ std::vector<CorrectedPose> keyframesOf(const LocalizerParams& params, const Synt
   return localizer->keyframeTrajectory();
 }
 
+/// A keyframe closed at once (detection_latency 0; the default waits 0.1 s).
+LocalizerParams closedAtOnce() {
+  LocalizerParams params;
+  params.detection_latency = 0.0;
+  return params;
+}
+
+TEST(DetectionLatency, TheDefaultWaitCoversADetectorAHundredMillisecondsLate) {
+  const SyntheticRace race = makeSyntheticRace({});
+  LocalizerCounters on_time, late;
+  const std::vector<CorrectedPose> expected = keyframesOf(LocalizerParams{}, race, 0.0, &on_time);
+  const std::vector<CorrectedPose> got = keyframesOf(LocalizerParams{}, race, 0.1, &late);
+  EXPECT_EQ(late.observations_rejected, 0) << late.last_error;
+  ASSERT_EQ(got.size(), expected.size());
+  for (size_t k = 0; k < got.size(); ++k) {
+    EXPECT_EQ(got[k].t, expected[k].t) << k;
+    EXPECT_LT((got[k].world_T_body.matrix() - expected[k].world_T_body.matrix()).norm(), 1e-9) << k;
+  }
+}
+
 TEST(DetectionLatency, WithoutWaitingTheDetectionsOfAKeyframesLastInstantsAreLostAndCounted) {
   const SyntheticRace race = makeSyntheticRace({});
   LocalizerCounters at_once, late;
-  (void)keyframesOf(LocalizerParams{}, race, 0.0, &at_once);
-  (void)keyframesOf(LocalizerParams{}, race, 0.05, &late);
+  (void)keyframesOf(closedAtOnce(), race, 0.0, &at_once);
+  (void)keyframesOf(closedAtOnce(), race, 0.05, &late);
   EXPECT_EQ(at_once.observations_too_late, 0);
   // 30 Hz detections and keyframes every 2 m at 8 m/s: about one or two detections per keyframe arrive too late.
   EXPECT_GT(late.observations_too_late, 10) << late.last_error;
@@ -52,7 +72,7 @@ TEST(DetectionLatency, WithoutWaitingTheDetectionsOfAKeyframesLastInstantsAreLos
 TEST(DetectionLatency, AKeyframeThatWaitsGetsEveryDetectionAndTheSameKeyframesAsWithoutLatency) {
   const SyntheticRace race = makeSyntheticRace({});
   LocalizerCounters at_once_counters;
-  const std::vector<CorrectedPose> at_once = keyframesOf(LocalizerParams{}, race, 0.0, &at_once_counters);
+  const std::vector<CorrectedPose> at_once = keyframesOf(closedAtOnce(), race, 0.0, &at_once_counters);
   ASSERT_GT(at_once.size(), 20u);
   LocalizerParams waiting;
   waiting.detection_latency = 0.05;

@@ -66,6 +66,7 @@ TEST(HoverKeyframes, ARequestedKeyframeClosesAtTheNextSampleThatCoversTheObserva
   map.world_T_gate[0] = world_T_gate;
   LocalizerParams params;
   params.keyframe_max_interval_s = 0.0;  // no keyframe from waiting: only the request makes one
+  params.detection_latency = 0.0;        // closed at the sample that covers it, not 0.1 s later
   params.distilled_floor_range = params.distilled_floor_lateral = params.distilled_floor_rotation = 0.0;
   params.initial_world_T_odom.translation() << 0.3, -0.4, 0.0;
   std::unique_ptr<Localizer> localizer = testing::makeLocalizer(params, map);

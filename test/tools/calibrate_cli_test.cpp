@@ -124,10 +124,10 @@ TEST(CalibrateCli, RunSelfCalibratesWhenTheConfigSaysSo) {
   EXPECT_NEAR(jsonNumber(metrics, "self_calibration_time_offset_s"), 0.03, 0.002) << metrics;
   EXPECT_NEAR(jsonNumber(metrics, "self_calibration_mount_change_deg"), 1.5, 0.3) << metrics;
   // A sequence whose detections stop before the calibration time: fewer than the whole calibration needs (200), so
-  // the clock offset alone is tried on what there is (2 s of detections: its halves then disagree) and the run says
-  // so; with fewer than the offset alone needs (50), nothing runs, said.
-  for (const auto& [name, keep_rows, says, applied] :
-       {std::make_tuple(std::string("late_only"), size_t{1000000}, std::string("the clock offset alone, first, on "), 0.0),
+  // the clock offset alone is tried on what there is (2 s of detections: applied or not as its halves agree; the
+  // run says which) at t_c + 8 s; with fewer than the offset alone needs (50), nothing runs, said.
+  for (const auto& [name, keep_rows, says, first_at] :
+       {std::make_tuple(std::string("late_only"), size_t{1000000}, std::string("clock offset"), 16.0),
         std::make_tuple(std::string("too_few"), size_t{40},
                         std::string("self-calibration not applied (the flight ended before the flight so far could carry it"),
                         -1.0)}) {
@@ -146,8 +146,16 @@ TEST(CalibrateCli, RunSelfCalibratesWhenTheConfigSaysSo) {
     }
     std::ofstream(late_only + "/corners.csv") << kept;
     const CommandRun failed = runDualgraph("run --sequence " + late_only + " --out " + tempDir() + "/" + name + "_run --config " + config);
-    EXPECT_NE(failed.err.find(says), std::string::npos) << failed.err;
-    EXPECT_EQ(jsonNumber(readFile(tempDir() + "/" + name + "_run/metrics.json"), "self_calibration_applied"), applied);
+    const std::string said = failed.out + failed.err;
+    EXPECT_NE(said.find(says), std::string::npos) << said;
+    const std::string metrics = readFile(tempDir() + "/" + name + "_run/metrics.json");
+    if (first_at > 0.0) {  // tried alone, first: said on stdout when applied, as a warning when not
+      EXPECT_NE(said.find("alone"), std::string::npos) << said;
+      EXPECT_EQ(jsonNumber(metrics, "self_calibration_clock_offset_first_at_s"), first_at) << metrics;
+      EXPECT_EQ(jsonNumber(metrics, "self_calibration_attempts"), 0.0) << metrics;
+    } else {
+      EXPECT_EQ(jsonNumber(metrics, "self_calibration_applied"), -1.0) << metrics;
+    }
   }
 }
 
