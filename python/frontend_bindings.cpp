@@ -149,7 +149,7 @@ void bindRun(py::module_& m) {
                      "[rad/s] >= 0: likewise for the turn between them (+ 0.1 rad; 0: off)")
       .def_readwrite("self_calibration_after_s", &SequenceRunParams::self_calibration_after_s,
                      "[s]: after this much of the flight, the camera's clock offset and mount are calibrated on the "
-                     "flight so far and the rest of the run uses that camera (0: off; data/config/default.yaml: 15)")
+                     "flight so far and the rest of the run uses that camera (0: off; default 8, as data/config/default.yaml)")
       .def_property(
           "estimate_odometry_scale", [](const SequenceRunParams& p) { return p.odometry_scale.enabled; },
           [](SequenceRunParams& p, bool v) { p.odometry_scale.enabled = v; },
@@ -193,7 +193,10 @@ void bindRun(py::module_& m) {
         std::snprintf(text, sizeof(text), "RunConfig(initialization='%s', self_calibration_after_s=%g, trust_ids=%s, localizer=",
                       p.auto_initialize ? "auto" : "given", p.self_calibration_after_s, p.frontend.trust_ids ? "True" : "False");
         return std::string(text) + std::string(py::repr(py::cast(p.localizer))) + ")";
-      });
+      })
+      .def("to_yaml", &runConfigYaml,
+           "Every key of the configuration as the YAML load_run_config reads back (what a run folder's config.yaml "
+           "holds)");
   m.def("load_run_config", [](const std::string& path) { return unwrap(loadRunConfig(path)); }, "path"_a,
         "Reads `dualgraph run`'s YAML configuration (data/config/default.yaml lists every key with its unit).");
 

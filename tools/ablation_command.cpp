@@ -109,7 +109,7 @@ int runAblationCommand(const AblationOptions& o) {
       // The run folder, for `dualgraph report`.
       const std::string run_name = "runs/" + profile + "/" + flight_dir + "/" + slug(v.name);
       std::filesystem::create_directories(staged->file(run_name));
-      const Status run_written = writeRunFolder(staged->file(run_name), sequence_dir, params.localizer, *run, *metrics,
+      const Status run_written = writeRunFolder(staged->file(run_name), sequence_dir, params, *run, *metrics,
                                                 params.self_calibration_after_s > 0.0 ? &self_calibration : nullptr);
       if (!run_written.ok()) return failStaged(run_written.message());
       rows.push_back({profile, track_name, seed, v.name, *metrics});

@@ -196,7 +196,7 @@ int runLiveCommand(const LiveOptions& o) {
     if (!staged.ok()) return fail(staged.status().message());
     Status written = writeSequence(staged->file("sequence"), sequence);
     if (written.ok()) {
-      written = writeRunFolder(staged->path(), sequence.dir, params->localizer, run, *metrics,
+      written = writeRunFolder(staged->path(), sequence.dir, *params, run, *metrics,
                                params->self_calibration_after_s > 0.0 ? &run.self_calibration : nullptr);
     }
     if (!written.ok()) return fail(staged->unstaged(written).message());

@@ -88,7 +88,7 @@ int runRunCommand(const RunOptions& o) {
     return fail("--out " + o.out + " is the sequence folder: give the run its own folder");
   }
   for (const char* output : {"estimate.tum", "keyframes.tum", "tracking_state.csv", "stats.csv", "run.yaml",
-                             "metrics.json", isStream(o.vio) ? "vio.tum" : "estimate.tum"}) {  // vio.tum: a stream's
+                             "config.yaml", "metrics.json", isStream(o.vio) ? "vio.tum" : "estimate.tum"}) {  // vio.tum: a stream's
     for (const std::string& input : {o.vio, o.gt, o.config}) {
       if (!input.empty() && input != "-" && fs::exists(input, same_error) &&
           fs::equivalent(fs::path(o.out) / output, input, same_error)) {
@@ -139,7 +139,7 @@ int runRunCommand(const RunOptions& o) {
     if (!kept.ok()) return fail(staged->unstaged(kept).message());
   }
   const std::string vio_kept = streamed ? (std::filesystem::path(o.out) / "vio.tum").string() : o.vio;
-  const Status written = writeRunFolder(staged->path(), o.sequence, params->localizer, *run, *metrics,
+  const Status written = writeRunFolder(staged->path(), o.sequence, *params, *run, *metrics,
                                         params->self_calibration_after_s > 0.0 ? &self_calibration : nullptr, vio_kept,
                                         o.gt);
   if (!written.ok()) return fail(staged->unstaged(written).message());

@@ -30,6 +30,8 @@ namespace dualgraph {
 ///   run.yaml       `sequence:` (absolute), `vio:` (absolute; only when `vio_path` is given: the odometry file read
 ///                  instead of SEQUENCE/vio.tum), `gt:` (absolute; only when `gt_path` is given: the ground truth read
 ///                  instead of SEQUENCE/gt.tum), `mode:` and the keyframe thresholds (`d_main`, `d_temp` or `d_single`)
+///   config.yaml    the whole configuration the run used (runConfigYaml: every key, the file's and the defaults), so
+///                  `--config DIR/config.yaml` runs it again
 ///   metrics.json   RunMetrics' figures, always: `has_ground_truth` 1/0, the ATE figures null without ground truth
 ///                  (non-finite values as null), `lock_world_T_odom_{x,y,z}_m, _q{x,y,z,w}` the VIO's frame in the
 ///                  map as the run first had it (the search's lock, or the given frame; null without a map pose); frontend/evaluation/OUTPUTS.md lists every key
@@ -37,7 +39,7 @@ namespace dualgraph {
 /// With `self_calibration` (a self-calibrating run), metrics.json also holds `self_calibration_applied` (1/0,
 /// −1 not attempted), `self_calibration_at_s`, `_time_offset_before_s`, `_time_offset_s`, `_time_offset_sigma_s`,
 /// `_mount_change_deg`, `_iterations` and `_why_not` (a string, empty when applied).
-Status writeRunFolder(const std::string& dir, const std::string& sequence_dir, const LocalizerParams& params,
+Status writeRunFolder(const std::string& dir, const std::string& sequence_dir, const SequenceRunParams& config,
                       const SequenceRunResult& run, const RunMetrics& metrics,
                       const SelfCalibrationReport* self_calibration = nullptr, const std::string& vio_path = "",
                       const std::string& gt_path = "");

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The run folder written: writeRunFolder (estimate, tracking states, keyframes, stats, run.yaml, metrics.json).
+// The run folder written: writeRunFolder (estimate, tracking states, keyframes, stats, run.yaml, config.yaml, metrics.json).
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -11,6 +11,7 @@
 #include "dualgraph/frontend/io/delimited_text.h"
 #include "dualgraph/frontend/io/json_writer.h"
 #include "dualgraph/frontend/io/odometry_io.h"
+#include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/io/trajectory_io.h"
 
 namespace dualgraph {
@@ -213,11 +214,18 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
 
 }  // namespace
 
-Status writeRunFolder(const std::string& dir, const std::string& sequence_dir, const LocalizerParams& params,
+Status writeRunFolder(const std::string& dir, const std::string& sequence_dir, const SequenceRunParams& config,
                       const SequenceRunResult& run, const RunMetrics& metrics,
                       const SelfCalibrationReport* self_calibration, const std::string& vio_path,
                       const std::string& gt_path) {
   const fs::path folder(dir);
+  const LocalizerParams& params = config.localizer;
+  DG_RETURN_IF_ERROR(writeFileAtomically((folder / "config.yaml").string(), [&](std::ostream& out) {
+    out << "# The configuration of this run, every key (data/config/default.yaml says what each is): run it again with\n"
+        << "# --config on this file.\n"
+        << runConfigYaml(config);
+    return Status();
+  }));
   DG_RETURN_IF_ERROR(writeTum((folder / "estimate.tum").string(), stampedPoses(mapPoses(run.estimate))));
   DG_RETURN_IF_ERROR(writeTrackingStates((folder / "tracking_state.csv").string(), run.estimate));
   DG_RETURN_IF_ERROR(writeTum((folder / "keyframes.tum").string(), stampedPoses(run.keyframes)));

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "dualgraph/core/token_reader.h"
+#include "dualgraph/solvers/linear_solver_factory.h"
 #include "dualgraph/frontend/io/localizer_params_node.h"
 #include "dualgraph/frontend/io/yaml_fields.h"
 
@@ -95,33 +96,42 @@ using Text = const std::string&;
 struct OtherField {
   const char* name;
   Status (*read)(Text source, Text name, const YAML::Node& value, LocalizerParams& params);
+  std::string (*write)(const LocalizerParams& params);  ///< the value as read back; "" when unset (left out)
 };
 const OtherField kOtherFields[] = {
     {"mode", [](Text s, Text n, const YAML::Node& v,
-                LocalizerParams& p) { return readEnum(s, n, v, kModes, &localizerModeName, p.mode); }},
+                LocalizerParams& p) { return readEnum(s, n, v, kModes, &localizerModeName, p.mode); },
+     [](const LocalizerParams& p) -> std::string { return localizerModeName(p.mode); }},
     {"landmark", [](Text s, Text n, const YAML::Node& v,
-                    LocalizerParams& p) { return readEnum(s, n, v, kLandmarks, &landmarkModelName, p.landmark); }},
+                    LocalizerParams& p) { return readEnum(s, n, v, kLandmarks, &landmarkModelName, p.landmark); },
+     [](const LocalizerParams& p) -> std::string { return landmarkModelName(p.landmark); }},
     {"linear_solver", [](Text s, Text n, const YAML::Node& v,
-                         LocalizerParams& p) { return readLinearSolver(s, n, v, p.linear_solver); }},
+                         LocalizerParams& p) { return readLinearSolver(s, n, v, p.linear_solver); },
+     [](const LocalizerParams& p) -> std::string { return linearSolverKindName(p.linear_solver); }},
     {"lm_damping", [](Text s, Text n, const YAML::Node& v,
-                      LocalizerParams& p) { return readEnum(s, n, v, kDampings, &lmDampingName, p.lm_damping); }},
+                      LocalizerParams& p) { return readEnum(s, n, v, kDampings, &lmDampingName, p.lm_damping); },
+     [](const LocalizerParams& p) -> std::string { return lmDampingName(p.lm_damping); }},
     {"temp_solver",
      [](Text s, Text n, const YAML::Node& v, LocalizerParams& p) {
        return readEnum(s, n, v, kTemporarySolvers, &temporarySolverKindName, p.temp_solver);
-     }},
+     },
+     [](const LocalizerParams& p) -> std::string { return temporarySolverKindName(p.temp_solver); }},
     {"robust_kernel",
-     [](Text s, Text n, const YAML::Node& v, LocalizerParams& p) { return readString(s, n, v, p.robust_kernel); }},
+     [](Text s, Text n, const YAML::Node& v, LocalizerParams& p) { return readString(s, n, v, p.robust_kernel); },
+     [](const LocalizerParams& p) { return p.robust_kernel; }},
     {"initial_world_T_body",
      [](Text s, Text n, const YAML::Node& v, LocalizerParams& p) {
        Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
        DG_RETURN_IF_ERROR(readTransform(s, n, v, start, TransformParts::kBoth));
        p.initial_world_T_body = start;
        return Status::okStatus();
-     }},
+     },
+     [](const LocalizerParams& p) { return p.initial_world_T_body ? formatTransform(*p.initial_world_T_body) : ""; }},
     {"initial_world_T_odom",
      [](Text s, Text n, const YAML::Node& v, LocalizerParams& p) {
        return readTransform(s, n, v, p.initial_world_T_odom, TransformParts::kKeepMissing);
-     }},
+     },
+     [](const LocalizerParams& p) { return formatTransform(p.initial_world_T_odom); }},
 };
 
 /// Reads one `name: value` pair into `params`; an unknown name is an error at the key.
@@ -251,6 +261,18 @@ const std::vector<std::string>& localizerParamKeys() {
     return out;
   }();
   return keys;
+}
+
+std::string localizerParamsYaml(const LocalizerParams& params, const std::string& indent) {
+  std::string out;
+  const auto line = [&](const char* name, const std::string& value) {
+    if (!value.empty()) out += indent + name + ": " + value + "\n";
+  };
+  for (const auto& slot : kNumberFields) line(slot.name, formatExactNumber(params.*slot.member));
+  for (const auto& slot : kIntegerFields) line(slot.name, std::to_string(params.*slot.member));
+  for (const auto& slot : kBoolFields) line(slot.name, params.*slot.member ? "true" : "false");
+  for (const auto& slot : kOtherFields) line(slot.name, slot.write(params));
+  return out;
 }
 
 Result<LocalizerParams> loadLocalizerParams(const std::string& path) {

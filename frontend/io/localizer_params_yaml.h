@@ -36,6 +36,10 @@ Result<LocalizerParams> parseLocalizerParams(const std::string& yaml_text, const
 /// Every key parseLocalizerParams accepts (data/config/default.yaml lists each with its default and unit, tested).
 const std::vector<std::string>& localizerParamKeys();
 
+/// Every field as `INDENT key: value` lines that parseLocalizerParams reads back to the same parameters (numbers in
+/// the fewest digits that round-trip; initial_world_T_body left out when unset).
+std::string localizerParamsYaml(const LocalizerParams& params, const std::string& indent = "");
+
 /// Reads the file (kIoError naming it when unreadable) and parses it.
 Result<LocalizerParams> loadLocalizerParams(const std::string& path);
 

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "dualgraph/frontend/io/localizer_params_node.h"
+#include "dualgraph/frontend/io/localizer_params_yaml.h"
 #include "dualgraph/frontend/io/yaml_fields.h"
 
 namespace dualgraph {
@@ -56,109 +57,150 @@ using Node = const YAML::Node&;
 struct FrontendField {
   const char* name;
   Status (*read)(Text source, Text field, Node value, SequenceRunParams& params);
+  std::string (*write)(const SequenceRunParams& params);  ///< the value as read back; "" when unset (left out)
 };
+std::string numberText(double value) { return formatExactNumber(value); }
+std::string flagText(bool value) { return value ? "true" : "false"; }
 const FrontendField kFrontendFields[] = {
-    {"trust_ids", [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.frontend.trust_ids); }},
+    {"trust_ids", [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.frontend.trust_ids); },
+     [](const SequenceRunParams& p) { return flagText(p.frontend.trust_ids); }},
     {"pixel_sigma",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.frontend.pnp.pixel_sigma); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.frontend.pnp.pixel_sigma); },
+     [](const SequenceRunParams& p) { return numberText(p.frontend.pnp.pixel_sigma); }},
     {"adaptive_pixel_sigma",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.frontend.adaptive_pixel_sigma); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.frontend.adaptive_pixel_sigma); },
+     [](const SequenceRunParams& p) { return flagText(p.frontend.adaptive_pixel_sigma); }},
     {"partial_gates",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.frontend.partial_gates); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.frontend.partial_gates); },
+     [](const SequenceRunParams& p) { return flagText(p.frontend.partial_gates); }},
     {"full_gate_rays",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.frontend.full_gate_rays); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.frontend.full_gate_rays); },
+     [](const SequenceRunParams& p) { return flagText(p.frontend.full_gate_rays); }},
     {"upright_prior_sigma_deg",
      [](Text s, Text f, Node v, SequenceRunParams& p) {
        const Status read = readNumber(s, f, v, p.frontend.upright_prior_sigma_deg);
        if (!read.ok() || p.frontend.upright_prior_sigma_deg >= 0.0) return read;
        return fieldError(s, v.Mark(), f, "must be >= 0 (0: no upright prior)");
-     }},
+     },
+     [](const SequenceRunParams& p) { return numberText(p.frontend.upright_prior_sigma_deg); }},
     {"max_reprojection_rms",
      [](Text s, Text f, Node v, SequenceRunParams& p) {
        return readPositive(s, f, v, p.frontend.pnp.max_reprojection_rms);
-     }},
+     },
+     [](const SequenceRunParams& p) { return numberText(p.frontend.pnp.max_reprojection_rms); }},
     {"min_range",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.frontend.pnp.min_range); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.frontend.pnp.min_range); },
+     [](const SequenceRunParams& p) { return numberText(p.frontend.pnp.min_range); }},
     {"max_range",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.frontend.pnp.max_range); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.frontend.pnp.max_range); },
+     [](const SequenceRunParams& p) { return numberText(p.frontend.pnp.max_range); }},
     {"min_corner_angle_deg",
      [](Text s, Text f, Node v, SequenceRunParams& p) {
        return readNumber(s, f, v, p.frontend.pnp.min_corner_angle_deg);
-     }},
+     },
+     [](const SequenceRunParams& p) { return numberText(p.frontend.pnp.min_corner_angle_deg); }},
     {"max_condition_number",
      [](Text s, Text f, Node v, SequenceRunParams& p) {
        return readPositive(s, f, v, p.frontend.pnp.max_condition_number);
-     }},
+     },
+     [](const SequenceRunParams& p) { return numberText(p.frontend.pnp.max_condition_number); }},
     {"pnp_covariance",
      [](Text s, Text f, Node v, SequenceRunParams& p) {
        return readPnpCovariance(s, f, v, p.frontend.pnp.covariance_model);
-     }},
+     },
+     [](const SequenceRunParams& p) { return std::string(p.frontend.pnp.covariance_model == PnpCovarianceModel::kLaplace ? "laplace" : "tilt_posterior"); }},
     {"max_refinement_iterations",
      [](Text s, Text f, Node v, SequenceRunParams& p) {
        return readNonNegativeInt(s, f, v, p.frontend.pnp.max_refinement_iterations, 0);
-     }},
+     },
+     [](const SequenceRunParams& p) { return std::to_string(p.frontend.pnp.max_refinement_iterations); }},
     {"max_association_distance",
      [](Text s, Text f, Node v, SequenceRunParams& p) {
        return readPositive(s, f, v, p.frontend.association.max_distance);
-     }},
+     },
+     [](const SequenceRunParams& p) { return numberText(p.frontend.association.max_distance); }},
     {"max_normal_angle",
      [](Text s, Text f, Node v, SequenceRunParams& p) {
        return readNumber(s, f, v, p.frontend.association.max_normal_angle);
-     }},
+     },
+     [](const SequenceRunParams& p) { return numberText(p.frontend.association.max_normal_angle); }},
     {"allow_reversed", [](Text s, Text f, Node v,
-                          SequenceRunParams& p) { return readBool(s, f, v, p.frontend.association.allow_reversed); }},
+                          SequenceRunParams& p) { return readBool(s, f, v, p.frontend.association.allow_reversed); },
+     [](const SequenceRunParams& p) { return flagText(p.frontend.association.allow_reversed); }},
     {"mapping_min_sightings",
      [](Text s, Text f, Node v, SequenceRunParams& p) {
        return readNonNegativeInt(s, f, v, p.frontend.association.mapping_min_sightings, 1);
-     }},
+     },
+     [](const SequenceRunParams& p) { return std::to_string(p.frontend.association.mapping_min_sightings); }},
     {"mapping_consistency",
      [](Text s, Text f, Node v, SequenceRunParams& p) {
        return readPositive(s, f, v, p.frontend.association.mapping_consistency);
-     }},
+     },
+     [](const SequenceRunParams& p) { return numberText(p.frontend.association.mapping_consistency); }},
     {"initialization",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readInitialization(s, f, v, p.auto_initialize); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readInitialization(s, f, v, p.auto_initialize); },
+     [](const SequenceRunParams& p) { return std::string(p.auto_initialize ? "auto" : "given"); }},
     {"initialization_min_inliers",
      [](Text s, Text f, Node v, SequenceRunParams& p) {
        return readNonNegativeInt(s, f, v, p.initialization.min_inliers, 1);
-     }},
+     },
+     [](const SequenceRunParams& p) { return std::to_string(p.initialization.min_inliers); }},
     {"initialization_memory_m",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.initialization.memory_m); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.initialization.memory_m); },
+     [](const SequenceRunParams& p) { return numberText(p.initialization.memory_m); }},
     {"initialization_corner_fit",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.initialization.refine_on_corners); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.initialization.refine_on_corners); },
+     [](const SequenceRunParams& p) { return flagText(p.initialization.refine_on_corners); }},
     {"pose_detection_sigma_t",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.pose_detection_sigma_t); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.pose_detection_sigma_t); },
+     [](const SequenceRunParams& p) { return numberText(p.pose_detection_sigma_t); }},
     {"pose_detection_sigma_r",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.pose_detection_sigma_r); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.pose_detection_sigma_r); },
+     [](const SequenceRunParams& p) { return numberText(p.pose_detection_sigma_r); }},
     {"relocalization_sigma_t",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.relocalization.sigma_t); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.relocalization.sigma_t); },
+     [](const SequenceRunParams& p) { return numberText(p.relocalization.sigma_t); }},
     {"relocalization_sigma_r",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.relocalization.sigma_r); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.relocalization.sigma_r); },
+     [](const SequenceRunParams& p) { return numberText(p.relocalization.sigma_r); }},
     {"relocalization_global_after_s",
      [](Text s, Text f, Node v, SequenceRunParams& p) {
        return readPositive(s, f, v, p.relocalization.global_after_s);
-     }},
+     },
+     [](const SequenceRunParams& p) { return numberText(p.relocalization.global_after_s); }},
     {"relocalization_replace_ratio",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readShare(s, f, v, p.relocalization.replace_ratio); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readShare(s, f, v, p.relocalization.replace_ratio); },
+     [](const SequenceRunParams& p) { return numberText(p.relocalization.replace_ratio); }},
     {"time_offset",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readTimeOffset(s, f, v, p.time_offset); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readTimeOffset(s, f, v, p.time_offset); },
+     [](const SequenceRunParams& p) { return p.time_offset ? numberText(*p.time_offset) : std::string(); }},
     {"max_detection_lead_s",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.max_detection_lead_s); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readPositive(s, f, v, p.max_detection_lead_s); },
+     [](const SequenceRunParams& p) { return numberText(p.max_detection_lead_s); }},
     {"max_odometry_gap_s",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_gap_s); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_gap_s); },
+     [](const SequenceRunParams& p) { return numberText(p.max_odometry_gap_s); }},
     {"bridge_odometry_gap_s",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.bridge_odometry_gap_s); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.bridge_odometry_gap_s); },
+     [](const SequenceRunParams& p) { return numberText(p.bridge_odometry_gap_s); }},
     {"max_odometry_jump_s",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_jump_s); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_jump_s); },
+     [](const SequenceRunParams& p) { return numberText(p.max_odometry_jump_s); }},
     {"max_odometry_speed_mps",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_speed_mps); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_speed_mps); },
+     [](const SequenceRunParams& p) { return numberText(p.max_odometry_speed_mps); }},
     {"max_odometry_turn_rate_radps",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_turn_rate_radps); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.max_odometry_turn_rate_radps); },
+     [](const SequenceRunParams& p) { return numberText(p.max_odometry_turn_rate_radps); }},
     {"estimate_odometry_scale",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.odometry_scale.enabled); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readBool(s, f, v, p.odometry_scale.enabled); },
+     [](const SequenceRunParams& p) { return flagText(p.odometry_scale.enabled); }},
     {"odometry_scale_min_error",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.odometry_scale.min_error); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.odometry_scale.min_error); },
+     [](const SequenceRunParams& p) { return numberText(p.odometry_scale.min_error); }},
     {"self_calibration_after_s",
-     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.self_calibration_after_s); }},
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.self_calibration_after_s); },
+     [](const SequenceRunParams& p) { return numberText(p.self_calibration_after_s); }},
 };
 
 Status readFrontend(const std::string& source, const YAML::Node& section, SequenceRunParams& params) {
@@ -238,6 +280,15 @@ const std::vector<std::string>& runConfigFrontendKeys() {
     return out;
   }();
   return keys;
+}
+
+std::string runConfigYaml(const SequenceRunParams& params) {
+  std::string out = "localizer:\n" + localizerParamsYaml(params.localizer, "  ") + "frontend:\n";
+  for (const FrontendField& field : kFrontendFields) {
+    const std::string value = field.write(params);
+    if (!value.empty()) out += std::string("  ") + field.name + ": " + value + "\n";
+  }
+  return out;
 }
 
 Matrix6d SequenceRunParams::defaultPoseDetectionCovariance() const {

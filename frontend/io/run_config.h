@@ -46,7 +46,7 @@ struct SequenceRunParams {
   /// Self-calibration (`frontend.self_calibration_after_s`, 0: off): once this much odometry time has passed,
   /// the camera's clock offset and mount rotation are calibrated on the flight so far and the rest of the run
   /// uses that camera (frontend/self_calibration.h; corner sequences with a camera only) [s].
-  double self_calibration_after_s = 0.0;
+  double self_calibration_after_s = 8.0;
   /// A detection instant stamped (on the odometry clock) more than this beyond the newest odometry sample is
   /// refused and counted (`frontend.max_detection_lead_s`; a stamp from another clock would otherwise block every
   /// later detection as out of order) [s], > 0.
@@ -124,5 +124,11 @@ Result<SequenceRunParams> parseRunConfig(const std::string& yaml_text, const std
 /// Every key the `frontend:` section accepts, in the reader's order (data/config/default.yaml lists each, tested).
 const std::vector<std::string>& runConfigFrontendKeys();
 Result<SequenceRunParams> loadRunConfig(const std::string& path);
+
+/// The whole configuration as the YAML parseRunConfig reads back to the same parameters: every key of both
+/// sections (optional ones left out when unset; camera_switch is set in code, not written). `dualgraph run` writes
+/// it to its folder as config.yaml; the defaults test compares it for data/config/default.yaml and
+/// SequenceRunParams{}.
+std::string runConfigYaml(const SequenceRunParams& params);
 
 }  // namespace dualgraph

@@ -5,6 +5,8 @@
 #include <yaml-cpp/parser.h>
 
 #include <charconv>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -217,6 +219,29 @@ Result<YAML::Node> loadMapping(const std::string& text, const std::string& sourc
 
 Status yamlError(const std::string& source, const YAML::Exception& error) {
   return Status(StatusCode::kParseError, location(source, error.mark) + ": YAML error: " + error.msg);
+}
+
+std::string formatExactNumber(double value) {
+  if (std::isnan(value)) return ".nan";
+  if (std::isinf(value)) return value > 0.0 ? ".inf" : "-.inf";
+  char text[32];
+  if (value == std::round(value) && std::abs(value) < 1e15) {  // 50, not 5e+01
+    std::snprintf(text, sizeof(text), "%.0f", value);
+    return text;
+  }
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof(text), "%.*g", digits, value);
+    if (std::strtod(text, nullptr) == value) break;
+  }
+  return text;
+}
+
+std::string formatTransform(const Eigen::Isometry3d& transform) {
+  const Eigen::Vector3d p = transform.translation();
+  const Eigen::Quaterniond q(transform.rotation());
+  return "{position: [" + formatExactNumber(p.x()) + ", " + formatExactNumber(p.y()) + ", " + formatExactNumber(p.z()) +
+         "], quaternion_xyzw: [" + formatExactNumber(q.x()) + ", " + formatExactNumber(q.y()) + ", " + formatExactNumber(q.z()) +
+         ", " + formatExactNumber(q.w()) + "]}";
 }
 
 }  // namespace dualgraph::yaml_fields

@@ -67,6 +67,13 @@ enum class TransformParts {
 Status readTransform(const std::string& source, const std::string& field, const YAML::Node& node,
                      Eigen::Isometry3d& out, TransformParts parts = TransformParts::kBoth);
 
+/// A number as YAML text that reads back to the same double: the fewest significant digits that do ("0.1",
+/// "1e-06", "22.458"); non-finite values as .nan / .inf / -.inf (which the readers refuse).
+std::string formatExactNumber(double value);
+
+/// A transform as readTransform reads it: {position: [x, y, z], quaternion_xyzw: [qx, qy, qz, qw]}.
+std::string formatTransform(const Eigen::Isometry3d& transform);
+
 /// The whole file as bytes; kIoError "path: why" when it is a directory or cannot be read.
 Result<std::string> readText(const std::string& path);
 

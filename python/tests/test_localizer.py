@@ -183,8 +183,10 @@ class SameAsTheCli(unittest.TestCase):
         self.assertFalse(dualgraph.run_sequence(self.sequence, config).odometry_scale["enabled"])
 
     def test_self_calibration_is_the_configs(self):
-        self.assertEqual(dualgraph.RunConfig().self_calibration_after_s, 0.0)
+        # One set of defaults: the struct's, which default.yaml holds (test/frontend/default_config_keys_test.cpp).
+        self.assertEqual(dualgraph.RunConfig().self_calibration_after_s, 8.0)
         self.assertEqual(dualgraph.load_run_config(CONFIG).self_calibration_after_s, 8.0)
+        self.assertEqual(dualgraph.RunConfig().to_yaml(), dualgraph.load_run_config(CONFIG).to_yaml())
         config = dualgraph.load_run_config(CONFIG)
         config.self_calibration_after_s = 0.0
         self.assertIsNone(dualgraph.run_sequence(self.sequence, config).camera_switched_at)

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "dualgraph/frontend/io/camera_io.h"
+#include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/io/track_io.h"
 #include "dualgraph/frontend/simulation/race_profiles.h"
 #include "dualgraph/frontend/simulation/race_sequence.h"
@@ -47,6 +48,13 @@ inline Sequence realisticFlight(const std::string& track_name, std::uint64_t see
 /// Angle between two cameras' mount rotations [deg].
 inline double mountErrorDeg(const CameraModel& a, const CameraModel& b) {
   return so3Log(a.body_T_camera.linear().transpose() * b.body_T_camera.linear()).norm() * 180.0 / M_PI;
+}
+
+/// The default configuration with the self-calibration off: the run a calibrated one is compared with.
+inline SequenceRunParams uncalibrated() {
+  SequenceRunParams params;
+  params.self_calibration_after_s = 0.0;
+  return params;
 }
 
 }  // namespace dualgraph::caltest

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // data/config/default.yaml lists every key the run configuration reads — the readers' own tables
 // (localizerParamKeys, runConfigFrontendKeys) — each with a comment, a number with its unit in brackets, and no key
-// the readers do not know (an optional key appears commented out, with an example value the reader accepts).
+// the readers do not know (an optional key appears commented out, with an example value the reader accepts); and
+// its values are the C++ defaults (SequenceRunParams{}, which Python's RunConfig() also is): one set of defaults.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -109,6 +110,63 @@ TEST(DefaultConfig, ListsEveryKeyTheReadersKnowWithItsUnitAndNoOther) {
   ASSERT_TRUE(loaded.ok()) << loaded.status().toString();
   EXPECT_TRUE(loaded->localizer.initial_world_T_body.has_value());
   EXPECT_TRUE(loaded->time_offset.has_value());
+}
+
+/// The lines of `text` that `other` does not have, for a message.
+std::string linesMissingFrom(const std::string& text, const std::string& other) {
+  std::istringstream in(text);
+  std::string line, out;
+  while (std::getline(in, line)) {
+    if (other.find(line + "\n") == std::string::npos) out += "\n    " + line;
+  }
+  return out;
+}
+
+TEST(DefaultConfig, HoldsTheDefaultsOfTheStructsThatCodeAndPythonBuild) {
+  auto file = loadRunConfig(testing::sourcePath("data/config/default.yaml"));
+  ASSERT_TRUE(file.ok()) << file.status().toString();
+  const std::string from_file = runConfigYaml(*file);
+  const std::string from_code = runConfigYaml(SequenceRunParams{});
+  EXPECT_TRUE(from_file == from_code) << "default.yaml says:" << linesMissingFrom(from_file, from_code)
+                                  << "\n  SequenceRunParams{} says:" << linesMissingFrom(from_code, from_file);
+}
+
+TEST(RunConfigYaml, WritesEveryKeyAndReadsBackToTheSameParameters) {
+  SequenceRunParams params;
+  params.localizer.d_main = 0.1 + 0.2;  // a number that needs 17 digits
+  params.localizer.main_window = 7;
+  params.localizer.learn_odometry_noise = !params.localizer.learn_odometry_noise;
+  params.localizer.mode = LocalizerMode::kSingle;
+  params.localizer.robust_kernel = "cauchy:2.5";
+  params.localizer.initial_world_T_odom.translation() << 1.5, -2.0, 0.25;
+  params.localizer.initial_world_T_odom.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  params.localizer.initial_world_T_body = Eigen::Isometry3d::Identity();
+  params.frontend.pnp.covariance_model = PnpCovarianceModel::kTiltPosterior;
+  params.auto_initialize = false;
+  params.time_offset = -0.015;
+  params.self_calibration_after_s = 12.5;
+  const std::string written = runConfigYaml(params);
+  for (const std::string& key : localizerParamKeys()) {
+    EXPECT_NE(written.find("\n  " + key + ": "), std::string::npos) << "localizer." << key << " not written";
+  }
+  for (const std::string& key : runConfigFrontendKeys()) {
+    EXPECT_NE(written.find("\n  " + key + ": "), std::string::npos) << "frontend." << key << " not written";
+  }
+  auto read = parseRunConfig(written, "written");
+  ASSERT_TRUE(read.ok()) << read.status().toString() << "\n" << written;
+  // Bit for bit but the start pose's quaternion, which the reader normalises again (checked to 1e-15 below).
+  const auto withoutStartPose = [](const std::string& text) {
+    const size_t at = text.find("  initial_world_T_odom: ");
+    return text.substr(0, at) + text.substr(text.find('\n', at));
+  };
+  EXPECT_EQ(withoutStartPose(runConfigYaml(*read)), withoutStartPose(written));
+  EXPECT_EQ(read->localizer.d_main, params.localizer.d_main);  // bit for bit
+  EXPECT_TRUE(read->localizer.initial_world_T_odom.isApprox(params.localizer.initial_world_T_odom, 1e-15));
+  EXPECT_EQ(read->time_offset, params.time_offset);
+  // Unset optional keys are left out, not written as a value the reader would take.
+  const std::string defaults = runConfigYaml(SequenceRunParams{});
+  EXPECT_EQ(defaults.find("time_offset"), std::string::npos);
+  EXPECT_EQ(defaults.find("initial_world_T_body"), std::string::npos);
 }
 
 }  // namespace

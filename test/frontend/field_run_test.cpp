@@ -28,8 +28,8 @@ Sequence realisticFlight(const std::string& track_name, std::uint64_t seed, int 
 }
 
 // The frame must be found within 2 s of the first detection and the ATE reduced by more than 35 % on 4 laps.
-// SequenceRunParams{} leaves self-calibration off, so the camera-mount error and the clock offset stay in this
-// run; `dualgraph run`'s default configuration estimates both on the first 8 s (frontend/self_calibration.h).
+// SequenceRunParams{} is `dualgraph run`'s default configuration: it estimates the camera-mount error and the clock
+// offset on the first 8 s (frontend/self_calibration.h).
 // Whole-race figures: bench/README.md, "Field table".
 TEST(FieldRun, TheVioFrameIsFoundAndTheCorrectionHoldsOnTheRealisticProfile) {
   for (std::uint64_t seed : {1, 2}) {

@@ -60,7 +60,7 @@ TEST(SelfCalibration, RecoversOffsetAndMountFromTheFlightSoFarAndImprovesTheRest
     EXPECT_EQ(report.time_offset_before, 0.0);
     EXPECT_NEAR(report.time_offset_after, 0.015, 0.002) << track;
     EXPECT_NEAR(report.mount_change_deg, 1.5, 0.3) << track;
-    auto plain = runSequence(sequence, SequenceRunParams{});
+    auto plain = runSequence(sequence, caltest::uncalibrated());
     ASSERT_TRUE(plain.ok());
     const double self_ate = ateOf(sequence, *run), plain_ate = ateOf(sequence, *plain);
     const double self_rms = rmsErrorFrom(sequence, *run, report.at_s), plain_rms = rmsErrorFrom(sequence, *plain, report.at_s);
@@ -131,7 +131,7 @@ TEST(SelfCalibration, IsCausalTheRunBeforeTheSwitchIsTheUncalibratedRun) {
   params.self_calibration_after_s = 10.0;
   SelfCalibrationReport report;
   auto run = runSequenceSelfCalibrating(sequence, params, {}, &report);
-  auto plain = runSequence(sequence, SequenceRunParams{});
+  auto plain = runSequence(sequence, caltest::uncalibrated());
   ASSERT_TRUE(run.ok() && plain.ok());
   ASSERT_TRUE(report.applied) << report.why_not;
   ASSERT_EQ(run->estimate.size(), plain->estimate.size());
@@ -152,7 +152,7 @@ TEST(SelfCalibration, IsCausalTheRunBeforeTheSwitchIsTheUncalibratedRun) {
 
 TEST(SelfCalibration, WhereItCannotBeDoneTheRunIsThePlainOneAndSaysWhy) {
   const Sequence sequence = caltest::realisticFlight("ratm_ellipse.yaml", 1, 1, 0.015);  // ≈ 8 s
-  auto plain = runSequence(sequence, SequenceRunParams{});
+  auto plain = runSequence(sequence, caltest::uncalibrated());
   ASSERT_TRUE(plain.ok());
   struct Case {
     std::string name;
@@ -192,7 +192,7 @@ TEST(SelfCalibration, WhereItCannotBeDoneTheRunIsThePlainOneAndSaysWhy) {
   EXPECT_NE(mapping_report.why_not.find("mapping"), std::string::npos) << mapping_report.why_not;
   // The off case is runSequence itself.
   SelfCalibrationReport report;
-  auto off = runSequenceSelfCalibrating(sequence, SequenceRunParams{}, {}, &report);
+  auto off = runSequenceSelfCalibrating(sequence, caltest::uncalibrated(), {}, &report);
   ASSERT_TRUE(off.ok());
   ASSERT_EQ(off->estimate.size(), plain->estimate.size());
   EXPECT_TRUE(off->estimate.back().world_T_body.matrix() == plain->estimate.back().world_T_body.matrix());
