@@ -157,6 +157,19 @@ TEST(RunCli, ShorterMainKeyframeDistanceGivesMoreKeyframes) {
   EXPECT_GT(dense_keyframes, 2.0 * default_keyframes) << default_keyframes << " vs " << dense_keyframes;
 }
 
+// config.yaml holds the whole configuration the run used, the command line's overrides included: given back as
+// --config, it makes the same run.
+TEST(RunCli, TheRunFoldersConfigRunsItAgain) {
+  const std::string first = runInto("config_first", "--d-main 1.5");
+  const std::string config = readFile(first + "/config.yaml");
+  EXPECT_NE(config.find("\n  d_main: 1.5\n"), std::string::npos) << config;
+  EXPECT_NE(config.find("\n  detection_latency: 0.1\n"), std::string::npos) << config;
+  EXPECT_NE(config.find("\nfrontend:\n"), std::string::npos) << config;
+  const std::string again = runInto("config_again", "--config " + first + "/config.yaml");
+  EXPECT_EQ(readFile(again + "/estimate.tum"), readFile(first + "/estimate.tum"));
+  EXPECT_EQ(readFile(again + "/config.yaml"), config);
+}
+
 TEST(RunCli, SingleModeRuns) {
   const std::string out = runInto("single", "--mode single --d-single 1.0");
   const std::string json = readFile(out + "/metrics.json");
