@@ -93,10 +93,17 @@ Result<CorrectedPose> Localizer::addOdometry(const OdometrySample& sample) {
   if (keyframe_due_ && keyframe_requested_after_ && notAfter(*keyframe_requested_after_, *keyframe_due_)) {
     keyframe_requested_after_.reset();  // this keyframe covers what the request asked for
   }
-  if (keyframe_due_ && elapsedAtLeast(sample.t, *keyframe_due_, params_.detection_latency)) closeDueKeyframe();
+  if (keyframe_due_ && (elapsedAtLeast(sample.t, *keyframe_due_, params_.detection_latency) ||
+                        notAfter(*keyframe_due_, observations_complete_until_))) {
+    closeDueKeyframe();
+  }
   const TrackingState state = monitor_.state();
   return CorrectedPose{sample.t, mapTOdom() * sample.odom_T_body, state,
                        state == TrackingState::kTracking ? pose_covariance_.at(sample.t) : std::nullopt};
+}
+
+void Localizer::observationsCompleteUntil(double t) {
+  if (t > observations_complete_until_) observations_complete_until_ = t;
 }
 
 void Localizer::processPending(double until) {

@@ -175,6 +175,10 @@ class Localizer {
   /// refines the frame the search found at once instead of at the first keyframe the motion makes (the output
   /// meanwhile carries the search's error). No-op while initialising.
   void requestKeyframe();
+  /// Every observation stamped at or before `t` [s] has been given (a detector that has processed its images up
+  /// to t, whatever they held): a keyframe that waits for late detections (detection_latency) closes at the first
+  /// sample once this reaches it instead of waiting the whole latency. Only moves forward.
+  void observationsCompleteUntil(double t);
   /// Tracking, but at least lost_min_failures detections failed in the last lost_after_s while others were
   /// used: the frame in use may be wrong (a VIO jump by about a gate spacing matches some gates to their
   /// neighbours and leaves the others unmatched). The cue for a search that checks it.
@@ -242,6 +246,8 @@ class Localizer {
   std::deque<GateObservation, Eigen::aligned_allocator<GateObservation>> pending_;
   /// A keyframe decided at this time [s] that waits until odometry reaches it + detection_latency.
   std::optional<double> keyframe_due_;
+  /// observationsCompleteUntil: every observation up to this time [s] was given.
+  double observations_complete_until_ = -std::numeric_limits<double>::infinity();
   /// requestKeyframe: a keyframe at the first sample at or after this time [s].
   std::optional<double> keyframe_requested_after_;
   bool frame_confirmed_ = false;  ///< see frameConfirmed()

@@ -165,9 +165,10 @@ struct LocalizerParams {
 
   /// Dual mode: how late a detection may reach the Localizer after its image [s] (a detector's latency). A
   /// keyframe decided at t waits until odometry reaches t + detection_latency before its interval is closed,
-  /// so detections up to that late still enter their interval; the correction lags by as much. 0: at once (a
-  /// detector that is never late). Default 0.1: a real detector delivers 20–100 ms after its image (bench/README.md,
-  /// "Late detectors": what the wait costs on time).
+  /// so detections up to that late still enter their interval; the correction lags by as much, unless
+  /// Localizer::observationsCompleteUntil says every observation up to the keyframe was given (then it closes at
+  /// once). 0: at once (a detector that is never late). Default 0.1: a real detector delivers 20–100 ms after its
+  /// image.
   double detection_latency = 0.1;
   /// An observation stamped more than this beyond the newest odometry sample is refused (kInvalidArgument, counted
   /// `observations_too_far_ahead`) [s]: taken, a stamp from another clock or a glitch would make every later one

@@ -8,7 +8,8 @@
 Odometry records (vio.tum rows) go out in time order, paced by their stamps (--speed 1: real time, 4: four times
 faster, 0: as fast as the pipe takes them); each detection record (a corners.csv or detections.csv row) goes out
 just before the first odometry record it precedes by less than --lead seconds, as a detector's output arrives
-ahead of the VIO's. Every line is flushed at once.
+ahead of the VIO's, followed by a `done` record (the detector has processed its images up to there). Every line is
+flushed at once.
 """
 import argparse
 import os
@@ -52,6 +53,8 @@ def main():
         while k < len(detections) and float(detections[k][0]) <= t + args.lead:
             out.write(tag + " " + " ".join(detections[k]) + "\n")
             k += 1
+        # The detector is done up to there: the images without a row held no gate (keyframes need not wait for it).
+        out.write(f"done {t + args.lead!r}\n")
         if args.speed > 0:
             delay = start_wall + (t - t0) / args.speed - time.monotonic()
             if delay > 0:

@@ -15,9 +15,10 @@ namespace {
 
 /// Feeds a sequence through `pipeline` as the sensors would deliver it: before each odometry sample, the detection
 /// instants that have arrived by its time (stamped, on the odometry clock, no later than the sample + half of
-/// max_detection_lead_s and within that lead of the newest sample: the pipeline holds each until the odometry
-/// covers it plus the detection latency, so any earlier arrival gives the same run), then the sample (with its absolute covariance when the
-/// log has them, converted inside the pipeline). What is left at the end goes in before `finish`.
+/// max_detection_lead_s and within that lead of the newest sample), each batch closed by an empty instant that says
+/// the detector is done up to there (an on-time detector: keyframes close at once, not detection_latency later), then
+/// the sample (with its absolute covariance when the log has them, converted inside the pipeline). What is left at
+/// the end goes in before `finish`.
 Result<SequenceRunResult> replay(StreamingLocalizer& pipeline, const Sequence& sequence, const RunProgress& progress,
                                  double lead_s) {
   const auto start = std::chrono::steady_clock::now();
@@ -29,6 +30,11 @@ Result<SequenceRunResult> replay(StreamingLocalizer& pipeline, const Sequence& s
     for (; next < instants.size() && instants[next].t - pipeline.timeOffset() <= until; ++next) {
       (void)pipeline.addDetections(instants[next]);  // a refusal is counted by the pipeline
     }
+    // The recording has the detector's images with gates only: the rest, up to `until`, held none (an on-time
+    // detector says so with an empty instant per image; keyframes need not wait detection_latency for it).
+    DetectionInstant done;
+    done.t = until + pipeline.timeOffset();
+    if (next == instants.size() || done.t < instants[next].t) (void)pipeline.addDetections(done);
   };
   SequenceRunResult result;
   const double margin = 0.5 * lead_s;

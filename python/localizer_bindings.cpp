@@ -240,6 +240,9 @@ A rejected input raises (InvalidArgumentError, ...) with the library's message; 
                                                         toMatrix(covariance, "covariance", 3, 3)));
            },
            "t"_a, "gate_id"_a, "p_body"_a, "covariance"_a, "As GateObservation.position, then add_observation.")
+      .def("observations_complete_until", &PyLocalizer::observationsCompleteUntil, "t"_a,
+           "Every observation stamped at or before t [s] was given: a keyframe waiting detection_latency for late ones "
+           "closes at the next sample once this reaches it (the pipeline calls it when its detector is done up to t).")
       .def("finish", &PyLocalizer::finish, "End of input: distils what is collected and optimises once more.")
       .def_property_readonly("tracking_state", [](const PyLocalizer& l) { return trackingStateName(l.get().trackingState()); },
                              "'initialising', 'tracking' or 'lost' (dual_graph/tracking_monitor.h).")

@@ -158,7 +158,9 @@ dualgraph.Error naming why and are counted (finish().localizer_counters / the ru
            },
            "t"_a, "gate_ids"_a, "pixels"_a,
            "One image's corner detections, camera clock: t [s]; gate_ids (m,) (-1: unknown); pixels (m, 4, 2) tl tr br "
-           "bl [u v] [px] (nan, nan: a corner not seen). Raises (and counts) when refused.")
+           "bl [u v] [px] (nan, nan: a corner not seen); m = 0 for an image without gates, which tells the pipeline "
+           "the detector is done up to t (keyframes then close without waiting localizer.detection_latency). Raises "
+           "(and counts) when refused.")
       .def("add_poses",
            [](PyStreaming& s, double t, const std::vector<GateObservation>& detections) {
              DetectionInstant instant;

@@ -25,6 +25,7 @@ class PyLocalizer {
   pybind11::list stats() const { return statsToList(localizer_->keyframeStats()); }
   pybind11::dict counters() const { return countersToDict(localizer_->counters()); }
   const Localizer& get() const { return *localizer_; }
+  void observationsCompleteUntil(double t) { localizer_->observationsCompleteUntil(t); }
 
   static pybind11::list statsToList(const std::vector<KeyframeStats>& stats);
   static pybind11::dict countersToDict(const LocalizerCounters& counters);

@@ -41,6 +41,7 @@ class Recording {
   }
   // Checked as each record arrives: what one sequence folder cannot hold stops the stream.
   Status check(const LiveRecord& record, const std::string& where) {
+    if (record.kind == LiveRecord::Kind::kDone) return Status();  // no row of any file
     if (record.kind == LiveRecord::Kind::kOdometry) {
       const bool with = record.covariance.has_value();
       if (odometry_seen_ && with != odometry_with_covariance_) {  // the reader's rule for one vio.tum
@@ -163,6 +164,13 @@ int runLiveCommand(const LiveOptions& o) {
       poses << "pose ";
       writeTumRow(poses, update->pose.t, update->pose.world_T_body);
       poses << ' ' << trackingStateName(update->pose.state) << std::endl;  // flushed: a consumer sees it at once
+      continue;
+    }
+    if (record.kind == LiveRecord::Kind::kDone) {  // the detector is done up to t: keyframes need not wait for it
+      handOver();
+      DetectionInstant done;
+      done.t = record.done_t;
+      (void)pipeline.addDetections(done);  // an older one is ignored, a non-finite one cannot be parsed
       continue;
     }
     const bool corners = record.kind == LiveRecord::Kind::kCorners;

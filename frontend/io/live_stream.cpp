@@ -11,6 +11,7 @@ double LiveRecord::t() const {
     case Kind::kOdometry: return odometry.t;
     case Kind::kCorners: return corners.t;
     case Kind::kPose: return pose.t;
+    case Kind::kDone: return done_t;
     case Kind::kEnd: return 0.0;
   }
   return 0.0;
@@ -46,11 +47,15 @@ Result<std::optional<LiveRecord>> parseLiveRecord(std::string_view line, int num
   } else if (tag == "pose") {
     record.kind = LiveRecord::Kind::kPose;
     DG_RETURN_IF_ERROR(readPoseRow(row, nullptr, default_pose_covariance, record.pose));
+  } else if (tag == "done") {
+    if (row.size() != 1) return row.lineError("'done' takes one field, the time the detector is done up to [s]");
+    record.kind = LiveRecord::Kind::kDone;
+    DG_RETURN_IF_ERROR(row.readDouble(0, "t", record.done_t));
   } else if (tag == "end") {
     if (row.size() != 0) return row.lineError("'end' takes no fields");
     record.kind = LiveRecord::Kind::kEnd;
   } else {
-    return row.lineError("unknown record tag '" + std::string(tag) + "' (odom, corners, pose or end)");
+    return row.lineError("unknown record tag '" + std::string(tag) + "' (odom, corners, pose, done or end)");
   }
   return std::optional<LiveRecord>(std::move(record));
 }

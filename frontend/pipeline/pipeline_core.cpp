@@ -95,7 +95,13 @@ void PipelineCore::refuse(int& counter, size_t detections) {
 
 Status PipelineCore::addDetections(const DetectionInstant& instant) {
   if (finished_) return Status(StatusCode::kFailedPrecondition, "pipeline: detections after finish");
-  if (instant.size() == 0) return Status();
+  if (instant.size() == 0) {  // nothing seen in the image at t: the detector is done up to t
+    if (!std::isfinite(instant.t)) {
+      return Status(StatusCode::kInvalidArgument, "empty detection instant: time is not finite");
+    }
+    if (instant.t >= last_instant_t_) last_instant_t_ = detections_complete_until_ = instant.t;
+    return Status();
+  }
   if (!instant.corners.empty() && !frontend_->camera()) {
     counters_.detections_invalid += static_cast<int>(instant.size());
     return Status(StatusCode::kFailedPrecondition, "detection instant at t=" + formatTimestamp(instant.t) +
@@ -134,7 +140,7 @@ Status PipelineCore::addDetections(const DetectionInstant& instant) {
     return Status(StatusCode::kFailedPrecondition, "pipeline: " + std::to_string(waiting_.size()) +
                                                       " detection instants wait for odometry; refused");
   }
-  last_instant_t_ = instant.t;
+  last_instant_t_ = detections_complete_until_ = instant.t;
   if (self_calibrator_) {
     if (!instant.poses.empty()) self_calibrator_->notePoseDetections();
     self_calibrator_->addCorners(instant.corners, time_offset_);
@@ -198,9 +204,11 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
     ++counters_.odometry_gaps;
     report_.odometry_gap = true;
   }
-  const double latency = localizer.params().detection_latency;
-  // The detections that arrived by this sample go first: if it closes a keyframe interval, they are in it.
-  if (!first) DG_RETURN_IF_ERROR(handUpTo(input.t - latency, &sample));
+  // The detections that arrived by this sample go first: if it closes a keyframe interval, they are in it. Those a
+  // late detector may still deliver wait detection_latency, unless it said it is done up to this sample's time.
+  const double horizon = std::max(input.t - localizer.params().detection_latency,
+                                  std::min(input.t, detections_complete_until_ - time_offset_));
+  if (!first) DG_RETURN_IF_ERROR(handUpTo(horizon, &sample));
   if (first && params_.localizer.initial_world_T_body && owned_localizer_ && params_.auto_initialize &&
       !params_.localizer.mapping) {
     // Until the frame is found, the estimate is the odometry through the best guess there is: the start pose.
@@ -211,6 +219,7 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
     owned_localizer_ = std::move(remade).value();
     localizer_ = owned_localizer_.get();
   }
+  localizer_->observationsCompleteUntil(horizon);
   Result<CorrectedPose> corrected = localizer_->addOdometry(sample);
   if (!corrected.ok()) return corrected.status();
   odometry_scale_.accept(input.t, input.odom_T_body);
@@ -219,7 +228,7 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
   if (first) {  // the first accepted sample: the detections at its own instant (earlier ones cannot be placed)
     first_odometry_t_ = input.t;
     if (search_ && params_.auto_initialize) search_->startInitial(sample.odom_T_body);
-    DG_RETURN_IF_ERROR(handUpTo(input.t - latency, nullptr));
+    DG_RETURN_IF_ERROR(handUpTo(horizon, nullptr));
     corrected->state = localizer_->trackingState();
   }
   const bool bridged = gap && !elapsedMoreThan(input.t, gap_->first, params_.bridge_odometry_gap_s) &&

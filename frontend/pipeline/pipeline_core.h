@@ -37,7 +37,9 @@ class PipelineCore {
 
   /// Queues one instant (camera clock). Refused (and counted): non-finite values, corners and poses mixed,
   /// older than an instant given before, more than max_detection_lead_s beyond the newest odometry
-  /// (kInvalidArgument), or a full queue (kFailedPrecondition). An empty instant is accepted and ignored.
+  /// (kInvalidArgument), or a full queue (kFailedPrecondition). An empty instant (the detector's image at t held no
+  /// gate) says the detector has processed its images up to t: the instants up to it are handed over, and a keyframe
+  /// closed, without waiting detection_latency (an older empty one is ignored; a non-finite t refused).
   Status addDetections(const DetectionInstant& instant);
   /// One odometry sample: the instants it covers are handed over first, then the sample goes to the Localizer.
   /// kInvalidArgument (counted) for a non-finite or non-rigid sample or one not after the newest.
@@ -101,6 +103,8 @@ class PipelineCore {
   OdometryScale odometry_scale_;
   std::deque<DetectionInstant> waiting_;  ///< camera clock, arrival (= time) order
   double last_instant_t_ = -std::numeric_limits<double>::infinity();  ///< camera clock
+  /// The detector has processed its images up to this time (camera clock): the newest instant given, empty or not.
+  double detections_complete_until_ = -std::numeric_limits<double>::infinity();
   std::optional<double> first_odometry_t_;
   std::optional<double> newest_odometry_t_;
   /// The last odometry gap (from, to) [s]: instants strictly inside it are refused.

@@ -124,8 +124,7 @@ Status StreamingLocalizer::addDetections(const DetectionInstant& instant) {
     std::lock_guard<std::mutex> lock(work_mutex_);
     return core_->addDetections(instant);
   }
-  if (instant.size() == 0) return Status();
-  const Status valid = validateDetectionInstant(instant);
+  const Status valid = validateDetectionInstant(instant);  // an empty one too: it marks the detector done up to t
   if (!valid.ok()) {  // counted as the core counts it in caller-thread mode
     detections_invalid_on_submit_ += static_cast<int>(instant.size());
     return valid;
@@ -135,7 +134,7 @@ Status StreamingLocalizer::addDetections(const DetectionInstant& instant) {
     std::lock_guard<std::mutex> lock(snapshot_mutex_);
     placeable_from_t = snapshot_.placeable_from_t;
   }
-  if (clearlyBefore(instant.t, placeable_from_t)) {
+  if (instant.size() > 0 && clearlyBefore(instant.t, placeable_from_t)) {
     detections_late_on_submit_ += static_cast<int>(instant.size());
     return Status(StatusCode::kFailedPrecondition,
                   "detection instant at t=" + formatTimestamp(instant.t) + " (camera clock) arrived after the odometry " +

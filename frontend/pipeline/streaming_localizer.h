@@ -101,7 +101,9 @@ class StreamingLocalizer {
   StreamingLocalizer(const StreamingLocalizer&) = delete;
   StreamingLocalizer& operator=(const StreamingLocalizer&) = delete;
 
-  /// One detection instant (camera clock). Caller-thread mode: the PipelineCore's checks and their Status. Worker
+  /// One detection instant (camera clock); an empty one (an image without gates) says the detector is done up to its
+  /// t, so keyframes need not wait detection_latency for it. Caller-thread mode: the PipelineCore's checks and their
+  /// Status. Worker
   /// mode: the checks that need no pipeline state (finite values, one detector per instant) answered here, and an
   /// instant older than the last published PipelineSnapshot::placeable_from_t refused as too late
   /// (kFailedPrecondition, as the core says it in caller-thread mode); the others (order, lead over the odometry, too

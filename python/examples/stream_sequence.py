@@ -6,8 +6,8 @@ answer compared with run_sequence (= `dualgraph run`):
     PYTHONPATH=build/python python3 python/examples/stream_sequence.py SEQUENCE_DIR [CONFIG.yaml]
 
 Each detection instant (one image's corners, camera clock) goes in before the first odometry sample it precedes by
-less than LEAD seconds, as a detector's output arrives ahead of the VIO's; the pipeline holds it until the odometry
-covers it. Prints the state and the corrected pose every second of flight, then the comparison; exit 1 unless the
+less than LEAD seconds, as a detector's output arrives ahead of the VIO's, and an empty call says the detector is
+done up to there (its images without gates); the pipeline holds each instant until the odometry covers it. Prints the state and the corrected pose every second of flight, then the comparison; exit 1 unless the
 streamed estimate equals run_sequence's.
 """
 import sys
@@ -52,6 +52,10 @@ def main():
             except dualgraph.Error:  # e.g. before the first odometry sample: counted, and said at the end
                 refused += 1
             next_image += 1
+        # The detector has processed its images up to t + LEAD: those without gates say so (an empty call), so a
+        # keyframe need not wait localizer.detection_latency for detections still to come.
+        if next_image == len(images) or images[next_image][0] > t + LEAD:
+            pipeline.add_corners(t + LEAD, np.zeros(0, dtype=int), np.zeros((0, 4, 2)))
         covariance = None if covariances is None else covariances[k]
         pose = pipeline.add_odometry(t, poses[k], absolute_covariance=covariance)  # the VIO's callback
         if t >= next_print:

@@ -18,7 +18,8 @@ TRACK = os.path.join(SOURCE_DIR, "data", "tracks", "ratm_ellipse.yaml")
 def localize_in_python(sequence, config):
     """runSequence (frontend/sequence_run.cpp) written out in Python: odometry in time order; before each sample
     (after the first one), every detection up to its time, one instant at a time, through the GateFrontend at
-    the corrected pose of that instant and on to the Localizer, which holds them until the sample covers them.
+    the corrected pose of that instant and on to the Localizer, which holds them until the sample covers them; the
+    Localizer told that every detection up to the sample is in (as the replay's detector says).
     Returns (times, world_T_body (n, 7)) at every sample."""
     localizer = dualgraph.Localizer(config.localizer, sequence.gates)
     frontend = dualgraph.GateFrontend(sequence, config)
@@ -56,6 +57,7 @@ def localize_in_python(sequence, config):
     for k, t in enumerate(times):
         if k > 0:  # the detections a sample covers go first: the sample may close their keyframe interval
             hand_detections_up_to(t)
+        localizer.observations_complete_until(t)  # every detection up to t is in: no keyframe waits for late ones
         estimate.append(localizer.add_odometry(t, matrices[k], covariances[k]))
         if k == 0:
             hand_detections_up_to(t)

@@ -37,11 +37,35 @@ std::vector<CorrectedPose> keyframesOf(const LocalizerParams& params, const Synt
   return localizer->keyframeTrajectory();
 }
 
+
 /// A keyframe closed at once (detection_latency 0; the default waits 0.1 s).
 LocalizerParams closedAtOnce() {
   LocalizerParams params;
   params.detection_latency = 0.0;
   return params;
+}
+
+// A detector that says it is done up to each sample (observationsCompleteUntil) costs no wait: the keyframes close
+// as they do at detection_latency 0, and every pose the Localizer answers is that run's.
+TEST(DetectionLatency, ADetectorDoneUpToTheSampleClosesKeyframesWithoutWaiting) {
+  const SyntheticRace race = makeSyntheticRace({});
+  std::unique_ptr<Localizer> waiting = makeLocalizer(LocalizerParams{}, race.map);
+  std::unique_ptr<Localizer> at_once = makeLocalizer(closedAtOnce(), race.map);
+  ASSERT_TRUE(waiting && at_once);
+  ASSERT_GT(LocalizerParams{}.detection_latency, 0.0);
+  size_t next = 0;
+  for (const OdometrySample& sample : race.odometry) {
+    while (next < race.observations.size() && race.observations[next].t <= sample.t) {
+      (void)waiting->addObservation(race.observations[next]);
+      (void)at_once->addObservation(race.observations[next++]);
+    }
+    waiting->observationsCompleteUntil(sample.t);
+    Result<CorrectedPose> a = waiting->addOdometry(sample), b = at_once->addOdometry(sample);
+    ASSERT_TRUE(a.ok() && b.ok());
+    ASSERT_TRUE(a->world_T_body.matrix() == b->world_T_body.matrix()) << sample.t;
+  }
+  EXPECT_EQ(waiting->keyframeTrajectory().size(), at_once->keyframeTrajectory().size());
+  EXPECT_GT(waiting->keyframeTrajectory().size(), 20u);
 }
 
 TEST(DetectionLatency, TheDefaultWaitCoversADetectorAHundredMillisecondsLate) {

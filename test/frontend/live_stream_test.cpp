@@ -44,6 +44,10 @@ TEST(LiveStream, EachTagReadsItsFilesRow) {
   ASSERT_TRUE(pose.ok() && pose->has_value()) << pose.status().toString();
   EXPECT_EQ((*pose)->kind, LiveRecord::Kind::kPose);
   EXPECT_TRUE((*pose)->pose.pose_covariance.isApprox(kPoseCovariance));
+  auto done = parse("done 1.25");
+  ASSERT_TRUE(done.ok() && done->has_value()) << done.status().toString();
+  EXPECT_EQ((*done)->kind, LiveRecord::Kind::kDone);
+  EXPECT_EQ((*done)->t(), 1.25);
   auto end = parse("end");
   ASSERT_TRUE(end.ok() && end->has_value());
   EXPECT_EQ((*end)->kind, LiveRecord::Kind::kEnd);
@@ -56,7 +60,7 @@ TEST(LiveStream, EachTagReadsItsFilesRow) {
 
 TEST(LiveStream, BadRecordsNameTheLineAndField) {
   const std::pair<const char*, const char*> cases[] = {
-      {"odometry 1 0 0 0 0 0 0 1", "stdin:7: unknown record tag 'odometry' (odom, corners, pose or end)"},
+      {"odometry 1 0 0 0 0 0 0 1", "stdin:7: unknown record tag 'odometry' (odom, corners, pose, done or end)"},
       {"odom 1 0 0 0 0 0 0", "stdin:7: expected 8 or 29 fields, got 7"},
       {"odom nan 0 0 0 0 0 0 1", "stdin:7: field 't'"},
       {"odom 1 0 0 0 0 0 0 0", "stdin:7: field 'qx'"},
@@ -64,6 +68,9 @@ TEST(LiveStream, BadRecordsNameTheLineAndField) {
       {"corners 1 1 nan nan nan nan nan nan 7 8", "stdin:7: field 'u_tl': 1 corner(s) seen"},
       {"pose 1 1 4 0 0 0 0 0 1 1 2", "stdin:7: expected 9 or 30 fields, got 11"},
       {"end now", "stdin:7: 'end' takes no fields"},
+      {"done", "stdin:7: 'done' takes one field"},
+      {"done 1 2", "stdin:7: 'done' takes one field"},
+      {"done nan", "stdin:7: field 't'"},
   };
   for (const auto& [line, message] : cases) {
     auto parsed = parse(line);

@@ -3,6 +3,7 @@
 // reading snapshots from a third; the graph equals the replay's and the streamed poses hold its accuracy.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <thread>
@@ -23,18 +24,28 @@ struct Streamed {
 };
 
 // Feeds `sequence` from two producer threads into a pipeline in `threading` mode while a publisher reads
-// snapshots. The detector delivers an instant once the odometry is within 0.2 s of it (never far ahead); the
-// odometry thread waits for the instants up to its sample's time (so every detection arrives on time, as with
-// a detector faster than detection_latency) and, in worker mode, for the worker to be within 10 samples.
+// snapshots. The detector delivers an instant once the odometry is within 0.2 s of it (never far ahead), and between
+// them says it is done up to each odometry time (an empty instant: a real detector's image without gates); the
+// odometry thread waits for the instants up to its sample's time (so every detection arrives on time) and, in worker
+// mode, for the worker to be within 10 samples.
 Streamed streamFlight(const Sequence& sequence, const SequenceRunParams& params, PipelineThreading threading) {
   Streamed out;
   auto created = StreamingLocalizer::create(params, sequence.map, sequence.camera, threading);
   EXPECT_TRUE(created.ok()) << created.status().message();
   if (!created.ok()) return out;
   StreamingLocalizer& pipeline = **created;
-  const std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
   const double offset = sequence.camera ? sequence.camera->time_offset : 0.0;
-  std::atomic<double> odometry_t{-1e300};
+  // The detector 50 ms ahead of the odometry thread, on the camera's clock as given (a self-calibrated offset moves
+  // it by a few ms): before each sample it has said it is done up to 50 ms past it.
+  constexpr double kDetectorAhead = 0.05;
+  std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
+  for (const OdometrySample& sample : sequence.odometry.samples) {  // the images without gates
+    instants.emplace_back();
+    instants.back().t = sample.t + kDetectorAhead + offset;
+  }
+  std::stable_sort(instants.begin(), instants.end(),
+                   [](const DetectionInstant& a, const DetectionInstant& b) { return a.t < b.t; });
+  std::atomic<double> odometry_t{sequence.odometry.samples.front().t};  // the clock starts at the first sample
   std::atomic<size_t> delivered{0};
   std::atomic<bool> done{false};
 
@@ -60,7 +71,9 @@ Streamed streamFlight(const Sequence& sequence, const SequenceRunParams& params,
   size_t next_instant = 0;
   for (size_t k = 0; k < sequence.odometry.samples.size(); ++k) {
     const double t = sequence.odometry.samples[k].t;
-    while (next_instant < instants.size() && instants[next_instant].t - offset <= t) ++next_instant;
+    while (next_instant < instants.size() && instants[next_instant].t - offset <= t + kDetectorAhead + 1e-9) {
+      ++next_instant;
+    }
     while (delivered.load() < next_instant) std::this_thread::yield();
     Result<PoseUpdate> update = pipeline.addOdometry(flighttest::odometryInput(sequence, k));
     EXPECT_TRUE(update.ok()) << update.status().message();
@@ -236,8 +249,17 @@ TEST(StreamingThreads, WorkerModeHoldsAGlitchedStampAndTakesWhatFollows) {
 // and the last gate update stays there while the pose goes on, in both modes.
 TEST(StreamingThreads, TheSnapshotSaysWhenTheLastGateUpdateWas) {
   const Sequence sequence = flighttest::simulatedFlight("ratm_ellipse.yaml", "realistic", 2, 2);
-  const std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
   const double offset = sequence.camera ? sequence.camera->time_offset : 0.0;
+  // The detector 50 ms ahead of the odometry thread, on the camera's clock as given (a self-calibrated offset moves
+  // it by a few ms): before each sample it has said it is done up to 50 ms past it.
+  constexpr double kDetectorAhead = 0.05;
+  std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
+  for (const OdometrySample& sample : sequence.odometry.samples) {  // the images without gates
+    instants.emplace_back();
+    instants.back().t = sample.t + kDetectorAhead + offset;
+  }
+  std::stable_sort(instants.begin(), instants.end(),
+                   [](const DetectionInstant& a, const DetectionInstant& b) { return a.t < b.t; });
   const double end = sequence.odometry.samples.back().t;
   const double stop = 0.5 * (sequence.odometry.samples.front().t + end);
   for (PipelineThreading threading : {PipelineThreading::kCallerThread, PipelineThreading::kWorker}) {
@@ -287,8 +309,17 @@ TEST(StreamingThreads, InputsRefusedAtAFullWorkerQueueAreCounted) {
   auto pipeline =
       StreamingLocalizer::create(SequenceRunParams{}, sequence.map, sequence.camera, PipelineThreading::kWorker, 1);
   ASSERT_TRUE(pipeline.ok()) << pipeline.status().message();
-  const std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
   const double offset = sequence.camera ? sequence.camera->time_offset : 0.0;
+  // The detector 50 ms ahead of the odometry thread, on the camera's clock as given (a self-calibrated offset moves
+  // it by a few ms): before each sample it has said it is done up to 50 ms past it.
+  constexpr double kDetectorAhead = 0.05;
+  std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
+  for (const OdometrySample& sample : sequence.odometry.samples) {  // the images without gates
+    instants.emplace_back();
+    instants.back().t = sample.t + kDetectorAhead + offset;
+  }
+  std::stable_sort(instants.begin(), instants.end(),
+                   [](const DetectionInstant& a, const DetectionInstant& b) { return a.t < b.t; });
   int odometry_full = 0, detections_full = 0;
   size_t next = 0;
   const size_t samples = sequence.odometry.samples.size();

@@ -212,7 +212,7 @@ TEST(LiveCli, ABadStreamExitsOneNamingTheLineAfterWritingWhatCameBefore) {
   };
   const Case cases[] = {
       {"odom 0 0 0 0 0 0 0 1\ncorners 0.005 1 x 2 3 4 5 6 7 8\n", "stdin:2: field 'u_tl'"},
-      {"odom 0 0 0 0 0 0 0 1\nvio 0.01 0 0 0 0 0 0 1\n", "stdin:2: unknown record tag 'vio' (odom, corners, pose or end)"},
+      {"odom 0 0 0 0 0 0 0 1\nvio 0.01 0 0 0 0 0 0 1\n", "stdin:2: unknown record tag 'vio' (odom, corners, pose, done or end)"},
       {"odom 0 0 0 0 0 0 0 1\nodom 0.01 0 0 0 0 0 0\n", "stdin:2: expected 8 or 29 fields, got 7"},
       {"odom 0 0 0 0 0 0 0 1\ncorners 0.005 1 1 2 3 4 5 6 7 8\npose 0.006 1 1 0 0 0 0 0 1\n",
        "stdin:3: corners and pose records in one stream"},
