@@ -13,7 +13,7 @@
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/pipeline/streaming_localizer.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 
 namespace dualgraph {
 namespace {

@@ -12,7 +12,7 @@
 #include "dualgraph/core/status.h"
 #include "dualgraph/dual_graph/localizer.h"
 #include "dualgraph/frontend/io/sequence_folder.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 
 namespace dualgraph::bench {
 

@@ -23,7 +23,7 @@ set(_dualgraph_headers_types types)
 set(_dualgraph_headers_solvers solvers)
 set(_dualgraph_headers_dual_graph dual_graph)
 set(_dualgraph_headers_onboard frontend/gates frontend/io frontend/calibration frontend/pipeline)
-set(_dualgraph_headers_frontend frontend/simulation frontend/evaluation frontend/report)
+set(_dualgraph_headers_frontend frontend/simulation frontend/replay frontend/evaluation frontend/report)
 set(_dualgraph_install_targets "")
 foreach(_name ${DUALGRAPH_EXPORTED_LIBRARIES})
   if(NOT TARGET dualgraph_${_name})
@@ -50,9 +50,6 @@ foreach(_name ${DUALGRAPH_EXPORTED_LIBRARIES})
             PATTERN "block_product_avx2.h" EXCLUDE)
   endforeach()
 endforeach()
-# frontend/'s own headers (the sequence replay, calibrations by runs) belong to the offline library.
-file(GLOB _dualgraph_frontend_own_headers "${PROJECT_SOURCE_DIR}/frontend/*.h")
-install(FILES ${_dualgraph_frontend_own_headers} DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/dualgraph/frontend")
 
 # One export set per component, so that a consumer asking for the engine loads (and finds the dependencies
 # of) the engine only; dualgraphConfig.cmake includes the files of the components asked for.

@@ -8,11 +8,11 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "errors.h"
-#include "dualgraph/frontend/self_calibration.h"
+#include "dualgraph/frontend/replay/self_calibration.h"
 #include "dualgraph/frontend/gates/gate_frontend.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/io/sequence_folder.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 #include "py_localizer.h"
 #include "typed_args.h"
 

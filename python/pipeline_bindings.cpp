@@ -11,7 +11,7 @@
 #include "dualgraph/frontend/io/sequence_folder.h"
 #include "dualgraph/frontend/io/track_io.h"
 #include "dualgraph/frontend/pipeline/streaming_localizer.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 #include "py_localizer.h"
 #include "typed_args.h"
 

@@ -10,7 +10,7 @@
 #include <set>
 #include <sstream>
 
-#include "dualgraph/frontend/self_calibration.h"
+#include "dualgraph/frontend/replay/self_calibration.h"
 #include "dualgraph/frontend/io/camera_io.h"
 #include "dualgraph/frontend/io/sequence_folder.h"
 #include "dualgraph/frontend/simulation/race_profiles.h"

@@ -8,7 +8,7 @@
 #include <iostream>
 #include <limits>
 
-#include "dualgraph/frontend/flight_calibration.h"
+#include "dualgraph/frontend/replay/flight_calibration.h"
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "dualgraph/frontend/io/camera_io.h"
 #include "dualgraph/frontend/io/json_writer.h"

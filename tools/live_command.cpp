@@ -17,7 +17,7 @@
 #include "dualgraph/frontend/io/track_io.h"
 #include "dualgraph/frontend/io/trajectory_io.h"
 #include "dualgraph/frontend/pipeline/streaming_localizer.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 #include "tools/data_dir.h"
 #include "tools/output_guard.h"
 #include "tools/run_command.h"

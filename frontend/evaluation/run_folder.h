@@ -11,11 +11,11 @@
 
 #include "dualgraph/core/status.h"
 #include "dualgraph/dual_graph/localizer_params.h"
-#include "dualgraph/frontend/self_calibration.h"
+#include "dualgraph/frontend/replay/self_calibration.h"
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "dualgraph/frontend/evaluation/trajectory_metrics.h"
 #include "dualgraph/frontend/gates/track.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 
 namespace dualgraph {
 

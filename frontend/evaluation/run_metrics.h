@@ -7,7 +7,7 @@
 
 #include "dualgraph/core/status.h"
 #include "dualgraph/frontend/io/sequence_folder.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 #include "dualgraph/frontend/evaluation/trajectory_metrics.h"
 
 namespace dualgraph {

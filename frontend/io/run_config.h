@@ -45,7 +45,7 @@ struct SequenceRunParams {
   std::optional<double> time_offset;
   /// Self-calibration (`frontend.self_calibration_after_s`, 0: off): once this much odometry time has passed,
   /// the camera's clock offset and mount rotation are calibrated on the flight so far and the rest of the run
-  /// uses that camera (frontend/self_calibration.h; corner sequences with a camera only) [s].
+  /// uses that camera (frontend/replay/self_calibration.h; corner sequences with a camera only) [s].
   double self_calibration_after_s = 8.0;
   /// A detection instant stamped (on the odometry clock) more than this beyond the newest odometry sample is
   /// refused and counted (`frontend.max_detection_lead_s`; a stamp from another clock would otherwise block every
@@ -108,7 +108,7 @@ struct SequenceRunParams {
 ///       time_offset: 0.015           # optional [s]: overrides the camera file's time_offset
 ///       estimate_odometry_scale: true  # the VIO's scale estimated in flight (dual_graph/odometry_scale.h);
 ///       odometry_scale_min_error: 0.02 #   applied once beyond this and 3 sigma from 1, in [0, 0.5)
-///       self_calibration_after_s: 15 # [s], >= 0 (0: off): self-calibration (frontend/self_calibration.h)
+///       self_calibration_after_s: 15 # [s], >= 0 (0: off): self-calibration (frontend/replay/self_calibration.h)
 ///       relocalization_sigma_t: 2.0  # RelocalizationParams [m]; likewise _sigma_r [rad], _global_after_s [s], _replace_ratio
 ///
 /// Either section may be missing (defaults). Errors are "source:LINE: field 'NAME': why": kParseError

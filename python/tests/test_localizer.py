@@ -16,7 +16,7 @@ TRACK = os.path.join(SOURCE_DIR, "data", "tracks", "ratm_ellipse.yaml")
 
 
 def localize_in_python(sequence, config):
-    """runSequence (frontend/sequence_run.cpp) written out in Python: odometry in time order; before each sample
+    """runSequence (frontend/replay/sequence_run.cpp) written out in Python: odometry in time order; before each sample
     (after the first one), every detection up to its time, one instant at a time, through the GateFrontend at
     the corrected pose of that instant and on to the Localizer, which holds them until the sample covers them; the
     Localizer told that every detection up to the sample is in (as the replay's detector says).

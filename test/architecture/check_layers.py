@@ -6,7 +6,8 @@ without its "dualgraph/" prefix (the installed layout: #include "dualgraph/core/
 
 Layers, lowest first: core < types < solvers < dual_graph < frontend < tools (bench, python, examples and
 test sit above all of them). Inside frontend, rooms lowest first: the onboard ones gates < io < calibration < pipeline,
-then the offline ones simulation < (root: sequence_run, the replays and calibrations by runs) < evaluation < report.
+then the offline ones simulation < replay (the sequence replay, calibrations by runs) < evaluation < report; frontend/
+itself holds no source.
 A file may include its own layer or room and anything below, so onboard code never includes offline code. The
 onboard rooms' sources make the library dualgraph_onboard (ONBOARD_SOURCES in frontend/CMakeLists.txt), the
 offline ones dualgraph_frontend (FRONTEND_SOURCES): checked too.
@@ -17,7 +18,7 @@ import re
 import sys
 
 LAYERS = ["core", "types", "solvers", "dual_graph", "frontend", "tools"]
-FRONTEND_ROOMS = ["gates", "io", "calibration", "pipeline", "simulation", "", "evaluation", "report"]  # "" = frontend/ itself
+FRONTEND_ROOMS = ["gates", "io", "calibration", "pipeline", "simulation", "replay", "evaluation", "report"]
 ONBOARD_ROOMS = FRONTEND_ROOMS[:FRONTEND_ROOMS.index("pipeline") + 1]
 MAX_LINES = 400
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
@@ -31,7 +32,7 @@ def rank(path: str):
     layer = LAYERS.index(parts[0])
     room = 0
     if parts[0] == "frontend":
-        sub = parts[1] if len(parts) > 2 else ""
+        sub = parts[1] if len(parts) > 2 else ""  # a source flat in frontend/ ranks above every room: flagged below
         room = FRONTEND_ROOMS.index(sub) if sub in FRONTEND_ROOMS else len(FRONTEND_ROOMS)
     return layer, room
 
@@ -82,11 +83,14 @@ def main() -> int:
                 if target is not None and target > own:
                     violations.append(f"{path}: includes {included}, which is above it")
     violations += check_library_split(root)
+    flat = [p.name for p in (root / "frontend").iterdir() if p.is_file()]
+    if len(flat) > 4:  # issue 52: frontend/ holds its rooms, not code
+        violations.append(f"frontend/: {len(flat)} flat files ({', '.join(sorted(flat))}), at most 4: put code in a room")
     for line in violations:
         print(line)
     if not violations:
         print(f"layering: no include points up ({', '.join(LAYERS)}; frontend rooms, onboard gates < io < calibration "
-              f"< pipeline, then offline simulation < sequence_run < evaluation < report), the onboard rooms' sources "
+              f"< pipeline, then offline simulation < replay < evaluation < report), the onboard rooms' sources "
               f"in dualgraph_onboard and the rest in dualgraph_frontend; no library file over {MAX_LINES} lines")
     return 1 if violations else 0
 

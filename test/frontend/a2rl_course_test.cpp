@@ -9,12 +9,12 @@
 #include <cstdio>
 #include <set>
 
-#include "dualgraph/frontend/self_calibration.h"
+#include "dualgraph/frontend/replay/self_calibration.h"
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "dualgraph/frontend/io/camera_io.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/io/track_io.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 #include "dualgraph/frontend/simulation/closed_curve.h"
 #include "dualgraph/frontend/simulation/race_profiles.h"
 #include "dualgraph/frontend/simulation/race_sequence.h"

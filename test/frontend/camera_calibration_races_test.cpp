@@ -8,7 +8,7 @@
 
 #include <cstdio>
 
-#include "dualgraph/frontend/flight_calibration.h"
+#include "dualgraph/frontend/replay/flight_calibration.h"
 #include "test/frontend/calibration_fixtures.h"
 
 namespace dualgraph {

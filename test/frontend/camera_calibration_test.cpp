@@ -4,7 +4,7 @@
 // and the mount within 0.3° of the truth (issue 24's targets), and its errors for unusable sequences.
 #include <gtest/gtest.h>
 
-#include "dualgraph/frontend/flight_calibration.h"
+#include "dualgraph/frontend/replay/flight_calibration.h"
 #include "test/frontend/calibration_fixtures.h"
 
 namespace dualgraph {

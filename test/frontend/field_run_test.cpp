@@ -13,7 +13,7 @@
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "dualgraph/frontend/io/camera_io.h"
 #include "dualgraph/frontend/io/track_io.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 #include "dualgraph/frontend/simulation/race_profiles.h"
 #include "dualgraph/frontend/simulation/race_sequence.h"
 #include "test/frontend/simulated_flight.h"
@@ -29,7 +29,7 @@ Sequence realisticFlight(const std::string& track_name, std::uint64_t seed, int 
 
 // The frame must be found within 2 s of the first detection and the ATE reduced by more than 35 % on 4 laps.
 // SequenceRunParams{} is `dualgraph run`'s default configuration: it estimates the camera-mount error and the clock
-// offset on the first 8 s (frontend/self_calibration.h).
+// offset on the first 8 s (frontend/replay/self_calibration.h).
 // Whole-race figures: bench/README.md, "Field table".
 TEST(FieldRun, TheVioFrameIsFoundAndTheCorrectionHoldsOnTheRealisticProfile) {
   for (std::uint64_t seed : {1, 2}) {

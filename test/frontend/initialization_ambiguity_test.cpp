@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 #include "test/frontend/simulated_flight.h"
 
 namespace dualgraph {

@@ -17,7 +17,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 #include "dualgraph/types/se3_math.h"
 #include "test/frontend/simulated_flight.h"
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "dualgraph/frontend/evaluation/run_metrics.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 #include "test/frontend/simulated_flight.h"
 #include "test/frontend/streaming_flight.h"
 

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "dualgraph/frontend/io/run_config.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 #include "test/frontend/localizer_params_fixtures.h"
 #include "test/testing/shared_data.h"
 

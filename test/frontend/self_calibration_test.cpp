@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-#include "dualgraph/frontend/self_calibration.h"
+#include "dualgraph/frontend/replay/self_calibration.h"
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "dualgraph/frontend/pipeline/self_calibrator.h"
 #include "test/frontend/calibration_fixtures.h"

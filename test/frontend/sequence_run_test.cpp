@@ -15,7 +15,7 @@
 #include "dualgraph/frontend/simulation/race_sequence.h"
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "dualgraph/frontend/io/sequence_folder.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 #include "dualgraph/frontend/io/track_io.h"
 #include "test/testing/command_line.h"
 #include "test/testing/shared_data.h"

@@ -8,7 +8,7 @@
 #include "dualgraph/core/stamp_tolerance.h"
 #include "dualgraph/frontend/pipeline/streaming_localizer.h"
 #include "dualgraph/frontend/io/run_config.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 #include "test/frontend/simulated_flight.h"
 #include "test/frontend/streaming_flight.h"
 #include "test/testing/shared_data.h"

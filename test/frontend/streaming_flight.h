@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-// The sequence replay's own input helpers (frontend/sequence_run.h), named for the streaming tests.
+// The sequence replay's own input helpers (frontend/replay/sequence_run.h), named for the streaming tests.
 #pragma once
 
 #include "dualgraph/frontend/pipeline/streaming_localizer.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 
 namespace dualgraph::flighttest {
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "dualgraph/frontend/evaluation/run_metrics.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 #include "test/frontend/simulated_flight.h"
 
 namespace dualgraph {

@@ -10,10 +10,10 @@
 #include <cstdio>
 #include <string>
 
-#include "dualgraph/frontend/self_calibration.h"
+#include "dualgraph/frontend/replay/self_calibration.h"
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "dualgraph/frontend/io/run_config.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 #include "test/frontend/simulated_flight.h"
 #include "test/testing/shared_data.h"
 

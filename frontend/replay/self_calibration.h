@@ -5,10 +5,10 @@
 #include <string>
 
 #include "dualgraph/core/status.h"
-#include "dualgraph/frontend/flight_calibration.h"
+#include "dualgraph/frontend/replay/flight_calibration.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/io/sequence_folder.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 
 namespace dualgraph {
 

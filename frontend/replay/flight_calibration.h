@@ -8,7 +8,7 @@
 #include "dualgraph/frontend/calibration/camera_calibration.h"
 #include "dualgraph/frontend/io/run_config.h"
 #include "dualgraph/frontend/io/sequence_folder.h"
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 
 namespace dualgraph {
 

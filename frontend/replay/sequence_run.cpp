@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "dualgraph/frontend/sequence_run.h"
+#include "dualgraph/frontend/replay/sequence_run.h"
 
 #include <algorithm>
 #include <chrono>

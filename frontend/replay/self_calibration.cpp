@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "dualgraph/frontend/self_calibration.h"
+#include "dualgraph/frontend/replay/self_calibration.h"
 
 namespace dualgraph {
 

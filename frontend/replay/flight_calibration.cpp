@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "dualgraph/frontend/flight_calibration.h"
+#include "dualgraph/frontend/replay/flight_calibration.h"
 
 #include <string>
 
