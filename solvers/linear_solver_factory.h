@@ -12,9 +12,10 @@ namespace dualgraph {
 
 /// The linear solvers selectable at run time (`dualgraph optimize --linear`).
 enum class LinearSolverKind {
-  kCholmod,  ///< "cholmod": SuiteSparse CHOLMOD, supernodal LLᵀ (the default)
+  kCholmod,  ///< "cholmod": SuiteSparse CHOLMOD, supernodal LLᵀ (`dualgraph optimize`'s default)
   kEigen,    ///< "eigen": Eigen SimplicialLDLT
-  kAuto,     ///< "auto": by size at each analysis, Eigen up to 3000 unknowns, CHOLMOD above (AutoSolver)
+  kAuto,     ///< "auto": by size at each analysis, Eigen up to 3000 unknowns, CHOLMOD above (AutoSolver; the
+             ///< Localizer's default, LocalizerParams::linear_solver)
 };
 
 /// "cholmod", "eigen" or "auto" (exact, lower case); kInvalidArgument naming the bad name otherwise.

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "dualgraph/frontend/gates/gate_pnp.h"
+#include "dualgraph/frontend/gates/partial_gate.h"
 #include "dualgraph/types/se3_math.h"
 
 namespace dualgraph {
@@ -99,17 +100,6 @@ GateView gateViewFrom(const Eigen::Isometry3d& world_T_camera, const TrackGate& 
   return view;
 }
 
-std::array<int, 4> imageCornerOrder(const Pixels& pixels) {
-  std::array<int, 4> by_v{0, 1, 2, 3};
-  std::sort(by_v.begin(), by_v.end(), [&](int a, int b) {
-    return pixels(1, a) != pixels(1, b) ? pixels(1, a) < pixels(1, b) : pixels(0, a) < pixels(0, b);
-  });
-  std::array<int, 4> order{by_v[0], by_v[1], by_v[2], by_v[3]};
-  if (pixels(0, order[0]) > pixels(0, order[1])) std::swap(order[0], order[1]);  // top: left to right
-  if (pixels(0, order[2]) < pixels(0, order[3])) std::swap(order[2], order[3]);  // bottom: right to left
-  return order;
-}
-
 Result<std::vector<SimulatedDetection>> simulateDetections(const Flight& flight, const Track& track,
                                                            const CameraModel& camera,
                                                            const DetectionSimParams& params, std::uint64_t seed,
@@ -164,7 +154,7 @@ Result<std::vector<SimulatedDetection>> simulateDetections(const BodyTrajectory&
       detection.true_gate_id = gate.id;
       detection.body_T_gate = world_T_body.inverse() * world_T_gate;
       detection.seen_from_front = line_of_sight.dot(normal_axis) > 0.0;
-      const std::array<int, 4> order = imageCornerOrder(pixels);
+      const std::array<int, 4> order = cornerLabelOrder(pixels);
       detection.true_pixels = reorder(pixels, order);
       detection.pixel_sigma = sigma;
       std::array<int, 4> seen{};  // the visible corners, in the written order
@@ -214,7 +204,7 @@ Result<std::vector<SimulatedDetection>> simulateDetections(const BodyTrajectory&
       SimulatedDetection detection;
       detection.kind = SimulatedDetectionKind::kFalseGate;
       const Pixels pixels = falseGatePixels(camera, rng);
-      detection.true_pixels = reorder(pixels, imageCornerOrder(pixels));
+      detection.true_pixels = reorder(pixels, cornerLabelOrder(pixels));
       const size_t pick = static_cast<size_t>(uniform(rng) * track.gates.size()) % track.gates.size();
       detection.corners.t = t;
       detection.corners.gate_id = params.unknown_ids ? -1 : track.gates[pick].id;

@@ -78,10 +78,6 @@ struct DetectionSimStats {
 /// FlightTrajectory).
 double bodyAngularRate(const Flight& flight, double t);
 
-/// Orders four pixels as frontend/io/FORMATS.md writes them: the two upper ones (smaller v) left to right, then
-/// the two lower ones right to left. `order[i]` is the input column that goes to position i.
-std::array<int, 4> imageCornerOrder(const Eigen::Matrix<double, 2, 4>& pixels);
-
 /// What a camera sees of one gate, geometry only (no noise, no miss): in range and within the view angle
 /// (`in_range`), every corner in front of the camera (`in_front`), which of the four corners (the gate frame's
 /// order, GateSide::kFront) project inside the image with the detector's edge margin, and their pixels.
@@ -105,7 +101,7 @@ GateView gateViewFrom(const Eigen::Isometry3d& world_T_camera, const TrackGate& 
 /// The gate detections of a flight: at every processed image, every gate whose four inner corners
 /// project into the image (CameraModel::project, the flight's true world_T_body) within the range and
 /// view-angle limits (with partial_gates also those with at least min_visible_corners in it), in time order,
-/// gates in track order, false gates last. The corners are in the order imageCornerOrder gives the four true
+/// gates in track order, false gates last. The corners are in the order cornerLabelOrder (gates/partial_gate.h) gives the four true
 /// projections (inside the image or not). Deterministic for a seed; with blur 0 and partial_gates false the
 /// random draws are those of the detector without either.
 Result<std::vector<SimulatedDetection>> simulateDetections(const Flight& flight, const Track& track,

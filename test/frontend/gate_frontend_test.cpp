@@ -11,6 +11,7 @@
 #include "dualgraph/frontend/io/camera_io.h"
 #include "dualgraph/frontend/simulation/detection_simulator.h"
 #include "dualgraph/frontend/gates/gate_frontend.h"
+#include "dualgraph/frontend/gates/partial_gate.h"
 #include "dualgraph/frontend/evaluation/run_metrics.h"
 #include "test/testing/shared_data.h"
 #include "dualgraph/types/se3_math.h"
@@ -194,7 +195,7 @@ TEST(GateFrontend, CornersFromKnownPosesComeBackInTheMapGateFrame) {
       ASSERT_TRUE(projection.valid()) << i;
       pixels.col(i) = projection.pixel;
     }
-    const std::array<int, 4> order = imageCornerOrder(pixels);
+    const std::array<int, 4> order = cornerLabelOrder(pixels);
     CornerDetection detection;
     detection.t = 3.0;
     for (size_t i = 0; i < 4; ++i) detection.corners[i] = pixels.col(order[i]);

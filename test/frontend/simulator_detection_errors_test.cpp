@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "dualgraph/frontend/gates/partial_gate.h"
 #include "dualgraph/frontend/simulation/detection_simulator.h"
 #include "dualgraph/frontend/simulation/race_profiles.h"
 #include "dualgraph/frontend/simulation/race_sequence.h"
@@ -147,7 +148,7 @@ TEST(PartialGates, GatesPartlyOutOfTheImageKeepTheirVisibleCornersAndNanElsewher
   for (const SimulatedDetection& d : detections) {
     const int visible = d.corners.visibleCount();
     ++by_count[visible];
-    EXPECT_EQ(imageCornerOrder(d.true_pixels), (std::array<int, 4>{0, 1, 2, 3}));  // DESIGN §6 order of all four
+    EXPECT_EQ(cornerLabelOrder(d.true_pixels), (std::array<int, 4>{0, 1, 2, 3}));  // DESIGN §6 order of all four
     for (int c = 0; c < 4; ++c) {
       const Eigen::Vector2d& corner = d.corners.corners[static_cast<size_t>(c)];
       const bool inside = insideImage(d.true_pixels.col(c), camera, params.edge_margin);

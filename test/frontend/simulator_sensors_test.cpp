@@ -13,6 +13,7 @@
 #include "dualgraph/frontend/simulation/detection_simulator.h"
 #include "dualgraph/frontend/simulation/flight.h"
 #include "dualgraph/frontend/gates/gate_pnp.h"
+#include "dualgraph/frontend/gates/partial_gate.h"
 #include "dualgraph/frontend/simulation/vio_drift.h"
 #include "test/frontend/pnp_nees_fixtures.h"
 #include "test/frontend/simulator_fixtures.h"
@@ -98,7 +99,7 @@ TEST(DetectionSimulator, ImageCornerOrderOnRandomQuadrilaterals) {
   for (int trial = 0; trial < 2000; ++trial) {
     Eigen::Matrix<double, 2, 4> pixels;
     for (int i = 0; i < 4; ++i) pixels.col(i) = Eigen::Vector2d(pixel(rng), 0.75 * pixel(rng));
-    const std::array<int, 4> order = imageCornerOrder(pixels);
+    const std::array<int, 4> order = cornerLabelOrder(pixels);
     ASSERT_EQ(std::set<int>(order.begin(), order.end()).size(), 4u) << "not a permutation";
     auto at = [&](int i) { return Eigen::Vector2d(pixels.col(order[static_cast<size_t>(i)])); };
     ASSERT_LE(std::max(at(0).y(), at(1).y()), std::min(at(2).y(), at(3).y())) << trial;  // the top two: smallest v
