@@ -95,13 +95,7 @@ void PipelineCore::refuse(int& counter, size_t detections) {
 
 Status PipelineCore::addDetections(const DetectionInstant& instant) {
   if (finished_) return Status(StatusCode::kFailedPrecondition, "pipeline: detections after finish");
-  if (instant.size() == 0) {  // nothing seen in the image at t: the detector is done up to t
-    if (!std::isfinite(instant.t)) {
-      return Status(StatusCode::kInvalidArgument, "empty detection instant: time is not finite");
-    }
-    if (instant.t >= last_instant_t_) last_instant_t_ = detections_complete_until_ = instant.t;
-    return Status();
-  }
+  if (instant.size() == 0) return markDetectorDone(instant.t);
   if (!instant.corners.empty() && !frontend_->camera()) {
     counters_.detections_invalid += static_cast<int>(instant.size());
     return Status(StatusCode::kFailedPrecondition, "detection instant at t=" + formatTimestamp(instant.t) +
@@ -118,12 +112,10 @@ Status PipelineCore::addDetections(const DetectionInstant& instant) {
                                                     " is older than the one before it at t=" + formatTimestamp(last_instant_t_));
   }
   const double t = instant.t - time_offset_;
-  if (newest_odometry_t_ && elapsedMoreThan(t, *newest_odometry_t_, params_.max_detection_lead_s)) {
+  const Status ahead = checkLead(t);
+  if (!ahead.ok()) {
     counters_.detections_too_far_ahead += static_cast<int>(instant.size());
-    return Status(StatusCode::kInvalidArgument,
-                  "detection instant at t=" + formatTimestamp(t) + " (odometry clock) is more than " +
-                      formatTimestamp(params_.max_detection_lead_s) + " s beyond the newest odometry sample at t=" +
-                      formatTimestamp(*newest_odometry_t_) + " (another clock? frontend.max_detection_lead_s)");
+    return ahead;
   }
   // Too late: the odometry at its time was already used (a keyframe interval closed over it), so it can never be placed.
   const std::optional<double> held_from = localizer_->oldestOdometryTime();
@@ -146,6 +138,22 @@ Status PipelineCore::addDetections(const DetectionInstant& instant) {
     self_calibrator_->addCorners(instant.corners, time_offset_);
   }
   waiting_.push_back(instant);
+  return Status();
+}
+
+Status PipelineCore::checkLead(double t) const {
+  if (!newest_odometry_t_ || !elapsedMoreThan(t, *newest_odometry_t_, params_.max_detection_lead_s)) return Status();
+  return Status(StatusCode::kInvalidArgument,
+                "detection instant at t=" + formatTimestamp(t) + " (odometry clock) is more than " +
+                    formatTimestamp(params_.max_detection_lead_s) + " s beyond the newest odometry sample at t=" +
+                    formatTimestamp(*newest_odometry_t_) + " (another clock? frontend.max_detection_lead_s)");
+}
+
+Status PipelineCore::markDetectorDone(double t) {
+  if (!std::isfinite(t)) return Status(StatusCode::kInvalidArgument, "empty detection instant: time is not finite");
+  // Far ahead, it would hold back every later detection as "older than the one before it": refused as a detection is.
+  DG_RETURN_IF_ERROR(checkLead(t - time_offset_));
+  if (t >= last_instant_t_) last_instant_t_ = detections_complete_until_ = t;  // an older one says nothing new
   return Status();
 }
 

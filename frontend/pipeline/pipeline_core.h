@@ -39,7 +39,8 @@ class PipelineCore {
   /// older than an instant given before, more than max_detection_lead_s beyond the newest odometry
   /// (kInvalidArgument), or a full queue (kFailedPrecondition). An empty instant (the detector's image at t held no
   /// gate) says the detector has processed its images up to t: the instants up to it are handed over, and a keyframe
-  /// closed, without waiting detection_latency (an older empty one is ignored; a non-finite t refused).
+  /// closed, without waiting detection_latency (an older empty one is ignored; a non-finite t, or one more than
+  /// max_detection_lead_s beyond the newest odometry, refused).
   Status addDetections(const DetectionInstant& instant);
   /// One odometry sample: the instants it covers are handed over first, then the sample goes to the Localizer.
   /// kInvalidArgument (counted) for a non-finite or non-rigid sample or one not after the newest.
@@ -82,6 +83,10 @@ class PipelineCore {
   Status searchWith(const DetectionInstant& instant, const Eigen::Isometry3d& odom_T_body,
                     const SolvedDetections& solved);
   void refuse(int& counter, size_t detections);
+  /// kInvalidArgument when `t` (odometry clock) is more than max_detection_lead_s beyond the newest odometry sample.
+  Status checkLead(double t) const;
+  /// An empty instant at `t` (camera clock): the detector is done up to it (addDetections).
+  Status markDetectorDone(double t);
   /// The camera from `t` [s] on (the detections handed over from then on are solved with it).
   void switchCamera(const CameraModel& camera, double t);
   /// An odometry sample refused after the Localizer's own checks passed (it never sees it): counted as invalid here.

@@ -137,5 +137,39 @@ TEST(LateDetector, LaterThanTheLatencyEachDetectionIsRefusedCountedAndShownInThe
   }
 }
 
+// "Done up to t" stamped on another clock (1000 s ahead) is refused as such a detection is, in both modes: taken, it
+// would make every later detection "older than the one before it". An older one says nothing new and is ignored.
+TEST(LateDetector, ADoneMarkFarAheadIsRefusedAndHoldsNothingBack) {
+  const Sequence sequence = flighttest::simulatedFlight("ratm_ellipse.yaml", "realistic", 1, 1);
+  const std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
+  ASSERT_FALSE(instants.empty());
+  const double offset = sequence.camera ? sequence.camera->time_offset : 0.0;
+  for (PipelineThreading threading : {PipelineThreading::kCallerThread, PipelineThreading::kWorker}) {
+    auto created = StreamingLocalizer::create(SequenceRunParams{}, sequence.map, sequence.camera, threading);
+    ASSERT_TRUE(created.ok());
+    StreamingLocalizer& pipeline = **created;
+    size_t k = 0;
+    while (sequence.odometry.samples[k].t < instants[0].t - offset) {
+      ASSERT_TRUE(pipeline.addOdometry(flighttest::odometryInput(sequence, k++)).ok());
+    }
+    while (threading == PipelineThreading::kWorker && pipeline.snapshot().samples < static_cast<long>(k)) {
+      std::this_thread::yield();
+    }
+    DetectionInstant far;
+    far.t = instants[0].t + 1000.0;
+    const Status refused = pipeline.addDetections(far);
+    if (threading == PipelineThreading::kCallerThread) {
+      EXPECT_EQ(refused.code(), StatusCode::kInvalidArgument) << refused.message();
+    }
+    DetectionInstant older;
+    older.t = instants[0].t - 5.0;
+    EXPECT_TRUE(pipeline.addDetections(older).ok());
+    EXPECT_TRUE(pipeline.addDetections(instants[0]).ok());  // not "older than the one before it"
+    auto results = pipeline.finish();
+    ASSERT_TRUE(results.ok()) << results.status().message();
+    EXPECT_EQ(results->pipeline_counters.detections_backwards, 0);
+  }
+}
+
 }  // namespace
 }  // namespace dualgraph
