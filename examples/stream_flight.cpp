@@ -65,10 +65,18 @@ int main(int argc, char** argv) {
   if (!created.ok()) return fail(created.status().message());
   dg::StreamingLocalizer& pipeline = **created;
 
-  const std::vector<dg::DetectionInstant> instants = dg::detectionInstants(*sequence);
   const std::vector<dg::OdometrySample>& samples = sequence->odometry.samples;
   const double offset = config->time_offset.value_or(sequence->camera ? sequence->camera->time_offset : 0.0);
-  std::atomic<double> odometry_t{-INFINITY};
+  // The detector's output per image: the recorded detections, and an empty instant for every image without gates
+  // (here one at each odometry time): "done up to t" lets a keyframe close without waiting detection_latency.
+  std::vector<dg::DetectionInstant> instants = dg::detectionInstants(*sequence);
+  for (const dg::OdometrySample& sample : samples) {
+    instants.emplace_back();
+    instants.back().t = sample.t + offset;
+  }
+  std::stable_sort(instants.begin(), instants.end(),
+                   [](const dg::DetectionInstant& a, const dg::DetectionInstant& b) { return a.t < b.t; });
+  std::atomic<double> odometry_t{samples.empty() ? -INFINITY : samples.front().t};  // the clock starts there
   std::atomic<size_t> delivered{0};
   std::atomic<bool> done{false};
   std::atomic<long> snapshots{0};
@@ -90,8 +98,7 @@ int main(int argc, char** argv) {
     }
   });
 
-  // The VIO: samples in order, each after the detections of the images up to it (as a detector faster than the
-  // configured detection_latency delivers them); paced at SPEED × real time, or as fast as the worker keeps up.
+  // The VIO: samples in order, each after the detector's output for the images up to it (an on-time detector); paced at SPEED × real time, or as fast as the worker keeps up.
   std::vector<std::pair<double, Eigen::Vector3d>> estimate;
   const auto start = std::chrono::steady_clock::now();
   size_t due = 0;
@@ -99,7 +106,7 @@ int main(int argc, char** argv) {
     if (speed > 0.0) {
       std::this_thread::sleep_until(start + std::chrono::duration<double>((samples[k].t - samples.front().t) / speed));
     }
-    while (due < instants.size() && instants[due].t - offset <= samples[k].t) ++due;
+    while (due < instants.size() && instants[due].t - offset <= samples[k].t + 1e-9) ++due;
     while (delivered.load() < due) std::this_thread::yield();
     const dg::OdometryInput input = dg::odometryInput(*sequence, k);
     auto update = pipeline.addOdometry(input);
