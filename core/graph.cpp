@@ -86,7 +86,12 @@ void Graph::clear() {
   ++structure_version_;
 }
 
-VertexBase* Graph::vertex(int id) const {
+VertexBase* Graph::vertex(int id) {
+  const auto it = vertices_.find(id);
+  return it == vertices_.end() ? nullptr : it->second.get();
+}
+
+const VertexBase* Graph::vertex(int id) const {
   const auto it = vertices_.find(id);
   return it == vertices_.end() ? nullptr : it->second.get();
 }

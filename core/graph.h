@@ -39,11 +39,14 @@ class Graph {
   Status setFixed(int id, bool fixed);
   void clear();
 
-  /// nullptr when the id is unknown.
-  VertexBase* vertex(int id) const;
+  /// nullptr when the id is unknown. Through a const Graph the vertex is const too.
+  VertexBase* vertex(int id);
+  const VertexBase* vertex(int id) const;
   /// nullptr when the id is unknown or the vertex is not a `V`.
   template <typename V>
-  V* vertexAs(int id) const { return dynamic_cast<V*>(vertex(id)); }
+  V* vertexAs(int id) { return dynamic_cast<V*>(vertex(id)); }
+  template <typename V>
+  const V* vertexAs(int id) const { return dynamic_cast<const V*>(vertex(id)); }
 
   const std::map<int, std::unique_ptr<VertexBase>>& vertices() const { return vertices_; }
   const std::vector<std::unique_ptr<EdgeBase>>& edges() const { return edges_; }

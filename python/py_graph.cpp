@@ -44,7 +44,7 @@ std::vector<std::pair<int, int>> toPairs(py::handle object) {
 }
 
 // Connects slot `slot` of `edge` (the k-th of a batch) to vertex `id`, or raises naming both.
-void connect(const Graph& graph, EdgeBase& edge, size_t slot, int id, size_t k) {
+void connect(Graph& graph, EdgeBase& edge, size_t slot, int id, size_t k) {
   VertexBase* vertex = graph.vertex(id);
   if (!vertex) raise(Status(StatusCode::kNotFound, "edge " + std::to_string(k) + ": vertex " + std::to_string(id) + " not found"));
   const Status connected = edge.setVertex(slot, vertex);

@@ -92,7 +92,10 @@ class PyGraph {
   /// The kept optimiser, rebuilt when the linear solver changes.
   Optimizer& optimizer(LinearSolverKind kind);
   /// Vertex `id` of kind `kind` or raises NotFoundError / InvalidArgumentError naming it.
-  VertexBase* vertexOfKind(int id, const std::string& kind, const std::string& what) const;
+  const VertexBase* vertexOfKind(int id, const std::string& kind, const std::string& what) const;
+  VertexBase* vertexOfKind(int id, const std::string& kind, const std::string& what) {
+    return const_cast<VertexBase*>(static_cast<const PyGraph&>(*this).vertexOfKind(id, kind, what));
+  }
 
   TypeRegistry registry_;
   Graph graph_;

@@ -24,8 +24,8 @@ long widthOf(const std::string& kind) { return kind == "se3" ? 7 : 3; }
 
 }  // namespace
 
-VertexBase* PyGraph::vertexOfKind(int id, const std::string& kind, const std::string& what) const {
-  VertexBase* vertex = graph_.vertex(id);
+const VertexBase* PyGraph::vertexOfKind(int id, const std::string& kind, const std::string& what) const {
+  const VertexBase* vertex = graph_.vertex(id);
   if (!vertex) raise(Status(StatusCode::kNotFound, what + ": vertex " + std::to_string(id) + " not found"));
   if (vertexKindName(*vertex) != kind) {
     const std::string* tag = registry_.tagOf(*vertex);
