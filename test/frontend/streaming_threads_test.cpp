@@ -3,7 +3,6 @@
 // reading snapshots from a third; the graph equals the replay's and the streamed poses hold its accuracy.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <thread>
@@ -38,13 +37,7 @@ Streamed streamFlight(const Sequence& sequence, const SequenceRunParams& params,
   // The detector 50 ms ahead of the odometry thread, on the camera's clock as given (a self-calibrated offset moves
   // it by a few ms): before each sample it has said it is done up to 50 ms past it.
   constexpr double kDetectorAhead = 0.05;
-  std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
-  for (const OdometrySample& sample : sequence.odometry.samples) {  // the images without gates
-    instants.emplace_back();
-    instants.back().t = sample.t + kDetectorAhead + offset;
-  }
-  std::stable_sort(instants.begin(), instants.end(),
-                   [](const DetectionInstant& a, const DetectionInstant& b) { return a.t < b.t; });
+  const std::vector<DetectionInstant> instants = flighttest::withDoneMarks(sequence, kDetectorAhead + offset);
   std::atomic<double> odometry_t{sequence.odometry.samples.front().t};  // the clock starts at the first sample
   std::atomic<size_t> delivered{0};
   std::atomic<bool> done{false};
@@ -250,16 +243,7 @@ TEST(StreamingThreads, WorkerModeHoldsAGlitchedStampAndTakesWhatFollows) {
 TEST(StreamingThreads, TheSnapshotSaysWhenTheLastGateUpdateWas) {
   const Sequence sequence = flighttest::simulatedFlight("ratm_ellipse.yaml", "realistic", 2, 2);
   const double offset = sequence.camera ? sequence.camera->time_offset : 0.0;
-  // The detector 50 ms ahead of the odometry thread, on the camera's clock as given (a self-calibrated offset moves
-  // it by a few ms): before each sample it has said it is done up to 50 ms past it.
-  constexpr double kDetectorAhead = 0.05;
-  std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
-  for (const OdometrySample& sample : sequence.odometry.samples) {  // the images without gates
-    instants.emplace_back();
-    instants.back().t = sample.t + kDetectorAhead + offset;
-  }
-  std::stable_sort(instants.begin(), instants.end(),
-                   [](const DetectionInstant& a, const DetectionInstant& b) { return a.t < b.t; });
+  const std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
   const double end = sequence.odometry.samples.back().t;
   const double stop = 0.5 * (sequence.odometry.samples.front().t + end);
   for (PipelineThreading threading : {PipelineThreading::kCallerThread, PipelineThreading::kWorker}) {
@@ -310,16 +294,7 @@ TEST(StreamingThreads, InputsRefusedAtAFullWorkerQueueAreCounted) {
       StreamingLocalizer::create(SequenceRunParams{}, sequence.map, sequence.camera, PipelineThreading::kWorker, 1);
   ASSERT_TRUE(pipeline.ok()) << pipeline.status().message();
   const double offset = sequence.camera ? sequence.camera->time_offset : 0.0;
-  // The detector 50 ms ahead of the odometry thread, on the camera's clock as given (a self-calibrated offset moves
-  // it by a few ms): before each sample it has said it is done up to 50 ms past it.
-  constexpr double kDetectorAhead = 0.05;
-  std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
-  for (const OdometrySample& sample : sequence.odometry.samples) {  // the images without gates
-    instants.emplace_back();
-    instants.back().t = sample.t + kDetectorAhead + offset;
-  }
-  std::stable_sort(instants.begin(), instants.end(),
-                   [](const DetectionInstant& a, const DetectionInstant& b) { return a.t < b.t; });
+  const std::vector<DetectionInstant> instants = flighttest::detectionInstants(sequence);
   int odometry_full = 0, detections_full = 0;
   size_t next = 0;
   const size_t samples = sequence.odometry.samples.size();
