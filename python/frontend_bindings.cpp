@@ -150,6 +150,10 @@ void bindRun(py::module_& m) {
       .def_readwrite("self_calibration_after_s", &SequenceRunParams::self_calibration_after_s,
                      "[s]: after this much of the flight, the camera's clock offset and mount are calibrated on the "
                      "flight so far and the rest of the run uses that camera (0: off; default 8, as data/config/default.yaml)")
+      .def_readwrite("self_calibration_budget_s", &SequenceRunParams::self_calibration_budget_s,
+                     "[s] >= 0: a calibration runs on a thread of its own and its camera is used from the first sample "
+                     "this long after it started, where the pipeline waits for it if still running (0: on the "
+                     "pipeline's thread, at once; default 1)")
       .def_property(
           "estimate_odometry_scale", [](const SequenceRunParams& p) { return p.odometry_scale.enabled; },
           [](SequenceRunParams& p, bool v) { p.odometry_scale.enabled = v; },
@@ -303,9 +307,11 @@ void bindRun(py::module_& m) {
             out["clock_offset_first_at_s"] = c.clock_offset_first_at_s;
             out["clock_offset_first_applied"] = c.clock_offset_first_applied;
             out["clock_offset_first_s"] = c.clock_offset_first_s;
+            out["applied_at_s"] = c.applied_at_s;
             return out;
           },
           "the onboard self-calibration (`self_calibration_after_s`): attempted, attempts [count], applied, at_s [s], "
+          "applied_at_s [s] (its camera used from then on: self_calibration_budget_s later; 0: not applied), "
           "time_offset_before_s / time_offset_s / time_offset_sigma_s [s], mount_change_deg [deg], "
           "first_half_mount_change_deg / second_half_mount_change_deg / halves_mount_change_deg / halves_mount_sigma_deg "
           "[deg] (each half apart, what they show together), iterations [count], "

@@ -189,6 +189,7 @@ JsonObject metricsJson(const RunMetrics& m, const SequenceRunResult& run, const 
   if (self != nullptr) {
     json.add("self_calibration_applied", self->applied ? 1L : (self->attempted ? 0L : -1L))
         .add("self_calibration_at_s", self->at_s)
+        .add("self_calibration_applied_at_s", self->applied_at_s)
         .add("self_calibration_time_offset_before_s", self->time_offset_before)
         .add("self_calibration_time_offset_s", self->time_offset_after)
         .add("self_calibration_time_offset_sigma_s", self->time_offset_sigma)

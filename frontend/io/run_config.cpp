@@ -201,6 +201,9 @@ const FrontendField kFrontendFields[] = {
     {"self_calibration_after_s",
      [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.self_calibration_after_s); },
      [](const SequenceRunParams& p) { return numberText(p.self_calibration_after_s); }},
+    {"self_calibration_budget_s",
+     [](Text s, Text f, Node v, SequenceRunParams& p) { return readNumber(s, f, v, p.self_calibration_budget_s); },
+     [](const SequenceRunParams& p) { return numberText(p.self_calibration_budget_s); }},
 };
 
 Status readFrontend(const std::string& source, const YAML::Node& section, SequenceRunParams& params) {
@@ -232,6 +235,10 @@ Status readFrontend(const std::string& source, const YAML::Node& section, Sequen
   if (!(params.self_calibration_after_s >= 0.0)) {
     return fieldError(source, markOf("self_calibration_after_s"), "frontend.self_calibration_after_s",
                       "must be >= 0 [s] (0: off)");
+  }
+  if (!(params.self_calibration_budget_s >= 0.0)) {
+    return fieldError(source, markOf("self_calibration_budget_s"), "frontend.self_calibration_budget_s",
+                      "must be >= 0 [s] (0: on the pipeline's thread)");
   }
   const std::string scale_bar = params.odometry_scale.minErrorProblem(params.odometry_scale.min_error);
   if (!scale_bar.empty()) {
@@ -323,13 +330,15 @@ Status validatePipelineLimits(const SequenceRunParams& params) {
   const auto limit = [](double value) { return value >= 0.0 && std::isfinite(value); };
   if (params.max_detection_lead_s > 0.0 && limit(params.max_odometry_gap_s) && limit(params.max_odometry_jump_s) &&
       limit(params.max_odometry_speed_mps) && limit(params.max_odometry_turn_rate_radps) &&
-      limit(params.bridge_odometry_gap_s) && limit(params.initialization.memory_m)) {
+      limit(params.bridge_odometry_gap_s) && limit(params.initialization.memory_m) &&
+      limit(params.self_calibration_after_s) && limit(params.self_calibration_budget_s)) {
     return Status();
   }
   return Status(StatusCode::kInvalidArgument, "pipeline: max_detection_lead_s must be > 0 [s]; max_odometry_gap_s, "
                                               "bridge_odometry_gap_s, max_odometry_jump_s [s], max_odometry_speed_mps "
-                                              "[m/s], max_odometry_turn_rate_radps [rad/s] and initialization.memory_m "
-                                              "[m] finite and >= 0");
+                                              "[m/s], max_odometry_turn_rate_radps [rad/s], initialization.memory_m "
+                                              "[m], self_calibration_after_s and self_calibration_budget_s [s] finite "
+                                              "and >= 0");
 }
 
 }  // namespace dualgraph

@@ -47,6 +47,11 @@ struct SequenceRunParams {
   /// the camera's clock offset and mount rotation are calibrated on the flight so far and the rest of the run
   /// uses that camera (frontend/replay/self_calibration.h; corner sequences with a camera only) [s].
   double self_calibration_after_s = 8.0;
+  /// The odometry time a self-calibration has (`frontend.self_calibration_budget_s`): it runs on a thread of its own
+  /// and its camera is used from the first sample this long after it started; the pipeline waits for it there if it
+  /// is still running, so the result does not depend on the machine's speed. 0: on the pipeline's thread, at once
+  /// (one sample then takes its 0.1-0.5 s) [s], >= 0.
+  double self_calibration_budget_s = 1.0;
   /// A detection instant stamped (on the odometry clock) more than this beyond the newest odometry sample is
   /// refused and counted (`frontend.max_detection_lead_s`; a stamp from another clock would otherwise block every
   /// later detection as out of order) [s], > 0.
@@ -116,8 +121,8 @@ struct SequenceRunParams {
 /// kInvalidArgument for a `localizer:` value out of range (validateLocalizerParams, as
 /// localizer_params_yaml.h documents); kIoError for an unreadable file.
 /// kInvalidArgument naming the limits when the pipeline's own (max_detection_lead_s > 0; max_odometry_gap_s,
-/// bridge_odometry_gap_s, max_odometry_jump_s, max_odometry_speed_mps, max_odometry_turn_rate_radps and
-/// initialization.memory_m finite and ≥ 0) are not: what PipelineCore::create checks of a configuration built in code.
+/// bridge_odometry_gap_s, max_odometry_jump_s, max_odometry_speed_mps, max_odometry_turn_rate_radps,
+/// initialization.memory_m, self_calibration_after_s and self_calibration_budget_s finite and ≥ 0) are not: what PipelineCore::create checks of a configuration built in code.
 Status validatePipelineLimits(const SequenceRunParams& params);
 
 Result<SequenceRunParams> parseRunConfig(const std::string& yaml_text, const std::string& source_name);

@@ -66,7 +66,7 @@ Result<std::unique_ptr<PipelineCore>> PipelineCore::create(const SequenceRunPara
                         : params.localizer.mapping ? "not in mapping mode (no map to calibrate against)"
                         : !core->frontend_->camera() ? "needs corner detections and a camera (no camera given)"
                                                      : "";
-  core->self_calibrator_.emplace(params.self_calibration_after_s, time_offset, why_off);
+  core->self_calibrator_.emplace(params.self_calibration_after_s, params.self_calibration_budget_s, time_offset, why_off);
   return core;
 }
 
@@ -201,8 +201,10 @@ Result<PoseUpdate> PipelineCore::addOdometry(const OdometryInput& input) {
   if (self_calibrator_ && self_calibrator_->due(input.t, localizer_->trackingState() == TrackingState::kTracking)) {
     CameraModel camera = *frontend_->camera();
     camera.time_offset = time_offset_;
-    const std::optional<CameraModel> calibrated =
-        self_calibrator_->run(input.t, camera, track_, localizer_->keyframeTrajectory());
+    self_calibrator_->start(input.t, camera, track_, localizer_->keyframeTrajectory());
+  }
+  if (self_calibrator_ && self_calibrator_->answerDue(input.t)) {  // waits here for one still running
+    const std::optional<CameraModel> calibrated = self_calibrator_->takeAnswer(input.t);
     if (calibrated) switchCamera(*calibrated, input.t);
   }
   const bool gap =

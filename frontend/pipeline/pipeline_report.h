@@ -20,7 +20,10 @@ struct SelfCalibrationReport {
   /// checked on both halves); another follows while attempts remain.
   bool evidence_missing = false;
   bool applied = false;              ///< the rest of the run used a calibrated camera (either calibration's)
-  double at_s = 0.0;                 ///< t_c: the flight so far ends there; the camera switched there [s]
+  double at_s = 0.0;                 ///< t_c: the flight so far ends there [s]
+  /// When its camera took effect: the first sample at or after at_s + frontend.self_calibration_budget_s [s]; 0:
+  /// never (not applied, or the flight ended first).
+  double applied_at_s = 0.0;
   double time_offset_before = 0.0;   ///< the clock offset the run started with [s]
   double time_offset_after = 0.0;    ///< the calibrated one [s] (applied: the one in use from at_s on)
   double time_offset_sigma = 0.0;    ///< its formal 1σ [s]

@@ -7,16 +7,18 @@
 #include <utility>
 
 #include "dualgraph/core/stamp_tolerance.h"
-#include "dualgraph/frontend/calibration/calibration_acceptance.h"
-#include "dualgraph/frontend/calibration/camera_calibration.h"
 
 namespace dualgraph {
 
-SelfCalibrator::SelfCalibrator(double after_s, double time_offset_before, std::string why_off,
+SelfCalibrator::SelfCalibrator(double after_s, double budget_s, double time_offset_before, std::string why_off,
                                CalibrationParams calibration)
-    : after_s_(after_s), calibration_(std::move(calibration)), pending_(why_off.empty()) {
+    : after_s_(after_s), budget_s_(budget_s), calibration_(std::move(calibration)), pending_(why_off.empty()) {
   report_.time_offset_before = time_offset_before;
   report_.why_not = std::move(why_off);
+}
+
+SelfCalibrator::~SelfCalibrator() {
+  if (running_ && running_->answer.valid()) running_->answer.wait();
 }
 
 void SelfCalibrator::addCorners(const std::vector<CornerDetection>& corners, double time_offset) {
@@ -64,8 +66,8 @@ void SelfCalibrator::addOdometry(const OdometrySample& sample) {
 }
 
 bool SelfCalibrator::due(double t, bool tracking) const {
-  if (!(pending_ && started_ && tracking && notAfter(report_.at_s, t))) return false;
-  // The corners run() would use: those stamped by t (a detector ahead of the odometry delivers later ones early),
+  if (running_ || !(pending_ && started_ && tracking && notAfter(report_.at_s, t))) return false;
+  // The corners start() would use: those stamped by t (a detector ahead of the odometry delivers later ones early),
   // counted up to what is needed (this runs at every sample while a calibration is pending).
   size_t usable = 0;
   for (const CornerDetection& corner : corners_) {
@@ -78,48 +80,63 @@ bool SelfCalibrator::due(double t, bool tracking) const {
   return usable >= next_corners_ && notAfter(report_.at_s + wait, t);
 }
 
-namespace {
-
-const char* partsName(bool time_offset, bool mount) {
-  if (time_offset && mount) return "clock offset and mount";
-  return time_offset ? "clock offset alone" : "mount alone";
+void SelfCalibrator::start(double t, const CameraModel& camera, const Track& track,
+                           const std::vector<CorrectedPose>& keyframes) {
+  SelfCalibrationJob job;
+  job.report.time_offset_before = report_.time_offset_before;
+  job.report.clock_offset_first_at_s = report_.clock_offset_first_at_s;
+  job.report.clock_offset_first_applied = report_.clock_offset_first_applied;
+  job.report.clock_offset_first_s = report_.clock_offset_first_s;
+  job.report.at_s = t;
+  job.report.attempted = true;
+  // The flight so far; kept for a later attempt when this one finds too little to go on.
+  std::copy_if(corners_.begin(), corners_.end(), std::back_inserter(job.corners),
+               [&](const CornerDetection& d) { return d.t <= t; });
+  // Fewer corners than the whole calibration needs: the clock offset alone, first; the whole follows.
+  job.step = job.corners.size() < kMinCorners ? SelfCalibrationJob::Step::kClockOffsetFirst
+                                              : SelfCalibrationJob::Step::kWhole;
+  if (job.step == SelfCalibrationJob::Step::kWhole) {
+    job.report.attempts = ++attempts_;
+    last_attempt_t_ = t;
+  }
+  job.camera = camera;
+  job.track = track;
+  job.keyframes = keyframes;
+  job.odometry = odometry_;
+  job.calibration = calibration_;
+  Running running;
+  running.t = t;
+  running.clock_offset_first = job.step == SelfCalibrationJob::Step::kClockOffsetFirst;
+  running.corners = job.corners.size();
+  // budget_s_ = 0: deferred, i.e. computed in takeAnswer on the caller's thread, at this same sample.
+  const std::launch policy = budget_s_ > 0.0 ? std::launch::async : std::launch::deferred;
+  running.answer = std::async(policy, [job = std::move(job)] { return answerSelfCalibration(job); });
+  running_ = std::move(running);
 }
 
-}  // namespace
+bool SelfCalibrator::answerDue(double t) const { return running_ && notAfter(running_->t + budget_s_, t); }
 
-std::optional<CameraModel> SelfCalibrator::run(double t, const CameraModel& camera, const Track& track,
-                                               const std::vector<CorrectedPose>& keyframes) {
-  SelfCalibrationReport fresh;
-  fresh.time_offset_before = report_.time_offset_before;
-  fresh.clock_offset_first_at_s = report_.clock_offset_first_at_s;
-  fresh.clock_offset_first_applied = report_.clock_offset_first_applied;
-  fresh.clock_offset_first_s = report_.clock_offset_first_s;
-  report_ = fresh;
-  report_.at_s = t;
-  report_.attempted = true;
-  // The flight so far; kept for a later attempt when this one finds too little to go on.
-  std::vector<CornerDetection> corners;
-  std::copy_if(corners_.begin(), corners_.end(), std::back_inserter(corners),
-               [&](const CornerDetection& d) { return d.t <= t; });
-  if (corners.size() < kMinCorners) {  // the clock offset alone, first: the whole calibration follows
+std::optional<CameraModel> SelfCalibrator::takeAnswer(double t) {
+  if (!running_) return std::nullopt;
+  Running running = std::move(*running_);
+  running_.reset();
+  SelfCalibrationAnswer answer = running.answer.get();
+  report_ = std::move(answer.report);
+  std::optional<CameraModel> camera_to_use = std::move(answer.camera);
+  if (camera_to_use) report_.applied_at_s = t;
+  if (running.clock_offset_first) {
     clock_offset_first_done_ = true;
-    Outcome outcome;
-    std::optional<CameraModel> camera_to_use =
-        calibrateParts(Parts::kTimeOffset, camera, track, keyframes, corners, report_, outcome);
-    report_.clock_offset_first_at_s = t;
+    report_.clock_offset_first_at_s = running.t;
     report_.clock_offset_first_applied = camera_to_use.has_value();
     report_.clock_offset_first_s = report_.time_offset_after;
     // Too little to go on: again on twice the corners (the whole calibration at kMinCorners in any case).
-    next_corners_ = camera_to_use || outcome.nothing_to_correct ? kMinCorners : std::min(2 * corners.size(), kMinCorners);
+    next_corners_ = camera_to_use || answer.nothing_to_correct ? kMinCorners : std::min(2 * running.corners, kMinCorners);
     if (!camera_to_use) {
-      report_.why_not = "the clock offset alone, first, on " + std::to_string(corners.size()) +
+      report_.why_not = "the clock offset alone, first, on " + std::to_string(running.corners) +
                         " corner detections: " + report_.why_not + "; the next step at " + std::to_string(next_corners_);
     }
     return camera_to_use;
   }
-  report_.attempts = ++attempts_;
-  last_attempt_t_ = t;
-  std::optional<CameraModel> camera_to_use = attempt(camera, track, keyframes, corners);
   if (!camera_to_use && report_.clock_offset_first_applied) {  // the first step's offset stays in use
     report_.applied = true;
     report_.time_offset_applied = true;
@@ -128,9 +145,9 @@ std::optional<CameraModel> SelfCalibrator::run(double t, const CameraModel& came
   }
   pending_ = !camera_to_use && report_.evidence_missing && attempts_ < kMaxAttempts;
   if (pending_) {
-    report_.at_s = t + after_s_;  // the next attempt, on a longer flight so far
+    report_.at_s = running.t + after_s_;  // the next attempt, on a longer flight so far
     report_.why_not += " (attempt " + std::to_string(attempts_) + " of " + std::to_string(kMaxAttempts) +
-                    "; again at t = " + formatTimestamp(report_.at_s) + " s)";
+                       "; again at t = " + formatTimestamp(report_.at_s) + " s)";
   } else {
     corners_.clear();
     corners_.shrink_to_fit();
@@ -142,113 +159,24 @@ std::optional<CameraModel> SelfCalibrator::run(double t, const CameraModel& came
   return camera_to_use;
 }
 
-std::optional<CameraModel> SelfCalibrator::attempt(const CameraModel& camera, const Track& track,
-                                                   const std::vector<CorrectedPose>& keyframes,
-                                                   const std::vector<CornerDetection>& corners) {
-  // Both parts first.
-  SelfCalibrationReport whole = report_;
-  Outcome outcome;
-  std::optional<CameraModel> whole_camera = calibrateParts(Parts::kBoth, camera, track, keyframes, corners, whole, outcome);
-  // Nothing applied, and not merely nothing to correct: each part alone (the other held).
-  if (whole_camera || outcome.nothing_to_correct) {
-    report_ = whole;
-    return whole_camera;
-  }
-  std::string why_not = whole.parts + ": " + whole.why_not;
-  bool evidence_missing = whole.evidence_missing;
-  for (const Parts parts : {Parts::kTimeOffset, Parts::kMount}) {
-    SelfCalibrationReport alone = report_;
-    Outcome unused;
-    std::optional<CameraModel> alone_camera = calibrateParts(parts, camera, track, keyframes, corners, alone, unused);
-    why_not += "; " + alone.parts + ": " + alone.why_not;
-    evidence_missing = evidence_missing || alone.evidence_missing;
-    if (alone_camera) {
-      report_ = alone;
-      // The part held says why: what the calibrations before this one found.
-      (parts == Parts::kTimeOffset ? report_.why_not_mount : report_.why_not_time_offset) = "held: " + why_not;
-      return alone_camera;
-    }
-  }
-  report_ = whole;
-  report_.evidence_missing = evidence_missing;
-  report_.why_not = why_not;
-  return std::nullopt;
-}
-
-std::optional<CameraModel> SelfCalibrator::calibrateParts(Parts parts, const CameraModel& camera, const Track& track,
-                                                          const std::vector<CorrectedPose>& keyframes,
-                                                          const std::vector<CornerDetection>& corners,
-                                                          SelfCalibrationReport& self, Outcome& outcome) const {
-  const std::vector<OdometrySample>& odometry = odometry_;
-  CalibrationParams params = calibration_;
-  params.solver.estimate_time_offset = parts != Parts::kMount;
-  params.solver.estimate_mount = parts != Parts::kTimeOffset;
-  self.parts = partsName(params.solver.estimate_time_offset, params.solver.estimate_mount);
-  outcome = Outcome{};
-  Result<CameraCalibration> calibrated =
-      calibrateCameraOnRun(corners, track, camera, odometry, keyframes, params, "the flight so far");
-  if (!calibrated.ok()) {
-    self.why_not = "the calibration failed: " + calibrated.status().message();
-    self.evidence_missing = true;
-    return std::nullopt;
-  }
-  self.iterations = static_cast<int>(calibrated->iterations.size());
-  self.time_offset_after = calibrated->camera.time_offset;
-  self.time_offset_sigma = calibrated->time_offset_sigma;
-  self.mount_change_deg = calibrated->mount_correction.norm() * 180.0 / M_PI;
-  if (!calibrated->converged) {
-    self.why_not = "the calibration did not converge in " + std::to_string(self.iterations) + " iterations";
-    self.evidence_missing = true;
-    return std::nullopt;
-  }
-  // Each half of the flight so far on its own: a correction is applied only when both halves show it.
-  const auto middle = corners.begin() + static_cast<long>(corners.size() / 2);
-  const std::vector<CornerDetection> halves[2] = {std::vector<CornerDetection>(corners.begin(), middle),
-                                                  std::vector<CornerDetection>(middle, corners.end())};
-  std::optional<CameraCalibration> half_calibrations[2];
-  std::string half_failed;
-  for (int h = 0; h < 2; ++h) {
-    Result<CameraCalibration> half = calibrateCameraOnRun(halves[h], track, camera, odometry, keyframes, params,
-                                                          h == 0 ? "its first half" : "its second half");
-    if (half.ok()) {
-      half_calibrations[h] = std::move(half).value();
-      if (!half_calibrations[h]->converged && half_failed.empty()) {
-        half_failed = std::string(h == 0 ? "its first half" : "its second half") + " did not converge in " +
-                      std::to_string(half_calibrations[h]->iterations.size()) + " iterations";
-      }
-    } else if (half_failed.empty()) {
-      half_failed = half.status().message();
-    }
-  }
-  const CalibrationAcceptance accepted =
-      judgeCalibration(camera, *calibrated, half_calibrations[0] ? &*half_calibrations[0] : nullptr,
-                       half_calibrations[1] ? &*half_calibrations[1] : nullptr, half_failed);
-  self.time_offset_applied = accepted.time_offset;
-  self.mount_applied = accepted.mount;
-  self.why_not_time_offset = params.solver.estimate_time_offset ? accepted.why_not_time_offset : "held (" + self.parts + ")";
-  self.why_not_mount = params.solver.estimate_mount ? accepted.why_not_mount : "held (" + self.parts + ")";
-  self.half_mount_change_deg[0] = accepted.half_mount_change_deg[0];
-  self.half_mount_change_deg[1] = accepted.half_mount_change_deg[1];
-  self.halves_mount_change_deg = accepted.halves_mount_change_deg;
-  self.halves_mount_sigma_deg = accepted.halves_mount_sigma_deg;
-  if (!accepted.time_offset && !accepted.mount) {
-    const bool time_significant = params.solver.estimate_time_offset && accepted.time_offset_significant;
-    const bool mount_significant = params.solver.estimate_mount && accepted.mount_significant;
-    self.why_not = "nothing cleared the bar: ";
-    if (params.solver.estimate_time_offset) self.why_not += accepted.why_not_time_offset;
-    if (params.solver.estimate_time_offset && params.solver.estimate_mount) self.why_not += "; ";
-    if (params.solver.estimate_mount) self.why_not += accepted.why_not_mount;
-    outcome.nothing_to_correct = !time_significant && !mount_significant;
-    // A part that was significant but could not be checked on both halves: the flight so far was too short for it.
-    self.evidence_missing = !accepted.halves_calibrated && !outcome.nothing_to_correct;
-    return std::nullopt;
-  }
-  self.applied = true;
-  self.why_not.clear();
-  return acceptedCamera(camera, *calibrated, accepted);
-}
-
 void SelfCalibrator::finish(std::optional<double> newest_t) {
+  if (running_) {  // its figures stand; its camera was never used
+    const double due_at = running_->t + budget_s_;
+    const bool clock_offset_first = running_->clock_offset_first;
+    const bool first_offset_in_use = report_.clock_offset_first_applied;
+    if (takeAnswer(due_at)) {
+      report_.applied_at_s = 0.0;
+      if (clock_offset_first) report_.clock_offset_first_applied = false;
+      report_.applied = !clock_offset_first && first_offset_in_use;  // the first step's offset stays in use
+      report_.time_offset_applied = report_.applied;
+      if (report_.applied) report_.time_offset_after = report_.clock_offset_first_s;
+      report_.mount_applied = false;
+    }
+    report_.why_not = "the flight ended before its answer was due at t = " + formatTimestamp(due_at) +
+                      " s (frontend.self_calibration_budget_s)" + (report_.why_not.empty() ? "" : "; " + report_.why_not);
+    pending_ = false;
+    return;
+  }
   if (!pending_ || !newest_t) return;
   pending_ = false;
   if (attempts_ > 0) {  // a later attempt was due: the last one's figures and reasons stand

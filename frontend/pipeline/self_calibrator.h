@@ -3,6 +3,7 @@
 #pragma once
 
 #include <deque>
+#include <future>
 #include <optional>
 #include <string>
 #include <utility>
@@ -14,6 +15,7 @@
 #include "dualgraph/frontend/gates/corner_detection.h"
 #include "dualgraph/frontend/gates/track.h"
 #include "dualgraph/frontend/pipeline/pipeline_report.h"
+#include "dualgraph/frontend/pipeline/self_calibration_job.h"
 
 namespace dualgraph {
 
@@ -36,7 +38,13 @@ namespace dualgraph {
 /// the parts judgeCalibration accepts (frontend/calibration/calibration_acceptance.h); the report says which parts
 /// were estimated (`parts`), what was applied, and why not the rest. The whole calibration runs once, unless it found
 /// too little to go on (evidence_missing): then again after_s later on the longer flight so far, kMaxAttempts in
-/// all. Not thread-safe (the pipeline's thread).
+/// all.
+///
+/// A calibration takes 0.1-0.5 s of computation: with `budget_s` > 0 it runs on a thread of its own, on copies of
+/// its inputs taken when it starts at t, and its camera is used from the first sample at or after t + budget_s
+/// (odometry clock); the pipeline waits for it there when it is still running. The answer, and the sample it takes
+/// effect at, are thus the same however fast the machine or the feed is (a replay gives what the drone got).
+/// `budget_s` = 0: it runs on the caller's thread, at t. Not thread-safe (the pipeline's thread).
 class SelfCalibrator {
  public:
   static constexpr size_t kMinCorners = 200;
@@ -46,8 +54,14 @@ class SelfCalibrator {
   static constexpr int kMaxAttempts = 3;
 
   /// `why_off` non-empty: never runs, the report says so. `time_offset_before`: the camera's offset at the start [s].
+  /// `budget_s` [s] ≥ 0: the odometry time a calibration has before its camera is used (see above).
   /// `calibration`: how each calibration runs (its solver's parts are set by the step).
-  SelfCalibrator(double after_s, double time_offset_before, std::string why_off, CalibrationParams calibration = {});
+  SelfCalibrator(double after_s, double budget_s, double time_offset_before, std::string why_off,
+                 CalibrationParams calibration = {});
+  SelfCalibrator(SelfCalibrator&&) = default;
+  SelfCalibrator& operator=(SelfCalibrator&&) = default;
+  /// Waits for a calibration still running (its answer is dropped).
+  ~SelfCalibrator();
 
   bool pending() const { return pending_; }
   /// Corners kept so far (stamped while tracking) [count].
@@ -62,35 +76,25 @@ class SelfCalibrator {
   void notePoseDetections() { pose_detections_seen_ = true; }
   /// Every accepted odometry sample; the first sets t_c.
   void addOdometry(const OdometrySample& sample);
-  /// t_c passed (t ≥ t_c, to core/stamp_tolerance.h), tracking, and enough corners for the next step: run() now.
+  /// t_c passed (t ≥ t_c, to core/stamp_tolerance.h), tracking, enough corners for the next step, and no
+  /// calibration running: start() now.
   bool due(double t, bool tracking) const;
-  /// Calibrates on the flight so far (its corners up to t) from `camera` (its time_offset the one in use) against
-  /// `track` with the run's `keyframes`; the camera to use from t on, or none (report().why_not says why).
-  std::optional<CameraModel> run(double t, const CameraModel& camera, const Track& track,
-                                 const std::vector<CorrectedPose>& keyframes);
-  /// The flight ended (newest odometry stamp, if any): a calibration still pending says why it never ran.
+  /// Starts a calibration of the flight so far (its corners up to t) from `camera` (its time_offset the one in use)
+  /// against `track` with the run's `keyframes`, all copied: on its own thread when budget_s > 0.
+  void start(double t, const CameraModel& camera, const Track& track, const std::vector<CorrectedPose>& keyframes);
+  /// A started calibration's camera is due at the sample at `t` (t ≥ its start + budget_s).
+  bool answerDue(double t) const;
+  /// The started calibration's answer (waiting for it while it runs): the camera to use from now on, or none
+  /// (report().why_not says why). Call when answerDue.
+  std::optional<CameraModel> takeAnswer(double t);
+  /// The flight ended (newest odometry stamp, if any): a calibration still pending says why it never ran, one
+  /// still running why its camera was never used.
   void finish(std::optional<double> newest_t);
   const SelfCalibrationReport& report() const { return report_; }
 
  private:
-  /// Which parts a calibration estimates (the rest held).
-  enum class Parts { kBoth, kTimeOffset, kMount };
-  /// The whole calibration of `corners` (the flight so far), stepping down when it cannot carry both parts, into
-  /// report_; the camera to use, or none.
-  std::optional<CameraModel> attempt(const CameraModel& camera, const Track& track,
-                                     const std::vector<CorrectedPose>& keyframes,
-                                     const std::vector<CornerDetection>& corners);
-  /// What a calibration's judgement means for the step-down.
-  struct Outcome {
-    bool nothing_to_correct = false;  ///< every estimated part within its bar: no reason to step down
-  };
-  /// One calibration of `parts` into `report` (its figures, what was applied, why not); the camera to use, or none.
-  std::optional<CameraModel> calibrateParts(Parts parts, const CameraModel& camera, const Track& track,
-                                            const std::vector<CorrectedPose>& keyframes,
-                                            const std::vector<CornerDetection>& corners, SelfCalibrationReport& report,
-                                            Outcome& outcome) const;
-
   double after_s_;
+  double budget_s_;
   CalibrationParams calibration_;
   int attempts_ = 0;
   bool clock_offset_first_done_ = false;
@@ -111,6 +115,14 @@ class SelfCalibrator {
   void judge(const CornerDetection& corner, double t_odometry);
   std::vector<OdometrySample> odometry_;
   SelfCalibrationReport report_;
+  /// The calibration started and not yet taken: its start, whether it is the clock offset alone first, its corners.
+  struct Running {
+    double t = 0.0;
+    bool clock_offset_first = false;
+    size_t corners = 0;
+    std::future<SelfCalibrationAnswer> answer;
+  };
+  std::optional<Running> running_;
 };
 
 }  // namespace dualgraph

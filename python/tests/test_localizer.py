@@ -154,7 +154,7 @@ class SameAsTheCli(unittest.TestCase):
         calibration = result.self_calibration
         self.assertTrue(calibration["attempted"])
         self.assertEqual(calibration["applied"], metrics["self_calibration_applied"] == 1)
-        for key in ("at_s", "time_offset_before_s", "time_offset_s", "time_offset_sigma_s", "mount_change_deg",
+        for key in ("at_s", "applied_at_s", "time_offset_before_s", "time_offset_s", "time_offset_sigma_s", "mount_change_deg",
                     "first_half_mount_change_deg", "second_half_mount_change_deg", "halves_mount_change_deg",
                     "halves_mount_sigma_deg", "clock_offset_first_at_s", "clock_offset_first_s"):
             self.assertEqual(calibration[key], metrics["self_calibration_" + key], key)

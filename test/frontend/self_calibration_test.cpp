@@ -55,8 +55,10 @@ TEST(SelfCalibration, RecoversOffsetAndMountFromTheFlightSoFarAndImprovesTheRest
     EXPECT_TRUE(report.why_not.empty());
     EXPECT_EQ(report.at_s, sequence.odometry.samples.front().t + 12.0);
     ASSERT_TRUE(run->camera_switched_at.has_value());
-    EXPECT_GE(*run->camera_switched_at, report.at_s);
-    EXPECT_LT(*run->camera_switched_at, report.at_s + 0.011);  // the first 100 Hz sample at or after t_c
+    EXPECT_EQ(*run->camera_switched_at, report.applied_at_s);
+    // The first 100 Hz sample at or after t_c + the budget (the calibration ran beside the pipeline meanwhile).
+    EXPECT_GE(report.applied_at_s, report.at_s + params.self_calibration_budget_s);
+    EXPECT_LT(report.applied_at_s, report.at_s + params.self_calibration_budget_s + 0.011);
     EXPECT_EQ(report.time_offset_before, 0.0);
     EXPECT_NEAR(report.time_offset_after, 0.015, 0.002) << track;
     EXPECT_NEAR(report.mount_change_deg, 1.5, 0.3) << track;
@@ -150,6 +152,44 @@ TEST(SelfCalibration, IsCausalTheRunBeforeTheSwitchIsTheUncalibratedRun) {
   EXPECT_GT(differ_after, 0u);  // and after it the camera really changed the run
 }
 
+// The calibration runs beside the pipeline (frontend.self_calibration_budget_s): it is the calibration the
+// pipeline's thread makes (budget 0), its camera used one budget later; up to then the runs are one, pose for pose;
+// and two runs give the same poses to the bit, however the threads were scheduled.
+TEST(SelfCalibration, BesideThePipelineItIsTheSameCalibrationUsedOneBudgetLaterAndRepeatable) {
+  const Sequence sequence = caltest::realisticFlight("ratm_ellipse.yaml", 1, 4, 0.015);
+  SequenceRunParams at_once;
+  at_once.self_calibration_after_s = 10.0;
+  at_once.self_calibration_budget_s = 0.0;
+  SequenceRunParams beside = at_once;
+  beside.self_calibration_budget_s = 1.0;
+  SelfCalibrationReport now, later, again;
+  auto run_now = runSequenceSelfCalibrating(sequence, at_once, {}, &now);
+  auto run_later = runSequenceSelfCalibrating(sequence, beside, {}, &later);
+  auto run_again = runSequenceSelfCalibrating(sequence, beside, {}, &again);
+  ASSERT_TRUE(run_now.ok() && run_later.ok() && run_again.ok());
+  ASSERT_TRUE(now.applied && later.applied) << now.why_not << " / " << later.why_not;
+  EXPECT_EQ(later.at_s, now.at_s);
+  EXPECT_EQ(later.time_offset_after, now.time_offset_after);
+  EXPECT_EQ(later.mount_change_deg, now.mount_change_deg);
+  EXPECT_EQ(now.applied_at_s, *run_now->camera_switched_at);
+  EXPECT_LT(now.applied_at_s, now.at_s + 0.011);
+  EXPECT_EQ(later.applied_at_s, *run_later->camera_switched_at);
+  EXPECT_GE(later.applied_at_s, later.at_s + 1.0);
+  EXPECT_LT(later.applied_at_s, later.at_s + 1.011);
+  ASSERT_EQ(run_later->estimate.size(), run_now->estimate.size());
+  ASSERT_EQ(run_again->estimate.size(), run_later->estimate.size());
+  size_t same_before = 0;
+  for (size_t k = 0; k < run_later->estimate.size(); ++k) {
+    const CorrectedPose &a = run_later->estimate[k], &b = run_again->estimate[k], &c = run_now->estimate[k];
+    ASSERT_TRUE(a.world_T_body.matrix() == b.world_T_body.matrix() && a.state == b.state) << "t = " << a.t;
+    if (a.t < now.applied_at_s) {
+      ASSERT_TRUE(a.world_T_body.matrix() == c.world_T_body.matrix()) << "t = " << a.t;
+      ++same_before;
+    }
+  }
+  EXPECT_GT(same_before, 900u);
+}
+
 TEST(SelfCalibration, WhereItCannotBeDoneTheRunIsThePlainOneAndSaysWhy) {
   const Sequence sequence = caltest::realisticFlight("ratm_ellipse.yaml", 1, 1, 0.015);  // ≈ 8 s
   auto plain = runSequence(sequence, caltest::uncalibrated());
@@ -224,9 +264,17 @@ namespace {
 /// A SelfCalibrator fed a flight's odometry, the localizer `tracking` from `lock` [s] on (after the sample at or
 /// after it), and its corners: all of them before the odometry (arriving far ahead of it), or each just before the
 /// first sample at or after its stamp (`interleaved`). Due at 5 s.
+// A calibration started at t and its answer taken there (budget 0: on this thread).
+std::optional<CameraModel> calibrateAt(SelfCalibrator& calibrator, double t, const CameraModel& camera,
+                                       const Track& track, const std::vector<CorrectedPose>& keyframes) {
+  calibrator.start(t, camera, track, keyframes);
+  EXPECT_TRUE(calibrator.answerDue(t));
+  return calibrator.takeAnswer(t);
+}
+
 SelfCalibrator fedCalibrator(const Sequence& sequence, bool tracking, double lock = -1e9, bool interleaved = false,
-                             const CalibrationParams& calibration = {}) {
-  SelfCalibrator calibrator(5.0, 0.0, "", calibration);
+                             const CalibrationParams& calibration = {}, double budget_s = 0.0) {
+  SelfCalibrator calibrator(5.0, budget_s, 0.0, "", calibration);
   size_t next = 0;
   if (!interleaved) calibrator.addCorners(sequence.corners, 0.0);
   for (const OdometrySample& sample : sequence.odometry.samples) {
@@ -292,7 +340,7 @@ TEST(SelfCalibrator, TriesAgainWhenTheFlightSoFarCouldNotCarryIt) {
     SCOPED_TRACE(::testing::Message() << "attempt " << attempt);
     const double t = t0 + 5.0 * attempt;
     ASSERT_TRUE(calibrator.due(t, true));
-    EXPECT_FALSE(calibrator.run(t, caltest::trueCamera(), far, {}).has_value());
+    EXPECT_FALSE(calibrateAt(calibrator, t, caltest::trueCamera(), far, {}).has_value());
     const SelfCalibrationReport& report = calibrator.report();
     EXPECT_EQ(report.attempts, attempt);
     EXPECT_TRUE(report.evidence_missing);
@@ -310,7 +358,7 @@ TEST(SelfCalibrator, TriesAgainWhenTheFlightSoFarCouldNotCarryIt) {
   }
   // A retry still due when the flight ends: the last attempt's reasons stand, and the report says it ended first.
   SelfCalibrator ended = fedCalibrator(sequence, true);
-  ASSERT_FALSE(ended.run(t0 + 5.0, caltest::trueCamera(), far, {}).has_value());
+  ASSERT_FALSE(calibrateAt(ended, t0 + 5.0, caltest::trueCamera(), far, {}).has_value());
   ASSERT_TRUE(ended.pending());
   ended.finish(t0 + 7.0);
   EXPECT_FALSE(ended.pending());
@@ -318,23 +366,29 @@ TEST(SelfCalibrator, TriesAgainWhenTheFlightSoFarCouldNotCarryIt) {
   EXPECT_NE(ended.report().why_not.find("the flight ended before the next attempt"), std::string::npos);
 }
 
+/// The run's keyframes as a perfect one would have them: the truth every 100 samples.
+std::vector<CorrectedPose> truthKeyframes(const Sequence& sequence) {
+  std::vector<CorrectedPose> keyframes;
+  for (size_t k = 0; k < sequence.ground_truth->samples.size(); k += 100) {
+    keyframes.push_back(CorrectedPose{sequence.ground_truth->samples[k].t, sequence.ground_truth->samples[k].odom_T_body,
+                                      TrackingState::kTracking, std::nullopt});
+  }
+  return keyframes;
+}
+
 // A whole calibration that cannot be carried (here it never converges: its mount is asked to stop moving entirely)
 // steps down: the clock offset alone, the mount held as given, is calibrated and applied, and the report says which
 // part and why the other was held. Before, nothing was applied. With the usual tolerance the whole converges.
 TEST(SelfCalibrator, AWholeCalibrationThatCannotBeCarriedStepsDownToTheClockOffsetAlone) {
   const Sequence sequence = caltest::realisticFlight("ratm_ellipse.yaml", 1, 2, 0.030);
-  std::vector<CorrectedPose> keyframes;  // the run's keyframes, as a perfect one would have them
-  for (size_t k = 0; k < sequence.ground_truth->samples.size(); k += 100) {
-    keyframes.push_back(CorrectedPose{sequence.ground_truth->samples[k].t, sequence.ground_truth->samples[k].odom_T_body,
-                                      TrackingState::kTracking, std::nullopt});
-  }
+  const std::vector<CorrectedPose> keyframes = truthKeyframes(sequence);
   const double t = sequence.odometry.samples.back().t;
   CalibrationParams strict;
   strict.converged_rotation_deg = 0.0;  // a rotation step is never below 0
   strict.converged_sigma_fraction = 0.0;
   SelfCalibrator calibrator = fedCalibrator(sequence, true, -1e9, false, strict);
   ASSERT_TRUE(calibrator.due(t, true));
-  const std::optional<CameraModel> camera = calibrator.run(t, caltest::trueCamera(), sequence.map, keyframes);
+  const std::optional<CameraModel> camera = calibrateAt(calibrator, t, caltest::trueCamera(), sequence.map, keyframes);
   const SelfCalibrationReport& report = calibrator.report();
   ASSERT_TRUE(camera.has_value()) << report.why_not;
   EXPECT_EQ(report.parts, "clock offset alone");
@@ -345,8 +399,59 @@ TEST(SelfCalibrator, AWholeCalibrationThatCannotBeCarriedStepsDownToTheClockOffs
   EXPECT_NE(report.why_not_mount.find("held: clock offset and mount: the calibration did not converge"), std::string::npos)
       << report.why_not_mount;
   SelfCalibrator usual = fedCalibrator(sequence, true);
-  ASSERT_TRUE(usual.run(t, caltest::trueCamera(), sequence.map, keyframes).has_value()) << usual.report().why_not;
+  ASSERT_TRUE(calibrateAt(usual, t, caltest::trueCamera(), sequence.map, keyframes).has_value()) << usual.report().why_not;
   EXPECT_EQ(usual.report().parts, "clock offset and mount");
+}
+
+// With a budget, a calibration runs on its own thread from copies of its inputs: its answer is due one budget after
+// it started and not before, no other starts meanwhile, and it is the answer the caller's thread gives at once.
+TEST(SelfCalibrator, ABudgetedCalibrationGivesTheAnswerOfOneAtOnceABudgetLater) {
+  const Sequence sequence = caltest::realisticFlight("ratm_ellipse.yaml", 1, 2, 0.030);
+  const std::vector<CorrectedPose> keyframes = truthKeyframes(sequence);
+  const double t = sequence.odometry.samples.back().t;
+  SelfCalibrator at_once = fedCalibrator(sequence, true);
+  const std::optional<CameraModel> expected = calibrateAt(at_once, t, caltest::trueCamera(), sequence.map, keyframes);
+  ASSERT_TRUE(expected.has_value()) << at_once.report().why_not;
+  EXPECT_EQ(at_once.report().applied_at_s, t);
+  SelfCalibrator beside = fedCalibrator(sequence, true, -1e9, false, {}, 1.0);
+  ASSERT_TRUE(beside.due(t, true));
+  beside.start(t, caltest::trueCamera(), sequence.map, keyframes);
+  EXPECT_FALSE(beside.due(t, true));  // one at a time
+  EXPECT_FALSE(beside.answerDue(t));
+  EXPECT_FALSE(beside.answerDue(t + 0.99));
+  ASSERT_TRUE(beside.answerDue(t + 1.0));
+  const std::optional<CameraModel> camera = beside.takeAnswer(t + 1.0);
+  ASSERT_TRUE(camera.has_value()) << beside.report().why_not;
+  EXPECT_EQ(camera->time_offset, expected->time_offset);
+  EXPECT_TRUE(camera->body_T_camera.matrix() == expected->body_T_camera.matrix());
+  const SelfCalibrationReport &a = at_once.report(), &b = beside.report();
+  EXPECT_EQ(b.at_s, t);
+  EXPECT_EQ(b.applied_at_s, t + 1.0);
+  EXPECT_EQ(b.parts, a.parts);
+  EXPECT_EQ(b.mount_change_deg, a.mount_change_deg);
+  EXPECT_EQ(b.iterations, a.iterations);
+  EXPECT_EQ(b.attempts, 1);
+  EXPECT_TRUE(b.applied);
+  EXPECT_FALSE(beside.pending());
+}
+
+// A flight that ends while its calibration runs: the figures are reported, and that its camera was never used.
+TEST(SelfCalibrator, AFlightEndingBeforeTheAnswerIsDueSaysItsCameraWasNeverUsed) {
+  const Sequence sequence = caltest::realisticFlight("ratm_ellipse.yaml", 1, 2, 0.030);
+  const double t = sequence.odometry.samples.back().t;
+  SelfCalibrator beside = fedCalibrator(sequence, true, -1e9, false, {}, 1.0);
+  ASSERT_TRUE(beside.due(t, true));
+  beside.start(t, caltest::trueCamera(), sequence.map, truthKeyframes(sequence));
+  beside.finish(t + 0.5);
+  const SelfCalibrationReport& report = beside.report();
+  EXPECT_FALSE(beside.pending());
+  EXPECT_TRUE(report.attempted);
+  EXPECT_FALSE(report.applied);
+  EXPECT_FALSE(report.time_offset_applied);
+  EXPECT_FALSE(report.mount_applied);
+  EXPECT_EQ(report.applied_at_s, 0.0);
+  EXPECT_NEAR(report.time_offset_after, 0.030, 0.002);  // what it found stands
+  EXPECT_NE(report.why_not.find("the flight ended before its answer was due"), std::string::npos) << report.why_not;
 }
 
 }  // namespace
