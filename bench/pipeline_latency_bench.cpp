@@ -3,6 +3,7 @@
 // search, relocalisations and self-calibration included: on the caller's thread and with the worker.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 #include <thread>
@@ -21,11 +22,13 @@ namespace {
 /// `dualgraph run`'s configuration (data/config/default.yaml: frame search, self-calibration after 8 s) fed
 /// sample by sample: before each odometry sample the instants stamped up to it and "done up to it" (an empty
 /// instant: an on-time detector, as `dualgraph run` replays), then the sample, each
-/// addOdometry call timed on its own (steady_clock). Worker mode is paced at `speed` × real time (the samples'
-/// own stamps), so the worker works beside the feed as onboard; the caller-thread mode runs unpaced (its calls
-/// do the work). Counters [µs]: per odometry sample P50 / P99 / max; worker mode also the worker's lag behind the
-/// feed in samples (P99, max) and the ATE of the poses given at each sample; per main-graph update, the time of the
-/// newest keyframe's marginal covariance (KeyframeStats::covariance_ms, P50 / P95) [ms].
+/// addOdometry call timed on its own (steady_clock). Paced at `speed` × real time (the samples' own stamps), so
+/// the worker and the self-calibration's thread work beside the feed as onboard; `speed` 0: unpaced, as `dualgraph
+/// run` replays (the caller's thread then also waits for the self-calibration where its camera is due).
+/// Counters [µs]: per odometry sample P50 / P99 / max (max_at_s: the slowest sample's time in the flight [s]);
+/// worker mode also the worker's lag behind the feed in samples (P99, max) and the ATE of the poses given at each
+/// sample; per main-graph update, the time of the newest keyframe's marginal covariance
+/// (KeyframeStats::covariance_ms, P50 / P95) [ms].
 void BM_OnboardPerSample(benchmark::State& state, const std::string& track_name, PipelineThreading threading,
                          double speed) {
   const Result<Sequence>& sequence = bench::realisticRace(track_name, 1);
@@ -48,9 +51,7 @@ void BM_OnboardPerSample(benchmark::State& state, const std::string& track_name,
     size_t next = 0;
     for (size_t k = 0; k < sequence->odometry.samples.size(); ++k) {
       const OdometrySample& sample = sequence->odometry.samples[k];
-      if (threading == PipelineThreading::kWorker) {
-        std::this_thread::sleep_until(start + std::chrono::duration<double>((sample.t - t0) / speed));
-      }
+      if (speed > 0.0) std::this_thread::sleep_until(start + std::chrono::duration<double>((sample.t - t0) / speed));
       while (next < instants.size() && instants[next].t - offset <= sample.t) {
         (void)(*pipeline)->addDetections(instants[next++]);
       }
@@ -80,6 +81,8 @@ void BM_OnboardPerSample(benchmark::State& state, const std::string& track_name,
   state.counters["us_p50"] = bench::percentile(per_sample_us, 0.50);
   state.counters["us_p99"] = bench::percentile(per_sample_us, 0.99);
   state.counters["us_max"] = bench::percentile(per_sample_us, 1.0);
+  const size_t slowest = static_cast<size_t>(std::max_element(per_sample_us.begin(), per_sample_us.end()) - per_sample_us.begin());
+  state.counters["max_at_s"] = sequence->odometry.samples[slowest].t - sequence->odometry.samples.front().t;
   if (!lag.empty()) {
     state.counters["lag_p99"] = bench::percentile(lag, 0.99);
     state.counters["lag_max"] = bench::percentile(lag, 1.0);
@@ -92,14 +95,21 @@ void BM_OnboardPerSample(benchmark::State& state, const std::string& track_name,
   state.counters["self_cal"] = results->self_calibration.applied ? 1.0 : 0.0;
 }
 
-BENCHMARK_CAPTURE(BM_OnboardPerSample, ellipse_caller, std::string("ratm_ellipse"), PipelineThreading::kCallerThread, 1.0)
+BENCHMARK_CAPTURE(BM_OnboardPerSample, ellipse_caller, std::string("ratm_ellipse"), PipelineThreading::kCallerThread, 0.0)
+    ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_OnboardPerSample, ellipse_caller_4x, std::string("ratm_ellipse"), PipelineThreading::kCallerThread, 4.0)
+    ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Real time, as a drone feeds it: 95 s per run (select with --benchmark_filter=real_time).
+BENCHMARK_CAPTURE(BM_OnboardPerSample, ellipse_caller_real_time, std::string("ratm_ellipse"), PipelineThreading::kCallerThread,
+                  1.0)
     ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_OnboardPerSample, ellipse_worker_4x, std::string("ratm_ellipse"), PipelineThreading::kWorker, 4.0)
     ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
-// Real time: 95 s per run (not in the default filter's quick set; run it with --benchmark_filter=real_time).
 BENCHMARK_CAPTURE(BM_OnboardPerSample, ellipse_worker_real_time, std::string("ratm_ellipse"), PipelineThreading::kWorker, 1.0)
     ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_OnboardPerSample, a2rl_caller, std::string("a2rl_like"), PipelineThreading::kCallerThread, 1.0)
+BENCHMARK_CAPTURE(BM_OnboardPerSample, a2rl_caller, std::string("a2rl_like"), PipelineThreading::kCallerThread, 0.0)
+    ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_OnboardPerSample, a2rl_caller_4x, std::string("a2rl_like"), PipelineThreading::kCallerThread, 4.0)
     ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_OnboardPerSample, a2rl_worker_4x, std::string("a2rl_like"), PipelineThreading::kWorker, 4.0)
     ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();

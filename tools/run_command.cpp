@@ -254,7 +254,8 @@ int runRunCommand(const RunOptions& o) {
               << (self_calibration.time_offset_applied ? "applied" : "kept: " + self_calibration.why_not_time_offset)
               << "; mount correction " << self_calibration.mount_change_deg << " deg "
               << (self_calibration.mount_applied ? "applied" : "kept: " + self_calibration.why_not_mount)
-              << "; used from " << std::round(10.0 * elapsed) / 10.0 << " s (" << self_calibration.parts << ")\n";
+              << "; used from " << std::round(10.0 * (self_calibration.applied_at_s - t0)) / 10.0 << " s ("
+              << self_calibration.parts << ")\n";
   }
   if (self_calibration.clock_offset_first_at_s > 0.0) {
     std::cout << "  clock offset calibrated alone first at t0 + "

@@ -21,8 +21,8 @@ struct SelfCalibrationReport {
   bool evidence_missing = false;
   bool applied = false;              ///< the rest of the run used a calibrated camera (either calibration's)
   double at_s = 0.0;                 ///< t_c: the flight so far ends there [s]
-  /// When its camera took effect: the first sample at or after at_s + frontend.self_calibration_budget_s [s]; 0:
-  /// never (not applied, or the flight ended first).
+  /// When the camera in use took effect: the first sample at or after at_s + frontend.self_calibration_budget_s
+  /// (the clock offset calibrated alone first: its own) [s]; 0: never (not applied, or the flight ended first).
   double applied_at_s = 0.0;
   double time_offset_before = 0.0;   ///< the clock offset the run started with [s]
   double time_offset_after = 0.0;    ///< the calibrated one [s] (applied: the one in use from at_s on)

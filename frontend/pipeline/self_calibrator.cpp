@@ -129,6 +129,7 @@ std::optional<CameraModel> SelfCalibrator::takeAnswer(double t) {
     report_.clock_offset_first_at_s = running.t;
     report_.clock_offset_first_applied = camera_to_use.has_value();
     report_.clock_offset_first_s = report_.time_offset_after;
+    if (camera_to_use) first_offset_applied_at_s_ = t;
     // Too little to go on: again on twice the corners (the whole calibration at kMinCorners in any case).
     next_corners_ = camera_to_use || answer.nothing_to_correct ? kMinCorners : std::min(2 * running.corners, kMinCorners);
     if (!camera_to_use) {
@@ -141,6 +142,7 @@ std::optional<CameraModel> SelfCalibrator::takeAnswer(double t) {
     report_.applied = true;
     report_.time_offset_applied = true;
     report_.time_offset_after = report_.clock_offset_first_s;  // the offset in use, not the whole's estimate
+    report_.applied_at_s = first_offset_applied_at_s_;
     report_.why_not = "the whole calibration applied nothing (the clock offset calibrated first stays): " + report_.why_not;
   }
   pending_ = !camera_to_use && report_.evidence_missing && attempts_ < kMaxAttempts;
@@ -169,7 +171,10 @@ void SelfCalibrator::finish(std::optional<double> newest_t) {
       if (clock_offset_first) report_.clock_offset_first_applied = false;
       report_.applied = !clock_offset_first && first_offset_in_use;  // the first step's offset stays in use
       report_.time_offset_applied = report_.applied;
-      if (report_.applied) report_.time_offset_after = report_.clock_offset_first_s;
+      if (report_.applied) {
+        report_.time_offset_after = report_.clock_offset_first_s;
+        report_.applied_at_s = first_offset_applied_at_s_;
+      }
       report_.mount_applied = false;
     }
     report_.why_not = "the flight ended before its answer was due at t = " + formatTimestamp(due_at) +

@@ -100,6 +100,7 @@ class SelfCalibrator {
   bool clock_offset_first_done_ = false;
   size_t next_corners_ = kMinCornersClockOffset;  ///< corners the next step needs
   double last_attempt_t_ = 0.0;
+  double first_offset_applied_at_s_ = 0.0;  ///< when the clock offset calibrated alone first took effect [s]
   bool pending_;
   bool started_ = false;
   bool pose_detections_seen_ = false;

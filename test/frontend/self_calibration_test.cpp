@@ -95,6 +95,7 @@ TEST(SelfCalibration, OnFewCornersTheClockOffsetAloneIsCalibratedFirst) {
   EXPECT_EQ(report.attempts, 0);  // the whole calibration never had its corners: before, nothing was calibrated
   EXPECT_NEAR(report.clock_offset_first_s, 0.030, 0.004);
   ASSERT_TRUE(run->camera_switched_at.has_value());
+  EXPECT_EQ(report.applied_at_s, *run->camera_switched_at);
   EXPECT_TRUE(report.applied);
   EXPECT_TRUE(report.time_offset_applied);
   std::printf("[ measured ] one image in six, 3 laps: clock offset alone at t_c + %.2f s: %.2f ms; then %s (%d "
