@@ -14,7 +14,7 @@
 
 #include "bench/bench_data.h"
 #include "bench/ceres_pose_graph.h"
-#include "bench/graph_clone.h"
+#include "bench/perturb_graph.h"
 #include "bench/race_fixture.h"
 #include "dualgraph/core/optimizer.h"
 #include "dualgraph/solvers/linear_solver_factory.h"
@@ -43,7 +43,7 @@ RacingProblem& racingProblem(double d_main) {
   if (status.ok()) {
     p.localizer_solver = params->localizer.linear_solver;
     Result<std::unique_ptr<Localizer>> localizer = bench::runRaceLocalizer(*sequence, *params);
-    status = localizer.ok() ? bench::cloneGraph((*localizer)->mainGraph().graph(), p.graph) : localizer.status();
+    status = localizer.ok() ? cloneGraph((*localizer)->mainGraph().graph(), p.graph) : localizer.status();
     if (localizer.ok()) p.keyframes = (*localizer)->mainGraph().keyframes().size();
   }
   if (status.ok()) bench::perturbGraph(p.graph, 0.1, 0.01, 1);

@@ -27,8 +27,12 @@ class EdgeBase {
  public:
   explicit EdgeBase(size_t num_vertices) : vertices_(num_vertices, nullptr) {}
   virtual ~EdgeBase() = default;
-  EdgeBase(const EdgeBase&) = delete;
   EdgeBase& operator=(const EdgeBase&) = delete;
+
+  /// A new edge of the same type with this one's measurement, information, robust kernel (shared: kernels are
+  /// immutable), parameters and vertices — the same vertices: cloneGraph connects the copy to its own; nullptr for
+  /// a type that does not implement it (`return std::make_unique<MyEdge>(*this);` in a type whose members are values).
+  virtual std::unique_ptr<EdgeBase> clone() const { return nullptr; }
 
   virtual int errorDim() const = 0;
   size_t numVertices() const { return vertices_.size(); }
@@ -95,6 +99,9 @@ class EdgeBase {
   void setSourceLine(int line) { source_line_ = line; }
 
  protected:
+  /// For clone(): the vertices, the robust kernel and the source line.
+  EdgeBase(const EdgeBase&) = default;
+
   /// Prefetches the cache lines of [begin, begin + Bytes) (unrolled: Bytes is a constant).
   template <size_t Bytes>
   static void prefetchBytes(const void* begin) {
@@ -145,6 +152,13 @@ class BaseEdge : public EdgeBase {
     information_.setIdentity();
     setJacobianPointers(std::index_sequence_for<VertexTs...>{});
   }
+  /// For clone(): everything, the Jacobian pointers set to the copy's own Jacobians.
+  BaseEdge(const BaseEdge& other)
+      : EdgeBase(other), measurement_(other.measurement_), information_(other.information_), error_(other.error_),
+        jacobians_(other.jacobians_) {
+    setJacobianPointers(std::index_sequence_for<VertexTs...>{});
+  }
+  BaseEdge& operator=(const BaseEdge&) = delete;
 
   int errorDim() const final { return E; }
 

@@ -119,4 +119,36 @@ VertexBase* chooseGaugeVertex(const Graph& graph, GaugeChoice choice) {
   return best;
 }
 
+Status cloneGraph(const Graph& source, Graph& target) {
+  if (target.numVertices() != 0 || target.numEdges() != 0 || !target.parameters().all().empty()) {
+    return Status(StatusCode::kInvalidArgument, "cloneGraph: the target graph is not empty");
+  }
+  Status status = [&]() -> Status {
+    for (const auto& [id, parameter] : source.parameters().all()) {
+      std::unique_ptr<ParameterBase> copy = parameter->clone();
+      if (!copy) return Status(StatusCode::kInvalidArgument, "cloneGraph: parameter " + std::to_string(id) + ": its type does not implement clone()");
+      DG_RETURN_IF_ERROR(target.parameters().add(std::move(copy)));
+    }
+    for (const auto& [id, vertex] : source.vertices()) {
+      std::unique_ptr<VertexBase> copy = vertex->clone();
+      if (!copy) return Status(StatusCode::kInvalidArgument, "cloneGraph: vertex " + std::to_string(id) + ": its type does not implement clone()");
+      DG_RETURN_IF_ERROR(target.addVertex(std::move(copy)));
+    }
+    for (const std::unique_ptr<EdgeBase>& edge : source.edges()) {
+      std::unique_ptr<EdgeBase> copy = edge->clone();
+      if (!copy) return Status(StatusCode::kInvalidArgument, "cloneGraph: " + describeEdge(*edge) + ": its type does not implement clone()");
+      for (size_t i = 0; i < edge->numVertices(); ++i) {
+        DG_RETURN_IF_ERROR(copy->setVertex(i, target.vertex(edge->vertex(i)->id())));
+      }
+      DG_RETURN_IF_ERROR(target.addEdge(std::move(copy)).status());
+    }
+    return Status();
+  }();
+  if (!status.ok()) {
+    target.clear();
+    target.parameters().clear();
+  }
+  return status;
+}
+
 }  // namespace dualgraph

@@ -67,6 +67,12 @@ class Graph {
   uint64_t structure_version_ = 0;
 };
 
+/// Copies `source` into the empty `target`: every parameter, vertex and edge by its clone(), each edge connected to
+/// target's copies of its vertices (estimates, fixed flags, measurements, information and robust kernels as in
+/// `source`; no undo stacks). kInvalidArgument when `target` is not empty, or naming the first parameter, vertex or
+/// edge whose type does not implement clone() (`target` is then left empty).
+Status cloneGraph(const Graph& source, Graph& target);
+
 /// Which vertex `chooseGaugeVertex` fixes among those of the largest tangent dimension.
 enum class GaugeChoice {
   kLowestId,   ///< the conventional first pose

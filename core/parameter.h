@@ -23,6 +23,9 @@ class ParameterBase {
   virtual Status read(TokenReader& in) = 0;
   /// Writes the fields after `TAG id`.
   virtual void write(std::ostream& out) const = 0;
+  /// A new parameter of the same type and value, as cloneGraph copies a graph; nullptr for a type that does not
+  /// implement it.
+  virtual std::unique_ptr<ParameterBase> clone() const { return nullptr; }
 
  private:
   int id_;

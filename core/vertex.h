@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <ostream>
 #include <vector>
 
@@ -19,7 +20,6 @@ class VertexBase {
  public:
   explicit VertexBase(int id = -1) : id_(id) {}
   virtual ~VertexBase() = default;
-  VertexBase(const VertexBase&) = delete;
   VertexBase& operator=(const VertexBase&) = delete;
 
   int id() const { return id_; }
@@ -44,6 +44,15 @@ class VertexBase {
   /// Writes the estimate fields (without tag and id), full precision.
   virtual void write(std::ostream& out) const = 0;
 
+  /// A new vertex of the same type with this one's id, estimate and fixed flag (not its undo stack), as cloneGraph
+  /// copies a graph; nullptr for a type that does not implement it (`return std::make_unique<MyVertex>(*this);`
+  /// in a type whose members are values).
+  virtual std::unique_ptr<VertexBase> clone() const { return nullptr; }
+
+ protected:
+  /// For clone(): the id and the fixed flag.
+  VertexBase(const VertexBase&) = default;
+
  private:
   int id_;
   bool fixed_ = false;
@@ -59,6 +68,9 @@ class BaseVertex : public VertexBase {
   using Tangent = Eigen::Matrix<double, D, 1>;
 
   explicit BaseVertex(int id = -1) : VertexBase(id) {}
+  /// For clone(): the id, the fixed flag and the estimate; not the undo stack.
+  BaseVertex(const BaseVertex& other) : VertexBase(other), estimate_(other.estimate_) {}
+  BaseVertex& operator=(const BaseVertex&) = delete;
 
   const Estimate& estimate() const { return estimate_; }
   void setEstimate(const Estimate& estimate) { estimate_ = estimate; }

@@ -51,6 +51,7 @@ class EdgeMarginalPrior final : public EdgeBase {
   }
   Status read(TokenReader& in, const ParameterContainer& parameters) override;
   void write(std::ostream& out) const override;
+  std::unique_ptr<EdgeBase> clone() const override { return std::make_unique<EdgeMarginalPrior>(*this); }
 
   /// Λ = JᵀJ over all the prior's coordinates (tests and diagnostics).
   Eigen::MatrixXd informationOfCoordinates() const { return jacobian_.transpose() * jacobian_; }

@@ -2,6 +2,8 @@
 // EdgePointXYZPrior (EDGE_POINTXYZ_PRIOR): an absolute position prior on a 3-D point.
 #pragma once
 
+#include <memory>
+
 #include <Eigen/Core>
 
 #include "dualgraph/core/edge.h"
@@ -22,6 +24,7 @@ class EdgePointXYZPrior final : public BaseEdge<3, Eigen::Vector3d, VertexPointX
   void computeError() override { error_ = vertexAs<0>()->estimate() - measurement_; }
   Status read(TokenReader& in, const ParameterContainer& parameters) override;
   void write(std::ostream& out) const override;
+  std::unique_ptr<EdgeBase> clone() const override { return std::make_unique<EdgePointXYZPrior>(*this); }
 
  protected:
   void linearizeOplus() override { jacobianOplus<0>().setIdentity(); }

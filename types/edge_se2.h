@@ -2,6 +2,8 @@
 // EdgeSE2 (EDGE_SE2): the relative planar pose between two VertexSE2, g2o's error, analytic Jacobians.
 #pragma once
 
+#include <memory>
+
 #include "dualgraph/core/edge.h"
 #include "dualgraph/types/se2.h"
 #include "dualgraph/types/vertex_se2.h"
@@ -25,6 +27,7 @@ class EdgeSE2 final : public BaseEdge<3, SE2, VertexSE2, VertexSE2> {
   void computeError() override;
   Status read(TokenReader& in, const ParameterContainer& parameters) override;
   void write(std::ostream& out) const override;
+  std::unique_ptr<EdgeBase> clone() const override { return std::make_unique<EdgeSE2>(*this); }
 
  protected:
   void linearizeOplus() override;

@@ -2,6 +2,8 @@
 // EdgeSE3 (EDGE_SE3:QUAT): the relative pose between two VertexSE3, g2o's error, analytic Jacobians.
 #pragma once
 
+#include <memory>
+
 #include <Eigen/Geometry>
 
 #include "dualgraph/core/edge.h"
@@ -33,6 +35,7 @@ class EdgeSE3 final : public BaseEdge<6, Eigen::Isometry3d, VertexSE3, VertexSE3
   void prefetch() const override;
   Status read(TokenReader& in, const ParameterContainer& parameters) override;
   void write(std::ostream& out) const override;
+  std::unique_ptr<EdgeBase> clone() const override { return std::make_unique<EdgeSE3>(*this); }
 
  protected:
   void linearizeOplus() override;

@@ -2,6 +2,8 @@
 // EdgeSE3CornerProjection: a point fixed on one pose (a gate corner) seen by a camera fixed on another.
 #pragma once
 
+#include <memory>
+
 #include <Eigen/Geometry>
 
 #include "dualgraph/core/edge.h"
@@ -36,6 +38,7 @@ class EdgeSE3CornerProjection final : public BaseEdge<2, Eigen::Vector2d, Vertex
   void computeError() override;
   Status read(TokenReader& in, const ParameterContainer& parameters) override;
   void write(std::ostream& out) const override;
+  std::unique_ptr<EdgeBase> clone() const override { return std::make_unique<EdgeSE3CornerProjection>(*this); }
 
  protected:
   void linearizeOplus() override;

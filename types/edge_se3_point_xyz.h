@@ -2,6 +2,8 @@
 // EdgeSE3PointXYZ (EDGE_SE3_TRACKXYZ): a 3-D point observed from a pose through a sensor offset.
 #pragma once
 
+#include <memory>
+
 #include <Eigen/Geometry>
 
 #include "dualgraph/core/edge.h"
@@ -33,6 +35,7 @@ class EdgeSE3PointXYZ final : public BaseEdge<3, Eigen::Vector3d, VertexSE3, Ver
   void computeError() override;
   Status read(TokenReader& in, const ParameterContainer& parameters) override;
   void write(std::ostream& out) const override;
+  std::unique_ptr<EdgeBase> clone() const override { return std::make_unique<EdgeSE3PointXYZ>(*this); }
 
  protected:
   void linearizeOplus() override;

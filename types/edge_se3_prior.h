@@ -2,6 +2,8 @@
 // EdgeSE3Prior (EDGE_SE3_PRIOR): an absolute pose prior on a VertexSE3, measured at a sensor offset.
 #pragma once
 
+#include <memory>
+
 #include <Eigen/Geometry>
 
 #include "dualgraph/core/edge.h"
@@ -37,6 +39,7 @@ class EdgeSE3Prior final : public BaseEdge<6, Eigen::Isometry3d, VertexSE3> {
   void computeError() override;
   Status read(TokenReader& in, const ParameterContainer& parameters) override;
   void write(std::ostream& out) const override;
+  std::unique_ptr<EdgeBase> clone() const override { return std::make_unique<EdgeSE3Prior>(*this); }
 
  protected:
   void linearizeOplus() override;

@@ -2,6 +2,8 @@
 // ParameterSE3Offset (PARAMS_SE3OFFSET): a fixed sensor offset body_T_sensor, and its lookup.
 #pragma once
 
+#include <memory>
+
 #include <Eigen/Geometry>
 
 #include "dualgraph/core/parameter.h"
@@ -25,6 +27,7 @@ class ParameterSE3Offset final : public ParameterBase {
 
   Status read(TokenReader& in) override;
   void write(std::ostream& out) const override;
+  std::unique_ptr<ParameterBase> clone() const override { return std::make_unique<ParameterSE3Offset>(*this); }
 
  private:
   Eigen::Isometry3d body_T_sensor_;

@@ -2,6 +2,8 @@
 // VertexPointXYZ (VERTEX_TRACKXYZ): a 3-D point (e.g. a landmark) in metres, additive increment.
 #pragma once
 
+#include <memory>
+
 #include <Eigen/Core>
 
 #include "dualgraph/core/vertex.h"
@@ -18,6 +20,7 @@ class VertexPointXYZ final : public BaseVertex<3, Eigen::Vector3d> {
 
   Status read(TokenReader& in) override;
   void write(std::ostream& out) const override;
+  std::unique_ptr<VertexBase> clone() const override { return std::make_unique<VertexPointXYZ>(*this); }
 
  protected:
   void oplusImpl(const Tangent& delta) override { estimate_ += delta; }

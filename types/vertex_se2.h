@@ -2,6 +2,8 @@
 // VertexSE2 (VERTEX_SE2): a planar pose, g2o's additive increment with the angle wrapped.
 #pragma once
 
+#include <memory>
+
 #include "dualgraph/core/vertex.h"
 #include "dualgraph/types/se2.h"
 
@@ -18,6 +20,7 @@ class VertexSE2 final : public BaseVertex<3, SE2> {
 
   Status read(TokenReader& in) override;
   void write(std::ostream& out) const override;
+  std::unique_ptr<VertexBase> clone() const override { return std::make_unique<VertexSE2>(*this); }
 
  protected:
   void oplusImpl(const Tangent& delta) override;

@@ -2,6 +2,8 @@
 // VertexSE3 (VERTEX_SE3:QUAT): a 3-D pose with g2o's right [δt; δq] increment.
 #pragma once
 
+#include <memory>
+
 #include <Eigen/Geometry>
 
 #include "dualgraph/core/vertex.h"
@@ -33,6 +35,7 @@ class VertexSE3 final : public BaseVertex<6, Eigen::Isometry3d> {
 
   Status read(TokenReader& in) override;
   void write(std::ostream& out) const override;
+  std::unique_ptr<VertexBase> clone() const override { return std::make_unique<VertexSE3>(*this); }
 
  protected:
   void oplusImpl(const Tangent& delta) override;

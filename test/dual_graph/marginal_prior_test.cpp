@@ -117,6 +117,45 @@ TEST(EdgeMarginalPrior, FirstEstimateJacobiansAreExactAtTheLinearisationPointAnd
   EXPECT_EQ(Eigen::Map<const Eigen::MatrixXd>((*prior)->jacobianData(1), 10, 6), J.middleCols(6, 6));
 }
 
+// A fixed-lag main graph copies whole (cloneGraph): its marginal prior, first-estimate Jacobians and all, on the
+// copy's vertices.
+TEST(EdgeMarginalPrior, ACloneIsTheSamePriorOnTheCopysVertices) {
+  Graph graph;
+  addPose(graph, 0, randomPose(1.0));
+  addPose(graph, 1, randomPose(2.0));
+  const std::vector<VertexBase*> vertices = {graph.vertex(0), graph.vertex(1)};
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::MatrixXd J(8, 12);
+  Eigen::VectorXd e0(8);
+  for (int r = 0; r < 8; ++r) {
+    e0(r) = normal(rng);
+    for (int c = 0; c < 12; ++c) J(r, c) = normal(rng);
+  }
+  Result<std::unique_ptr<EdgeMarginalPrior>> prior = EdgeMarginalPrior::create(vertices, J, e0);
+  ASSERT_TRUE(prior.ok()) << prior.status().message();
+  ASSERT_TRUE(graph.addEdge(std::move(prior).value()).ok());
+  Vector6d step;
+  step << 0.1, -0.2, 0.05, 0.02, 0.01, -0.03;
+  graph.vertex(1)->plus(step.data());  // off the linearisation point
+  Graph copy;
+  ASSERT_TRUE(cloneGraph(graph, copy).ok());
+  EdgeBase& original = *graph.edges()[0];
+  EdgeBase& cloned = *copy.edges()[0];
+  EXPECT_EQ(cloned.vertex(0), copy.vertex(0));
+  EXPECT_EQ(cloned.vertex(1), copy.vertex(1));
+  original.linearize();
+  cloned.linearize();
+  EXPECT_EQ(Eigen::Map<const Eigen::VectorXd>(cloned.errorData(), 8), Eigen::Map<const Eigen::VectorXd>(original.errorData(), 8));
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(Eigen::Map<const Eigen::MatrixXd>(cloned.jacobianData(i), 8, 6),
+              Eigen::Map<const Eigen::MatrixXd>(original.jacobianData(i), 8, 6));
+  }
+  EXPECT_EQ(copy.chi2(), graph.chi2());
+  copy.vertex(0)->plus(step.data());
+  EXPECT_NE(copy.chi2(), graph.chi2());
+}
+
 TEST(EdgeMarginalPrior, CreateRejectsWrongSizesAndNonFiniteValues) {
   Graph graph;
   addPose(graph, 0, Eigen::Isometry3d::Identity());
