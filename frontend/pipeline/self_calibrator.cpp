@@ -2,6 +2,7 @@
 #include "dualgraph/frontend/pipeline/self_calibrator.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <iterator>
 #include <utility>
@@ -18,7 +19,11 @@ SelfCalibrator::SelfCalibrator(double after_s, double budget_s, double time_offs
 }
 
 SelfCalibrator::~SelfCalibrator() {
-  if (running_ && running_->answer.valid()) running_->answer.wait();
+  // A deferred one (budget 0) never ran: waiting would run it.
+  if (running_ && running_->answer.valid() &&
+      running_->answer.wait_for(std::chrono::seconds(0)) != std::future_status::deferred) {
+    running_->answer.wait();
+  }
 }
 
 void SelfCalibrator::addCorners(const std::vector<CornerDetection>& corners, double time_offset) {
