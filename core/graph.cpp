@@ -123,20 +123,23 @@ Status cloneGraph(const Graph& source, Graph& target) {
   if (target.numVertices() != 0 || target.numEdges() != 0 || !target.parameters().all().empty()) {
     return Status(StatusCode::kInvalidArgument, "cloneGraph: the target graph is not empty");
   }
+  const auto no_clone = [](const std::string& what) {
+    return Status(StatusCode::kInvalidArgument, "cloneGraph: " + what + ": its type does not implement clone()");
+  };
   Status status = [&]() -> Status {
     for (const auto& [id, parameter] : source.parameters().all()) {
       std::unique_ptr<ParameterBase> copy = parameter->clone();
-      if (!copy) return Status(StatusCode::kInvalidArgument, "cloneGraph: parameter " + std::to_string(id) + ": its type does not implement clone()");
+      if (!copy) return no_clone("parameter " + std::to_string(id));
       DG_RETURN_IF_ERROR(target.parameters().add(std::move(copy)));
     }
     for (const auto& [id, vertex] : source.vertices()) {
       std::unique_ptr<VertexBase> copy = vertex->clone();
-      if (!copy) return Status(StatusCode::kInvalidArgument, "cloneGraph: vertex " + std::to_string(id) + ": its type does not implement clone()");
+      if (!copy) return no_clone("vertex " + std::to_string(id));
       DG_RETURN_IF_ERROR(target.addVertex(std::move(copy)));
     }
     for (const std::unique_ptr<EdgeBase>& edge : source.edges()) {
       std::unique_ptr<EdgeBase> copy = edge->clone();
-      if (!copy) return Status(StatusCode::kInvalidArgument, "cloneGraph: " + describeEdge(*edge) + ": its type does not implement clone()");
+      if (!copy) return no_clone(describeEdge(*edge));
       for (size_t i = 0; i < edge->numVertices(); ++i) {
         DG_RETURN_IF_ERROR(copy->setVertex(i, target.vertex(edge->vertex(i)->id())));
       }
@@ -144,10 +147,7 @@ Status cloneGraph(const Graph& source, Graph& target) {
     }
     return Status();
   }();
-  if (!status.ok()) {
-    target.clear();
-    target.parameters().clear();
-  }
+  if (!status.ok()) target.clear();  // parameters too
   return status;
 }
 

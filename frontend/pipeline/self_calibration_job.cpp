@@ -52,8 +52,8 @@ SelfCalibrationAnswer calibrateParts(Parts parts, const SelfCalibrationJob& job,
   std::optional<CameraCalibration> half_calibrations[2];
   std::string half_failed;
   for (int h = 0; h < 2; ++h) {
-    Result<CameraCalibration> half = calibrateCameraOnRun(halves[h], job.track, job.camera, job.odometry,
-                                                          job.keyframes, params, h == 0 ? "its first half" : "its second half");
+    Result<CameraCalibration> half = calibrateCameraOnRun(halves[h], job.track, job.camera, job.odometry, job.keyframes,
+                                                          params, h == 0 ? "its first half" : "its second half");
     if (half.ok()) {
       half_calibrations[h] = std::move(half).value();
       if (!half_calibrations[h]->converged && half_failed.empty()) {
@@ -69,7 +69,8 @@ SelfCalibrationAnswer calibrateParts(Parts parts, const SelfCalibrationJob& job,
                        half_calibrations[1] ? &*half_calibrations[1] : nullptr, half_failed);
   self.time_offset_applied = accepted.time_offset;
   self.mount_applied = accepted.mount;
-  self.why_not_time_offset = params.solver.estimate_time_offset ? accepted.why_not_time_offset : "held (" + self.parts + ")";
+  self.why_not_time_offset =
+      params.solver.estimate_time_offset ? accepted.why_not_time_offset : "held (" + self.parts + ")";
   self.why_not_mount = params.solver.estimate_mount ? accepted.why_not_mount : "held (" + self.parts + ")";
   self.half_mount_change_deg[0] = accepted.half_mount_change_deg[0];
   self.half_mount_change_deg[1] = accepted.half_mount_change_deg[1];
@@ -106,7 +107,8 @@ SelfCalibrationAnswer calibrateWhole(const SelfCalibrationJob& job) {
     evidence_missing = evidence_missing || alone.report.evidence_missing;
     if (alone.camera) {
       // The part held says why: what the calibrations before this one found.
-      (parts == Parts::kTimeOffset ? alone.report.why_not_mount : alone.report.why_not_time_offset) = "held: " + why_not;
+      (parts == Parts::kTimeOffset ? alone.report.why_not_mount : alone.report.why_not_time_offset) =
+          "held: " + why_not;
       alone.nothing_to_correct = false;
       return alone;
     }

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// SelfCalibrationJob: one onboard self-calibration's inputs, copied when it starts, and the computation that answers it.
+// SelfCalibrationJob: one onboard self-calibration's inputs, copied when it starts, and the computation answering it.
 #pragma once
 
 #include <optional>

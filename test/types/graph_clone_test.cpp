@@ -91,7 +91,8 @@ TEST(CloneGraph, RefusesATypeWithoutCloneByNameAndANonEmptyTarget) {
   Graph copy;
   const Status refused = cloneGraph(source, copy);
   EXPECT_EQ(refused.code(), StatusCode::kInvalidArgument);
-  EXPECT_NE(refused.message().find("vertex 0: its type does not implement clone()"), std::string::npos) << refused.message();
+  EXPECT_NE(refused.message().find("vertex 0: its type does not implement clone()"), std::string::npos)
+      << refused.message();
   EXPECT_EQ(copy.numVertices(), 0u);
   Graph full;
   ASSERT_TRUE(full.addVertex(std::make_unique<VertexSE3>(7)).ok());
