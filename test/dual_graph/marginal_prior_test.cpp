@@ -75,6 +75,22 @@ SolverSummary solve(Optimizer& optimizer) {
   return optimizer.optimize(params);
 }
 
+/// A seeded random linearisation: J (rows × cols) and e0, drawn row by row (e0(r), then J's row r).
+struct RandomLinearisation {
+  Eigen::MatrixXd J;
+  Eigen::VectorXd e0;
+};
+RandomLinearisation randomLinearisation(int rows, int cols, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  RandomLinearisation out{Eigen::MatrixXd(rows, cols), Eigen::VectorXd(rows)};
+  for (int r = 0; r < rows; ++r) {
+    out.e0(r) = normal(rng);
+    for (int c = 0; c < cols; ++c) out.J(r, c) = normal(rng);
+  }
+  return out;
+}
+
 TEST(EdgeMarginalPrior, FirstEstimateJacobiansAreExactAtTheLinearisationPointAndCloseNearIt) {
   Graph graph;
   addPose(graph, 0, randomPose(1.0));
@@ -83,14 +99,7 @@ TEST(EdgeMarginalPrior, FirstEstimateJacobiansAreExactAtTheLinearisationPointAnd
   p->setEstimate(Eigen::Vector3d(1.0, 2.0, 3.0));
   ASSERT_TRUE(graph.addVertex(std::move(p)).ok());
   const std::vector<VertexBase*> vertices = {graph.vertex(0), graph.vertex(1), graph.vertex(2)};
-  std::mt19937 rng(3);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  Eigen::MatrixXd J(10, 15);
-  Eigen::VectorXd e0(10);
-  for (int r = 0; r < 10; ++r) {
-    e0(r) = normal(rng);
-    for (int c = 0; c < 15; ++c) J(r, c) = normal(rng);
-  }
+  const auto [J, e0] = randomLinearisation(10, 15, 3);
   Result<std::unique_ptr<EdgeMarginalPrior>> prior = EdgeMarginalPrior::create(vertices, J, e0);
   ASSERT_TRUE(prior.ok()) << prior.status().message();
   // At the linearisation point: error e0, Jacobians J, equal to central differences.
@@ -124,14 +133,7 @@ TEST(EdgeMarginalPrior, ACloneIsTheSamePriorOnTheCopysVertices) {
   addPose(graph, 0, randomPose(1.0));
   addPose(graph, 1, randomPose(2.0));
   const std::vector<VertexBase*> vertices = {graph.vertex(0), graph.vertex(1)};
-  std::mt19937 rng(5);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  Eigen::MatrixXd J(8, 12);
-  Eigen::VectorXd e0(8);
-  for (int r = 0; r < 8; ++r) {
-    e0(r) = normal(rng);
-    for (int c = 0; c < 12; ++c) J(r, c) = normal(rng);
-  }
+  const auto [J, e0] = randomLinearisation(8, 12, 5);
   Result<std::unique_ptr<EdgeMarginalPrior>> prior = EdgeMarginalPrior::create(vertices, J, e0);
   ASSERT_TRUE(prior.ok()) << prior.status().message();
   ASSERT_TRUE(graph.addEdge(std::move(prior).value()).ok());

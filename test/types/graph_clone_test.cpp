@@ -13,29 +13,18 @@
 #include "dualgraph/types/register_types.h"
 #include "dualgraph/types/vertex_se3.h"
 #include "test/core/user_types.h"
+#include "test/types/every_type_g2o.h"
 
 namespace dualgraph {
 namespace {
 
 /// Every built-in vertex, edge and parameter type (the corner projection built in code), one with a kernel.
 void buildEveryType(const TypeRegistry& registry, Graph& graph) {
-  const std::string info6 = " 1 0 0 0 0 0 2 0 0 0 0 3 0 0 0 4 0 0 5 0 6";
-  const std::string info3 = " 1 0.1 0 2 0 3";
-  std::istringstream in(
-      "PARAMS_SE3OFFSET 0 0.1 0 0.2 0 0 0.0499792 0.99875\n"
-      "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\n"
-      "VERTEX_SE3:QUAT 1 1.1 0.1 0 0 0 0.0998334 0.995004\n"
-      "VERTEX_TRACKXYZ 2 2 1 0.5\n"
-      "VERTEX_SE2 3 0 0 0\n"
-      "VERTEX_SE2 4 1 0.1 0.2\n"
-      "VERTEX_SE3:QUAT 5 4 0.2 0.1 0 0 0 1\n"
-      "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0.1 0.995" + info6 + "\n"
-      "EDGE_SE3_PRIOR 1 0 1 0.1 0.2 0 0 0.1 0.99" + info6 + "\n"
-      "EDGE_SE3_TRACKXYZ 1 2 0 1 1 0.5" + info3 + "\n"
-      "EDGE_POINTXYZ_PRIOR 2 2.1 1 0.5" + info3 + "\n"
-      "EDGE_SE2 3 4 1 0.1 0.25" + info3 + "\n"
-      "FIX 0\n");
+  std::istringstream in(testing::everyTypeG2oText());
   ASSERT_TRUE(readG2o(in, "every_type.g2o", registry, graph).ok());
+  auto gate = std::make_unique<VertexSE3>(5);  // the corner's object
+  gate->setEstimate(Eigen::Isometry3d(Eigen::Translation3d(4.0, 0.2, 0.1)));
+  ASSERT_TRUE(graph.addVertex(std::move(gate)).ok());
   auto corner = std::make_unique<EdgeSE3CornerProjection>();
   corner->setCamera(0, Eigen::Isometry3d(Eigen::Translation3d(0.1, 0.0, 0.2)));
   corner->setPoint(Eigen::Vector3d(0.0, 0.7, 0.7));
